@@ -1,0 +1,86 @@
+"""Fixed cost of a step: one body, and 10,000 free bodies; cold (compiling) and warm (cached) start.
+
+Run:  python bench/bench_step.py            (prints a table, writes bench/results/<date>-<host>-step.json)
+"""
+import datetime
+import json
+import os
+import platform
+import socket
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+START_SNIPPET = ("import time; t = time.perf_counter(); import marbellous as mb; w = mb.World(); "
+                 "w.add_body(mb.Sphere(0.5)); w.step(1/60); print(time.perf_counter() - t)")
+
+
+def start_time(clear_cache):
+    """Seconds for ``import marbellous`` + one step in a fresh interpreter."""
+    if clear_cache:
+        pkg = os.path.join(os.path.dirname(HERE), "marbellous")
+        for root, _, files in os.walk(pkg):
+            for f in files:
+                if f.endswith((".nbi", ".nbc")):
+                    os.remove(os.path.join(root, f))
+    out = subprocess.run([sys.executable, "-c", START_SNIPPET], capture_output=True, text=True, check=True)
+    return float(out.stdout.strip())
+
+
+def steps_per_second(n_bodies, steps):
+    import marbellous as mb
+
+    w = mb.World(gravity=(0.0, -9.81, 0.0))
+    for i in range(n_bodies):
+        w.add_body(mb.Sphere(0.5), position=(i % 100, 1000.0, i // 100))
+    w.step(1 / 60)
+    t = time.perf_counter()
+    for _ in range(steps):
+        w.step(1 / 60)
+    return steps / (time.perf_counter() - t)
+
+
+def pybullet_one_body(steps):
+    try:
+        import pybullet as p
+    except ImportError:
+        return None
+    cid = p.connect(p.DIRECT)
+    p.setGravity(0, 0, -9.81, physicsClientId=cid)
+    shape = p.createCollisionShape(p.GEOM_SPHERE, radius=0.5, physicsClientId=cid)
+    p.createMultiBody(1.0, shape, basePosition=(0, 0, 1000), physicsClientId=cid)
+    p.setTimeStep(1 / 60, physicsClientId=cid)
+    p.stepSimulation(physicsClientId=cid)
+    t = time.perf_counter()
+    for _ in range(steps):
+        p.stepSimulation(physicsClientId=cid)
+    rate = steps / (time.perf_counter() - t)
+    p.disconnect(cid)
+    return rate
+
+
+def main():
+    results = {
+        "cold_start_s": start_time(clear_cache=True),
+        "warm_start_s": start_time(clear_cache=False),
+        "one_body_steps_per_s": steps_per_second(1, 50000),
+        "free_10k_steps_per_s": steps_per_second(10000, 200),
+        "pybullet_one_body_steps_per_s": pybullet_one_body(50000),
+    }
+    results["one_body_us_per_step"] = 1e6 / results["one_body_steps_per_s"]
+    results["free_10k_ms_per_step"] = 1e3 / results["free_10k_steps_per_s"]
+    for k, v in results.items():
+        print(f"{k:32s} {v if v is None else round(v, 4)}")
+    record = {"date": datetime.date.today().isoformat(), "machine": platform.platform(),
+              "processor": platform.processor(), "cpus": os.cpu_count(), "python": platform.python_version(),
+              "results": results}
+    path = os.path.join(HERE, "results", f"{record['date']}-{socket.gethostname()}-step.json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(record, f, indent=2)
+    print("written", path)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,18 @@
+"""Marbellous: a fast 3D game-physics engine for Python, and the marble game it is named after.
+
+SI units, y up, quaternions (w, x, y, z).  Start with :class:`World`::
+
+    import marbellous as mb
+    w = mb.World()
+    ball = w.add_body(mb.Sphere(0.5), position=(0, 2, 0))
+    w.step(1 / 60)
+"""
+from .body import Body
+from .constraints import Cable, Rod, Spring
+from .shapes import Box, Capsule, Plane, Shape, Sphere
+from .world import Snapshot, World
+
+__version__ = "0.1.0"
+
+__all__ = ["World", "Body", "Snapshot", "Shape", "Sphere", "Box", "Capsule", "Plane", "Spring", "Rod",
+           "Cable", "__version__"]

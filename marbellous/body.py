@@ -1,0 +1,157 @@
+"""``Body``: a thin handle over one row of the world's body tables.
+
+Reading a property returns a copy; writing validates and stores.  A handle stays valid until its body is
+removed; the same ``Body`` object is handed back wherever the world refers to that body.
+"""
+import numpy as np
+
+from . import layout as L
+from ._validate import as_quat, as_vec3
+from .math3d import quat_to_matrix_np
+
+
+class Body:
+    """A rigid body in a :class:`marbellous.World` (created by ``add_body`` or ``add_static``)."""
+
+    __slots__ = ("_world", "_index", "shapes", "__weakref__")
+
+    def __init__(self, world, index, shapes):
+        self._world = world
+        self._index = index
+        #: The body's shapes as ``(shape, local_position, local_orientation)`` tuples (frame: centre of mass).
+        self.shapes = shapes
+
+    # --- internals ---------------------------------------------------------------------------
+    def _row(self):
+        w = self._world
+        if w is None:
+            raise ValueError("this body has been removed from its world")
+        return w._bf[self._index]
+
+    def _set_state(self, col, n, value, name, validate):
+        row = self._row()
+        v = validate(name, value)
+        if self.is_static:
+            raise ValueError(f"{name} of a static body cannot be changed")
+        row[col:col + n] = v
+        w = self._world
+        w._bi[self._index, L.FLAGS] |= L.F_RESTART
+        w._wake(self._index)
+
+    # --- state -----------------------------------------------------------------------------------
+    @property
+    def position(self):
+        """Position of the centre of mass, world frame (m)."""
+        return self._row()[L.POS:L.POS + 3].copy()
+
+    @position.setter
+    def position(self, value):
+        self._set_state(L.POS, 3, value, "position", as_vec3)
+
+    @property
+    def orientation(self):
+        """Orientation as a unit quaternion (w, x, y, z)."""
+        return self._row()[L.QUAT:L.QUAT + 4].copy()
+
+    @orientation.setter
+    def orientation(self, value):
+        self._set_state(L.QUAT, 4, value, "orientation", as_quat)
+
+    @property
+    def velocity(self):
+        """Linear velocity of the centre of mass (m/s)."""
+        return self._row()[L.VEL:L.VEL + 3].copy()
+
+    @velocity.setter
+    def velocity(self, value):
+        self._set_state(L.VEL, 3, value, "velocity", as_vec3)
+
+    @property
+    def angular_velocity(self):
+        """Angular velocity, world frame (rad/s)."""
+        return self._row()[L.OMEGA:L.OMEGA + 3].copy()
+
+    @angular_velocity.setter
+    def angular_velocity(self, value):
+        self._set_state(L.OMEGA, 3, value, "angular_velocity", as_vec3)
+
+    @property
+    def mass(self):
+        """Mass (kg); ``inf`` for a static body."""
+        return float(self._row()[L.MASS])
+
+    @property
+    def inertia(self):
+        """Inertia tensor about the centre of mass in world coordinates, ``R I_body R^T`` (kg m^2)."""
+        row = self._row()
+        if self.is_static:
+            return np.diag([np.inf, np.inf, np.inf])
+        r = quat_to_matrix_np(row[L.QUAT:L.QUAT + 4])
+        return r @ row[L.I_BODY:L.I_BODY + 9].reshape(3, 3) @ r.T
+
+    @property
+    def is_static(self):
+        """True for bodies made with ``add_static`` (they never move)."""
+        self._row()
+        return bool(self._world._bi[self._index, L.FLAGS] & L.F_STATIC)
+
+    @property
+    def is_sleeping(self):
+        """True while the body rests in a sleeping island (it is not integrated until woken)."""
+        self._row()
+        return bool(self._world._bi[self._index, L.FLAGS] & L.F_SLEEPING)
+
+    @property
+    def is_sensor(self):
+        """True for sensors: they detect overlaps but exert no force."""
+        self._row()
+        return bool(self._world._bi[self._index, L.FLAGS] & L.F_SENSOR)
+
+    # --- forces ------------------------------------------------------------------------------------
+    def apply_force(self, force, point=None):
+        """Add a world-space ``force`` (N) at world ``point`` (m; None: the centre of mass) for the next step.
+
+        The torque about the centre of mass is ``(point - x) x force``.
+        """
+        row = self._row()
+        f = as_vec3("force", force)
+        p = None if point is None else as_vec3("point", point)
+        if self.is_static:
+            return
+        row[L.FORCE:L.FORCE + 3] += f
+        if p is not None:
+            row[L.TORQUE:L.TORQUE + 3] += np.cross(p - row[L.POS:L.POS + 3], f)
+        self._world._wake(self._index)
+
+    def apply_torque(self, torque):
+        """Add a world-space ``torque`` (N m) for the next step."""
+        row = self._row()
+        t = as_vec3("torque", torque)
+        if self.is_static:
+            return
+        row[L.TORQUE:L.TORQUE + 3] += t
+        self._world._wake(self._index)
+
+    def apply_impulse(self, impulse, point=None):
+        """Change the momentum at once by ``impulse`` (N s) at world ``point`` (None: the centre of mass).
+
+        ``dv = J / m``, ``domega = I_w^-1 ((point - x) x J)``.
+        """
+        row = self._row()
+        j = as_vec3("impulse", impulse)
+        p = None if point is None else as_vec3("point", point)
+        if self.is_static:
+            return
+        row[L.VEL:L.VEL + 3] += j * row[L.INV_MASS]
+        if p is not None:
+            r = quat_to_matrix_np(row[L.QUAT:L.QUAT + 4])
+            iw_inv = r @ row[L.INV_I:L.INV_I + 9].reshape(3, 3) @ r.T
+            row[L.OMEGA:L.OMEGA + 3] += iw_inv @ np.cross(p - row[L.POS:L.POS + 3], j)
+        self._world._bi[self._index, L.FLAGS] |= L.F_RESTART
+        self._world._wake(self._index)
+
+    def __repr__(self):
+        if self._world is None:
+            return "<Body removed>"
+        kind = "static" if self.is_static else "dynamic"
+        return f"<Body {kind} #{self._index} at {tuple(np.round(self.position, 4))}>"

@@ -1,0 +1,69 @@
+"""Handles of constraints between bodies: ``Spring`` (Hooke), ``Rod`` (fixed distance), ``Cable`` (at most a length)."""
+import numpy as np
+
+from . import layout as L
+
+
+class Constraint:
+    """Base of the constraint handles: a thin view over one row of the world's constraint table."""
+
+    __slots__ = ("_world", "_index", "body_a", "body_b")
+
+    def __init__(self, world, index, body_a, body_b):
+        self._world = world
+        self._index = index
+        #: The first body (``Body``).
+        self.body_a = body_a
+        #: The second body, or None when the constraint is attached to the world.
+        self.body_b = body_b
+
+    def _rows(self):
+        if self._world is None:
+            raise ValueError("this constraint has been removed from its world")
+        return self._world._kf[self._index], self._world._ki[self._index]
+
+    @property
+    def broken(self):
+        """True once the force exceeded the breaking force; a broken constraint applies no force."""
+        return bool(self._rows()[1][L.K_FLAGS] & L.KF_BROKEN)
+
+    @property
+    def force(self):
+        """Force (N) the constraint applied to body_a in the last step (body_b got the opposite)."""
+        return np.array(self._rows()[0][L.K_FORCE:L.K_FORCE + 3])
+
+    @property
+    def length(self):
+        """Rest length (spring), length (rod) or maximum length (cable), m."""
+        return float(self._rows()[0][L.K_LENGTH])
+
+    def __repr__(self):
+        return f"<{type(self).__name__} #{self._index} length={self.length:.4g}>"
+
+
+class Spring(Constraint):
+    """Hooke spring with damping: ``F = -k (l - l0) - c dl/dt`` along the line between the anchors."""
+
+    __slots__ = ()
+
+    @property
+    def stiffness(self):
+        """Spring constant k (N/m)."""
+        return float(self._rows()[0][L.K_STIFFNESS])
+
+    @property
+    def damping(self):
+        """Damping coefficient c (N s/m)."""
+        return float(self._rows()[0][L.K_DAMPING])
+
+
+class Rod(Constraint):
+    """A massless rigid rod: the distance between the anchors stays ``length``."""
+
+    __slots__ = ()
+
+
+class Cable(Constraint):
+    """A massless inextensible cable: the distance between the anchors is at most ``length``; slack below."""
+
+    __slots__ = ()

@@ -1,0 +1,1 @@
+"""Dynamics: forces, integrators, constraint and contact solvers, sleeping."""

@@ -1,0 +1,37 @@
+"""Force accumulation (D'Alembert's principle): sum every force on a body and its torque.
+
+    F_i = F_user,i + m_i g + sum of force generators (springs)
+    T_i = T_user,i + sum (p - x_i) x f
+
+The integrators call this at each of their stages with the state of that stage, so a fourth-order
+method really sees the springs at its intermediate states.
+"""
+from .._jit import njit
+from ..layout import F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, TORQUE
+from .springs import add_spring_forces
+
+
+@njit
+def is_moving(bi, i):
+    """True if body row ``i`` is alive, dynamic and awake (it is integrated this step)."""
+    f = bi[i, FLAGS]
+    return (f & F_ALIVE) != 0 and (f & F_STATIC) == 0 and (f & F_SLEEPING) == 0
+
+
+@njit
+def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record):
+    """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``; rows of resting bodies are zero.
+
+    ``record``: store each spring's force in the constraint table (done once per step).
+    """
+    for i in range(nb):
+        if is_moving(bi, i):
+            m = bf[i, MASS]
+            for k in range(3):
+                F[i, k] = bf[i, FORCE + k] + m * gravity[k]
+                T[i, k] = bf[i, TORQUE + k]
+        else:
+            for k in range(3):
+                F[i, k] = 0.0
+                T[i, k] = 0.0
+    add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record)

@@ -1,0 +1,89 @@
+"""Hooke springs as force generators (D'Alembert: their forces join the accumulators).
+
+For anchors ``p_a`` and ``p_b`` (world points), ``d = p_b - p_a``, ``l = |d|``, ``u = d / l``:
+
+    F_a = (k (l - l0) + c dl/dt) u,   F_b = -F_a,   dl/dt = (v_pb - v_pa) . u
+
+so a stretched spring pulls a towards b.  The torque on each body is ``r x F`` with ``r`` the anchor's
+offset from the centre of mass.  Evaluated at every stage of the integrator.
+"""
+import math
+
+import numpy as np
+
+from .._jit import njit
+from ..layout import (C_SPRING, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS,
+                      K_FORCE, K_LENGTH, K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN)
+from ..math3d import quat_rotate
+
+
+@njit
+def anchor_world(X, Q, V, W, body, local, p_out, v_out):
+    """World position and velocity of an anchor given in ``body``'s frame (``body < 0``: a fixed world point)."""
+    if body < 0:
+        for k in range(3):
+            p_out[k] = local[k]
+            v_out[k] = 0.0
+        return
+    r = np.empty(3)
+    quat_rotate(Q[body], local, r)
+    w = W[body]
+    for k in range(3):
+        p_out[k] = X[body, k] + r[k]
+    v_out[0] = V[body, 0] + w[1] * r[2] - w[2] * r[1]
+    v_out[1] = V[body, 1] + w[2] * r[0] - w[0] * r[2]
+    v_out[2] = V[body, 2] + w[0] * r[1] - w[1] * r[0]
+
+
+@njit
+def add_force_at(X, F, T, body, point, f, sign):
+    """Add ``sign * f`` at world ``point`` to body's force and its torque ``(point - x) x f``."""
+    rx = point[0] - X[body, 0]
+    ry = point[1] - X[body, 1]
+    rz = point[2] - X[body, 2]
+    fx, fy, fz = sign * f[0], sign * f[1], sign * f[2]
+    F[body, 0] += fx
+    F[body, 1] += fy
+    F[body, 2] += fz
+    T[body, 0] += ry * fz - rz * fy
+    T[body, 1] += rz * fx - rx * fz
+    T[body, 2] += rx * fy - ry * fx
+
+
+@njit
+def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record):
+    """Accumulate the force and torque of every live, unbroken spring; store it in K_FORCE if ``record``."""
+    pa = np.empty(3)
+    pb = np.empty(3)
+    va = np.empty(3)
+    vb = np.empty(3)
+    f = np.empty(3)
+    for c in range(nk):
+        flags = ki[c, K_FLAGS]
+        if ki[c, K_TYPE] != C_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0:
+            continue
+        a = ki[c, K_BODY_A]
+        b = ki[c, K_BODY_B]
+        anchor_world(X, Q, V, W, a, kf[c, K_ANCHOR_A:K_ANCHOR_A + 3], pa, va)
+        anchor_world(X, Q, V, W, b, kf[c, K_ANCHOR_B:K_ANCHOR_B + 3], pb, vb)
+        dx, dy, dz = pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if length < 1e-12:
+            # Direction undefined when the anchors coincide: no force.
+            f[0] = 0.0
+            f[1] = 0.0
+            f[2] = 0.0
+        else:
+            ux, uy, uz = dx / length, dy / length, dz / length
+            rate = (vb[0] - va[0]) * ux + (vb[1] - va[1]) * uy + (vb[2] - va[2]) * uz
+            mag = kf[c, K_STIFFNESS] * (length - kf[c, K_LENGTH]) + kf[c, K_DAMPING] * rate
+            f[0] = mag * ux
+            f[1] = mag * uy
+            f[2] = mag * uz
+        add_force_at(X, F, T, a, pa, f, 1.0)
+        if b >= 0:
+            add_force_at(X, F, T, b, pb, f, -1.0)
+        if record:
+            kf[c, K_FORCE] = f[0]
+            kf[c, K_FORCE + 1] = f[1]
+            kf[c, K_FORCE + 2] = f[2]
