@@ -1,0 +1,436 @@
+"""Marbellous level files: the TOML format, its validation, and loading it into a world.
+
+A level is a TOML file (read with ``tomllib``, never evaluated).  Keys, units in metres and radians::
+
+    name = "Course"                 # shown in the HUD
+    description = "..."             # optional
+    fall_height = -6.0              # the marble respawns when its centre drops below this y
+
+    [start]
+    position = [x, y, z]            # marble centre at the start
+    heading = 0.0                   # camera yaw about +y; 0 looks along +x, pi/2 along +z
+
+    [goal]                          # an axis-aligned box; the goal is reached when the marble touches it
+    center = [x, y, z]
+    half_extents = [hx, hy, hz]
+
+    [materials.NAME]                # any number of named materials
+    friction = 0.7                  # Coulomb coefficient while sliding
+    static_friction = 0.8           # optional, while sticking (default: friction)
+    restitution = 0.2               # in [0, 1]
+    rolling_friction = 0.01         # optional
+    color = [r, g, b]               # optional, each in [0, 1]
+
+    [[colliders]]                   # any number; each has a type and a material
+    type = "plane" | "box" | "sphere" | "capsule" | "mesh" | "heightfield"
+    material = "NAME"
+    position = [x, y, z]            # optional, default origin
+    orientation = [w, x, y, z]      # optional unit quaternion, or instead:
+    axis = [x, y, z]                #   a rotation axis and
+    angle = 0.5                     #   an angle in radians
+    # plane:       normal = [nx, ny, nz], offset = d      (solid where dot(normal, x) <= d)
+    # box:         half_extents = [hx, hy, hz]
+    # sphere:      radius = r
+    # capsule:     radius = r, half_height = h            (axis along the local y axis)
+    # mesh:        file = "course.glb"                    (OBJ, STL, PLY, GLB/GLTF; relative to the level file)
+    # heightfield: image = "hills.png", spacing = [dx, dz], origin = [x0, y0, z0], height_scale = s
+    #              (greyscale PNG; pixel (row j, column i) is the height y0 + s * grey / 255 at
+    #               x0 + i dx, z0 + j dz)
+
+    [course]                        # optional: the way to the goal, for the autopilot and the rewards
+    path = [[x, y, z], ...]         # marble-centre waypoints from start to goal
+    speeds = [v, ...]               # optional target speed (m/s) at each waypoint
+
+Every problem raises :class:`LevelError` (a ``ValueError``) naming the file and the key.
+"""
+import math
+import numbers
+import pathlib
+import tomllib
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Where the shipped levels live.
+LEVEL_DIR = pathlib.Path(__file__).resolve().parent.parent / "levels"
+#: The level ``marbellous demo`` and ``marbellous play`` use when none is named.
+DEFAULT_LEVEL = "course"
+#: Limits that keep a hostile or broken level file from exhausting memory.
+MAX_FILE_BYTES = 64 * 1024 * 1024
+MAX_IMAGE_SIDE = 2049
+MAX_COLLIDERS = 4096
+
+_SHAPE_KEYS = {
+    "plane": {"normal", "offset"},
+    "box": {"half_extents"},
+    "sphere": {"radius"},
+    "capsule": {"radius", "half_height"},
+    "mesh": {"file"},
+    "heightfield": {"image", "spacing", "origin", "height_scale"},
+}
+_COMMON_KEYS = {"type", "material", "position", "orientation", "axis", "angle"}
+_MATERIAL_KEYS = {"friction", "static_friction", "restitution", "rolling_friction", "color"}
+_TOP_KEYS = {"name", "description", "fall_height", "start", "goal", "materials", "colliders", "course"}
+
+
+class LevelError(ValueError):
+    """A level file is missing, malformed or inconsistent; the message names the file and the key."""
+
+
+@dataclass(frozen=True)
+class Material:
+    """Surface properties of a collider (see ``World.add_static``) and its colour for rendering."""
+
+    name: str
+    friction: float
+    static_friction: float
+    restitution: float
+    rolling_friction: float
+    color: tuple
+
+
+@dataclass
+class Collider:
+    """One static collider of a level.
+
+    ``kind`` is the collider type; ``params`` its validated shape parameters; ``position`` (m) and
+    ``orientation`` (w, x, y, z) its placement.  Meshes carry ``vertices`` (V, 3) float64 and
+    ``triangles`` (T, 3) int64; height fields carry ``heights`` (nx, nz) float64 (m above ``origin``).
+    """
+
+    kind: str
+    material: Material
+    params: dict
+    position: np.ndarray
+    orientation: np.ndarray
+    vertices: np.ndarray = None
+    triangles: np.ndarray = None
+    heights: np.ndarray = None
+
+    def shape(self):
+        """The ``marbellous`` shape of this collider (built on each call)."""
+        import marbellous as mb
+
+        p = self.params
+        if self.kind == "plane":
+            return mb.Plane(normal=p["normal"], offset=p["offset"])
+        if self.kind == "box":
+            return mb.Box(p["half_extents"])
+        if self.kind == "sphere":
+            return mb.Sphere(p["radius"])
+        if self.kind == "capsule":
+            return mb.Capsule(p["radius"], p["half_height"])
+        if self.kind == "mesh":
+            return mb.TriangleMesh(self.vertices, self.triangles)
+        return mb.HeightField(self.heights, spacing=p["spacing"], origin=p["origin"])
+
+
+@dataclass
+class Level:
+    """A loaded, validated level.  Lengths in metres, angles in radians."""
+
+    name: str
+    description: str
+    source: pathlib.Path
+    start_position: np.ndarray
+    start_heading: float
+    goal_center: np.ndarray
+    goal_half_extents: np.ndarray
+    fall_height: float
+    materials: dict
+    colliders: list
+    path: np.ndarray = field(default=None)
+    speeds: np.ndarray = field(default=None)
+
+    @property
+    def key(self):
+        """A short identifier for best-time records: the file's stem."""
+        return self.source.stem
+
+    def bounds(self):
+        """``(lo, hi)`` corners (m) of the finite geometry, the start and the goal."""
+        pts = [self.start_position, self.goal_center - self.goal_half_extents,
+               self.goal_center + self.goal_half_extents]
+        for c in self.colliders:
+            if c.vertices is not None:
+                pts.extend([c.vertices.min(axis=0), c.vertices.max(axis=0)])
+            elif c.heights is not None:
+                o = np.asarray(c.params["origin"])
+                sx, sz = c.params["spacing"]
+                pts.append(o)
+                pts.append(o + [sx * (c.heights.shape[0] - 1), c.heights.max(), sz * (c.heights.shape[1] - 1)])
+            elif c.kind != "plane":
+                r = _bounding_radius(c)
+                pts.extend([c.position - r, c.position + r])
+        pts = np.array(pts)
+        return pts.min(axis=0), pts.max(axis=0)
+
+
+def _bounding_radius(c):
+    p = c.params
+    if c.kind == "box":
+        return float(np.linalg.norm(p["half_extents"]))
+    if c.kind == "capsule":
+        return p["radius"] + p["half_height"]
+    return p["radius"]
+
+
+def level_names():
+    """Names of the shipped levels (file stems in :data:`LEVEL_DIR`), sorted."""
+    return sorted(p.stem for p in LEVEL_DIR.glob("*.toml"))
+
+
+def resolve_level(name_or_path):
+    """The path of a shipped level given by name, or of a user's level file given by path."""
+    if name_or_path is None:
+        name_or_path = DEFAULT_LEVEL
+    if not isinstance(name_or_path, (str, pathlib.PurePath)):
+        raise TypeError(f"level must be a level name or a path, got {name_or_path!r}")
+    s = str(name_or_path)
+    if s in level_names():
+        return LEVEL_DIR / f"{s}.toml"
+    p = pathlib.Path(s).expanduser()
+    if p.is_file():
+        return p.resolve()
+    raise LevelError(f"level {s!r} is neither a shipped level ({', '.join(level_names())}) nor an existing file")
+
+
+def load_level(name_or_path=None):
+    """Load and validate a level: a shipped level's name (``"course"``) or a path to a TOML file."""
+    path = resolve_level(name_or_path)
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise LevelError(f"{path.name}: file is larger than {MAX_FILE_BYTES} bytes")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise LevelError(f"{path.name}: not a valid TOML file: {e}") from None
+    return _Parser(path).level(data)
+
+
+class _Parser:
+    """Validates a level's TOML table; every error names the file and the dotted key."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, key, rule, value):
+        raise LevelError(f"{self.path.name}: {key} {rule}, got {value!r}")
+
+    def table(self, data, key, required=True):
+        if key.split(".")[-1] not in data:
+            if required:
+                raise LevelError(f"{self.path.name}: missing required key {key!r}")
+            return None
+        v = data[key.split(".")[-1]]
+        if not isinstance(v, dict):
+            self.fail(key, "must be a table", v)
+        return v
+
+    def unknown(self, table, allowed, where):
+        extra = sorted(set(table) - set(allowed))
+        if extra:
+            raise LevelError(f"{self.path.name}: unknown key {where + '.' if where else ''}{extra[0]!s} "
+                             f"(allowed: {', '.join(sorted(allowed))})")
+
+    def number(self, table, key, where, *, default=None, positive=False, lo=None, hi=None):
+        name = f"{where}.{key}" if where else key
+        if key not in table:
+            if default is None:
+                raise LevelError(f"{self.path.name}: missing required key {name!r}")
+            return float(default)
+        v = table[key]
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+            self.fail(name, "must be a finite number", v)
+        if positive and not v > 0:
+            self.fail(name, "must be > 0", v)
+        if lo is not None and v < lo:
+            self.fail(name, f"must be >= {lo}", v)
+        if hi is not None and v > hi:
+            self.fail(name, f"must be <= {hi}", v)
+        return float(v)
+
+    def vector(self, table, key, where, n=3, *, default=None, positive=False):
+        name = f"{where}.{key}" if where else key
+        if key not in table:
+            if default is None:
+                raise LevelError(f"{self.path.name}: missing required key {name!r}")
+            return np.array(default, dtype=np.float64)
+        return self.vector_value(table[key], name, n, positive=positive)
+
+    def vector_value(self, v, name, n=3, *, positive=False):
+        ok = (isinstance(v, list) and len(v) == n
+              and all(isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(x) for x in v))
+        if not ok:
+            self.fail(name, f"must be a list of {n} finite numbers", v)
+        if positive and min(v) <= 0:
+            self.fail(name, "must have every component > 0", v)
+        return np.array(v, dtype=np.float64)
+
+    def string(self, table, key, where, default=None):
+        name = f"{where}.{key}" if where else key
+        if key not in table:
+            if default is None:
+                raise LevelError(f"{self.path.name}: missing required key {name!r}")
+            return default
+        if not isinstance(table[key], str):
+            self.fail(name, "must be a string", table[key])
+        return table[key]
+
+    def file(self, table, key, where):
+        name = f"{where}.{key}"
+        rel = self.string(table, key, where)
+        p = (self.path.parent / rel).resolve()
+        if not p.is_file():
+            self.fail(name, f"must name an existing file (relative to {self.path.parent})", rel)
+        if p.stat().st_size > MAX_FILE_BYTES:
+            self.fail(name, f"must be at most {MAX_FILE_BYTES} bytes", rel)
+        return p
+
+    def level(self, data):
+        self.unknown(data, _TOP_KEYS, "")
+        start = self.table(data, "start")
+        self.unknown(start, {"position", "heading"}, "start")
+        goal = self.table(data, "goal")
+        self.unknown(goal, {"center", "half_extents"}, "goal")
+        materials = self.materials(self.table(data, "materials"))
+        cols = data.get("colliders")
+        if not isinstance(cols, list) or not cols or not all(isinstance(c, dict) for c in cols):
+            self.fail("colliders", "must be a non-empty array of tables ([[colliders]])", cols)
+        if len(cols) > MAX_COLLIDERS:
+            self.fail("colliders", f"must have at most {MAX_COLLIDERS} entries", len(cols))
+        colliders = [self.collider(c, f"colliders[{i}]", materials) for i, c in enumerate(cols)]
+        level = Level(
+            name=self.string(data, "name", "", default=self.path.stem),
+            description=self.string(data, "description", "", default=""),
+            source=self.path,
+            start_position=self.vector(start, "position", "start"),
+            start_heading=self.number(start, "heading", "start", default=0.0),
+            goal_center=self.vector(goal, "center", "goal"),
+            goal_half_extents=self.vector(goal, "half_extents", "goal", positive=True),
+            fall_height=self.number(data, "fall_height", "", default=-10.0),
+            materials=materials,
+            colliders=colliders,
+        )
+        if level.fall_height >= level.start_position[1]:
+            self.fail("fall_height", "must be below start.position's height", level.fall_height)
+        course = self.table(data, "course", required=False)
+        if course is not None:
+            self.course(course, level)
+        return level
+
+    def materials(self, table):
+        if not table:
+            self.fail("materials", "must define at least one material", table)
+        out = {}
+        for name, m in table.items():
+            where = f"materials.{name}"
+            if not isinstance(m, dict):
+                self.fail(where, "must be a table", m)
+            self.unknown(m, _MATERIAL_KEYS, where)
+            friction = self.number(m, "friction", where, lo=0.0)
+            color = self.vector(m, "color", where, default=(0.7, 0.7, 0.7))
+            if color.min() < 0 or color.max() > 1:
+                self.fail(f"{where}.color", "must have components in [0, 1]", m["color"])
+            out[name] = Material(
+                name=name, friction=friction,
+                static_friction=self.number(m, "static_friction", where, default=friction, lo=0.0),
+                restitution=self.number(m, "restitution", where, default=0.0, lo=0.0, hi=1.0),
+                rolling_friction=self.number(m, "rolling_friction", where, default=0.0, lo=0.0),
+                color=tuple(float(x) for x in color))
+        return out
+
+    def collider(self, c, where, materials):
+        kind = self.string(c, "type", where)
+        if kind not in _SHAPE_KEYS:
+            self.fail(f"{where}.type", f"must be one of {', '.join(sorted(_SHAPE_KEYS))}", kind)
+        self.unknown(c, _COMMON_KEYS | _SHAPE_KEYS[kind], where)
+        mat = self.string(c, "material", where)
+        if mat not in materials:
+            self.fail(f"{where}.material", f"must name a material in [materials] ({', '.join(materials)})", mat)
+        position = self.vector(c, "position", where, default=(0.0, 0.0, 0.0))
+        orientation = self.orientation(c, where)
+        col = Collider(kind=kind, material=materials[mat], params={}, position=position, orientation=orientation)
+        p = col.params
+        if kind == "plane":
+            n = self.vector(c, "normal", where, default=(0.0, 1.0, 0.0))
+            if np.linalg.norm(n) < 1e-9:
+                self.fail(f"{where}.normal", "must be non-zero", c.get("normal"))
+            p["normal"], p["offset"] = n / np.linalg.norm(n), self.number(c, "offset", where, default=0.0)
+            if "position" in c or "orientation" in c or "axis" in c:
+                raise LevelError(f"{self.path.name}: {where}: a plane is placed by normal and offset only")
+        elif kind == "box":
+            p["half_extents"] = self.vector(c, "half_extents", where, positive=True)
+        elif kind == "sphere":
+            p["radius"] = self.number(c, "radius", where, positive=True)
+        elif kind == "capsule":
+            p["radius"] = self.number(c, "radius", where, positive=True)
+            p["half_height"] = self.number(c, "half_height", where, lo=0.0)
+        elif kind == "mesh":
+            self.mesh(c, where, col)
+        else:
+            self.heightfield(c, where, col)
+        return col
+
+    def orientation(self, c, where):
+        if "orientation" in c:
+            if "axis" in c or "angle" in c:
+                raise LevelError(f"{self.path.name}: {where}: give either orientation or axis and angle, not both")
+            q = self.vector(c, "orientation", where, n=4)
+            if np.linalg.norm(q) < 1e-9:
+                self.fail(f"{where}.orientation", "must be a non-zero quaternion (w, x, y, z)", c["orientation"])
+            return q / np.linalg.norm(q)
+        if "axis" in c or "angle" in c:
+            axis = self.vector(c, "axis", where)
+            if np.linalg.norm(axis) < 1e-9:
+                self.fail(f"{where}.axis", "must be non-zero", c["axis"])
+            angle = self.number(c, "angle", where)
+            axis = axis / np.linalg.norm(axis)
+            return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
+        return np.array([1.0, 0.0, 0.0, 0.0])
+
+    def mesh(self, c, where, col):
+        import trimesh
+
+        p = self.file(c, "file", where)
+        try:
+            m = trimesh.load(p, force="mesh", process=False)
+        except Exception as e:  # trimesh raises many kinds of errors on malformed files
+            raise LevelError(f"{self.path.name}: {where}.file: cannot read mesh {p.name}: {e}") from None
+        v, t = np.asarray(m.vertices, np.float64), np.asarray(m.faces, np.int64)
+        if len(t) == 0 or not np.all(np.isfinite(v)):
+            self.fail(f"{where}.file", "must hold a mesh with triangles and finite vertices", p.name)
+        col.params["file"] = str(p)
+        col.vertices, col.triangles = v, t
+
+    def heightfield(self, c, where, col):
+        from PIL import Image
+
+        p = self.file(c, "image", where)
+        try:
+            with Image.open(p) as img:
+                if max(img.size) > MAX_IMAGE_SIDE:
+                    self.fail(f"{where}.image", f"must be at most {MAX_IMAGE_SIDE} pixels on a side", img.size)
+                grey = np.asarray(img.convert("L"), dtype=np.float64)
+        except (OSError, Image.DecompressionBombError) as e:
+            raise LevelError(f"{self.path.name}: {where}.image: cannot read image {p.name}: {e}") from None
+        if min(grey.shape) < 2:
+            self.fail(f"{where}.image", "must be at least 2 x 2 pixels", grey.shape)
+        scale = self.number(c, "height_scale", where, positive=True)
+        spacing = self.vector(c, "spacing", where, n=2, positive=True)
+        col.params.update(image=str(p), spacing=tuple(spacing), height_scale=scale,
+                          origin=tuple(self.vector(c, "origin", where, default=(0.0, 0.0, 0.0))))
+        col.heights = grey.T * (scale / 255.0)
+
+    def course(self, course, level):
+        self.unknown(course, {"path", "speeds"}, "course")
+        pts = course.get("path")
+        if (not isinstance(pts, list) or len(pts) < 2
+                or not all(isinstance(q, list) and len(q) == 3 for q in pts)):
+            self.fail("course.path", "must be a list of at least 2 points [x, y, z]", pts)
+        level.path = np.array([self.vector_value(q, f"course.path[{i}]") for i, q in enumerate(pts)])
+        if "speeds" in course:
+            s = course["speeds"]
+            if not isinstance(s, list) or len(s) != len(pts):
+                self.fail("course.speeds", "must be a list with one speed per path point", s)
+            level.speeds = np.array([self.number({f"speeds[{i}]": v}, f"speeds[{i}]", "course", positive=True)
+                                     for i, v in enumerate(s)])

@@ -1,0 +1,1 @@
+"""Rendering for the Marbellous game: moderngl scenes, headless video, a pyglet window."""

@@ -1,0 +1,114 @@
+"""Triangles for drawing: a level's colliders, the marble, the goal flag.
+
+Every function returns ``(positions, normals)``: float32 arrays of shape (3 T, 3), three vertices per
+triangle, counter-clockwise seen from outside, in world space for level colliders and in the local
+frame for the marble.  Drawing needs no index buffers and each face keeps its own normal.
+"""
+import numpy as np
+import trimesh
+
+from .transforms import quat_to_matrix
+
+#: Half side (m) of the square drawn for an infinite plane.
+PLANE_HALF_SIZE = 150.0
+
+
+def flat(vertices, triangles):
+    """Unindexed triangles with face normals from indexed ``vertices`` (V, 3), ``triangles`` (T, 3)."""
+    v = np.asarray(vertices, np.float64)[np.asarray(triangles, np.int64)]
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    return v.reshape(-1, 3).astype(np.float32), np.repeat(n, 3, axis=0).astype(np.float32)
+
+
+def smooth(vertices, triangles, vertex_normals):
+    """Unindexed triangles with interpolated per-vertex normals."""
+    t = np.asarray(triangles, np.int64).ravel()
+    return (np.asarray(vertices, np.float32)[t], np.asarray(vertex_normals, np.float32)[t])
+
+
+def uv_sphere(radius=1.0, rings=24, segments=48):
+    """A sphere of ``radius`` (m) about the origin with smooth normals."""
+    m = trimesh.creation.uv_sphere(radius=radius, count=[rings, segments])
+    return smooth(m.vertices, m.faces, m.vertices / radius)
+
+
+def heightfield_triangles(heights, spacing, origin):
+    """The surface ``y = y0 + heights[i, j]`` at ``x = x0 + i dx``, ``z = z0 + j dz``, smooth normals."""
+    h = np.asarray(heights, np.float64)
+    nx, nz = h.shape
+    dx, dz = spacing
+    x0, y0, z0 = origin
+    i, j = np.meshgrid(np.arange(nx), np.arange(nz), indexing="ij")
+    verts = np.stack([x0 + i * dx, y0 + h, z0 + j * dz], axis=-1).reshape(-1, 3)
+    gx, gz = np.gradient(h, dx, dz)
+    normals = np.stack([-gx, np.ones_like(h), -gz], axis=-1).reshape(-1, 3)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    a = (i[:-1, :-1] * nz + j[:-1, :-1]).ravel()
+    b, c, d = a + nz, a + 1, a + nz + 1
+    # counter-clockwise seen from above (+y): (a, c, b) and (b, c, d)
+    tris = np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)])
+    return smooth(verts, tris, normals)
+
+
+def collider_triangles(collider, center=(0.0, 0.0, 0.0)):
+    """World-space triangles of a level collider (``marbellous.game.level.Collider``).
+
+    An infinite plane is drawn as a square of half side :data:`PLANE_HALF_SIZE` around the point of
+    the plane nearest to ``center``.
+    """
+    p = collider.params
+    if collider.kind == "mesh":
+        return flat(collider.vertices, collider.triangles)
+    if collider.kind == "heightfield":
+        return heightfield_triangles(collider.heights, p["spacing"], p["origin"])
+    if collider.kind == "plane":
+        n = np.asarray(p["normal"], np.float64)
+        c = np.asarray(center, np.float64)
+        c = c - (n @ c - p["offset"]) * n
+        u = np.cross(n, (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 0.0, 1.0))
+        u /= np.linalg.norm(u)
+        w = np.cross(u, n)
+        s = PLANE_HALF_SIZE
+        quad = np.array([c - s * u - s * w, c + s * u - s * w, c + s * u + s * w, c - s * u + s * w])
+        pos, nrm = flat(quad, [[0, 1, 2], [0, 2, 3]])
+        if nrm[0] @ n < 0:
+            pos, nrm = flat(quad, [[0, 2, 1], [0, 3, 2]])
+        return pos, nrm
+    if collider.kind == "box":
+        m = trimesh.creation.box(extents=2.0 * np.asarray(p["half_extents"]))
+        local = flat(m.vertices, m.faces)
+    elif collider.kind == "sphere":
+        local = uv_sphere(p["radius"], 16, 32)
+    else:  # capsule: trimesh's axis is z, ours is y
+        m = trimesh.creation.capsule(height=2.0 * p["half_height"], radius=p["radius"], count=[24, 24])
+        to_y = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])
+        local = smooth(m.vertices @ to_y.T, m.faces, m.vertex_normals @ to_y.T)
+    r = quat_to_matrix(collider.orientation)
+    return ((local[0] @ r.T + collider.position).astype(np.float32), (local[1] @ r.T).astype(np.float32))
+
+
+def grid_cells(level, cell_size):
+    """Occupied cells of a 2D grid over the level's x-z plane: the lecture's 2D grid for the level mesh.
+
+    A cell is occupied when the x-z bounding rectangle of one of the level's finite triangles overlaps
+    it.  Returns ``(cells (K, 2) int64, tops (K,) float64, origin (2,), cell_size)`` with cell ``(i, k)``
+    spanning ``origin + (i, k) * cell_size`` to ``origin + (i + 1, k + 1) * cell_size`` and ``tops`` the
+    highest y (m) of the triangles over it.
+    """
+    tris = [collider_triangles(c)[0].reshape(-1, 3, 3) for c in level.colliders if c.kind != "plane"]
+    if not tris:
+        return np.zeros((0, 2), np.int64), np.zeros(0), np.zeros(2), cell_size
+    t = np.concatenate(tris).astype(np.float64)
+    lo_xz = t[:, :, [0, 2]].min(axis=1)
+    hi_xz = t[:, :, [0, 2]].max(axis=1)
+    origin = lo_xz.min(axis=0)
+    i0 = np.floor((lo_xz - origin) / cell_size).astype(np.int64)
+    i1 = np.floor((hi_xz - origin) / cell_size).astype(np.int64)
+    top = t[:, :, 1].max(axis=1)
+    shape = i1.max(axis=0) + 1
+    tops = np.full(shape, -np.inf)
+    for (a0, b0), (a1, b1), y in zip(i0, i1, top):
+        np.maximum(tops[a0:a1 + 1, b0:b1 + 1], y, out=tops[a0:a1 + 1, b0:b1 + 1])
+    cells = np.argwhere(np.isfinite(tops))
+    return cells, tops[cells[:, 0], cells[:, 1]], origin, cell_size

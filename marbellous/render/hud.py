@@ -1,0 +1,56 @@
+"""The head-up display: lines of text drawn with Pillow into a texture and blended over the frame."""
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from .transforms import orthographic
+
+
+class HudText:
+    """Draws lines of text in the top-left corner of a frame.
+
+    ``ctx`` is the moderngl context and ``program`` the renderer's textured-quad program (inputs
+    ``in_pos``, ``in_uv``; uniforms ``u_mvp``, ``u_tex``, ``u_wave``).  The texture is rebuilt only
+    when the text changes.
+    """
+
+    def __init__(self, ctx, program, font_size=18):
+        self.ctx, self.program = ctx, program
+        self.font = ImageFont.load_default(size=font_size)
+        self.line_height = font_size + 6
+        self._text, self._tex, self._tex_size = None, None, (1, 1)
+        self.vbo = ctx.buffer(reserve=6 * 5 * 4)
+        self.vao = ctx.vertex_array(program, [(self.vbo, "3f 2f", "in_pos", "in_uv")])
+
+    def image(self, lines):
+        """The HUD as an RGBA Pillow image: white text with a dark outline on a translucent panel."""
+        width = max(int(self.font.getlength(t)) for t in lines) + 20
+        height = self.line_height * len(lines) + 12
+        img = Image.new("RGBA", (width, height), (10, 14, 24, 120))
+        draw = ImageDraw.Draw(img)
+        for k, t in enumerate(lines):
+            draw.text((10, 6 + k * self.line_height), t, font=self.font, fill=(255, 255, 255, 255),
+                      stroke_width=2, stroke_fill=(0, 0, 0, 255))
+        return img
+
+    def draw(self, lines, frame_size):
+        """Blend ``lines`` over the current framebuffer of ``frame_size`` (width, height) pixels."""
+        text = "\n".join(lines)
+        if text != self._text:
+            img = self.image(lines)
+            if self._tex is not None:
+                self._tex.release()
+            self._tex = self.ctx.texture(img.size, 4, img.tobytes())
+            self._text, self._tex_size = text, img.size
+        w, h = frame_size
+        tw, th = self._tex_size
+        x0, y0 = 8.0, h - 8.0 - th
+        quad = np.array([[x0, y0, 0, 0, 1], [x0 + tw, y0, 0, 1, 1], [x0 + tw, y0 + th, 0, 1, 0],
+                         [x0, y0, 0, 0, 1], [x0 + tw, y0 + th, 0, 1, 0], [x0, y0 + th, 0, 0, 0]], np.float32)
+        self.vbo.write(quad.tobytes())
+        pixels = orthographic(w / 2, h / 2, -1.0, 1.0)
+        pixels[:2, 3] = -1.0
+        self.program["u_mvp"].write(np.ascontiguousarray(pixels.T, np.float32).tobytes())
+        self.program["u_wave"].value = 0.0
+        self._tex.use(2)
+        self.program["u_tex"].value = 2
+        self.vao.render()

@@ -1,0 +1,389 @@
+"""The moderngl renderer of Marbellous: a lit level with shadows, the patterned marble, the goal flag
+(a y-axis billboard), the HUD and a debug overlay.
+
+The renderer draws into any framebuffer: an offscreen one for headless video (``render_to_array``) or
+a window's screen.  One directional light (the sun) casts shadows through a shadow map rendered from
+its orthographic view around the camera's focus.
+"""
+import math
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from .billboard import billboard_y_matrix
+from .geometry import collider_triangles, flat, grid_cells, uv_sphere
+from .hud import HudText
+from .transforms import look_at, model_matrix, orthographic, perspective
+
+_SCENE_VS = """
+#version 330
+uniform mat4 u_view_proj;
+uniform mat4 u_model;
+uniform mat4 u_light_view_proj;
+in vec3 in_pos;
+in vec3 in_normal;
+out vec3 v_world;
+out vec3 v_local;
+out vec3 v_normal;
+out vec4 v_light;
+void main() {
+    vec4 world = u_model * vec4(in_pos, 1.0);
+    v_world = world.xyz;
+    v_local = in_pos;
+    v_normal = mat3(u_model) * in_normal;
+    v_light = u_light_view_proj * world;
+    gl_Position = u_view_proj * world;
+}
+"""
+
+_SCENE_FS = """
+#version 330
+uniform vec3 u_color;
+uniform vec3 u_color2;
+uniform float u_alpha;
+uniform int u_pattern;          // 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit
+uniform vec3 u_sun;             // unit vector towards the sun
+uniform vec3 u_eye;
+uniform sampler2D u_shadow;
+in vec3 v_world;
+in vec3 v_local;
+in vec3 v_normal;
+in vec4 v_light;
+out vec4 f_color;
+
+float shadow_factor(vec3 n) {
+    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
+    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
+    float bias = max(0.004 * (1.0 - dot(n, u_sun)), 0.0008);
+    vec2 texel = 1.0 / vec2(textureSize(u_shadow, 0));
+    float lit = 0.0;
+    for (int i = -1; i <= 1; i++)
+        for (int j = -1; j <= 1; j++)
+            lit += (p.z - bias > texture(u_shadow, p.xy + vec2(i, j) * texel).r) ? 0.0 : 1.0;
+    return lit / 9.0;
+}
+
+void main() {
+    vec3 n = normalize(v_normal);
+    if (!gl_FrontFacing) n = -n;
+    vec3 base = u_color;
+    if (u_pattern == 1) {
+        vec3 d = normalize(v_local);
+        float octant = sign(d.x) * sign(d.y) * sign(d.z);
+        base = octant > 0.0 ? u_color : u_color2;
+        if (abs(d.y) < 0.12) base = vec3(0.97, 0.97, 0.92);
+    } else if (u_pattern == 0) {
+        vec2 g = abs(fract(v_world.xz + 0.5) - 0.5);
+        float line = 1.0 - smoothstep(0.0, 0.03, min(g.x, g.y));
+        base *= 1.0 - 0.18 * line;
+    }
+    if (u_pattern == 2) { f_color = vec4(base, u_alpha); return; }
+    float diffuse = max(dot(n, u_sun), 0.0) * shadow_factor(n);
+    float sky = 0.5 + 0.5 * n.y;
+    vec3 v = normalize(u_eye - v_world);
+    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), u_pattern == 1 ? 60.0 : 16.0)
+                 * (u_pattern == 1 ? 0.9 : 0.12) * diffuse;
+    vec3 c = base * (0.32 * sky + 0.12 + 0.78 * diffuse) + vec3(spec);
+    float fog = clamp((length(u_eye - v_world) - 40.0) / 120.0, 0.0, 0.7);
+    c = mix(c, vec3(0.70, 0.80, 0.92), fog);
+    f_color = vec4(pow(c, vec3(1.0 / 1.1)), u_alpha);
+}
+"""
+
+_DEPTH_VS = """
+#version 330
+uniform mat4 u_light_view_proj;
+uniform mat4 u_model;
+in vec3 in_pos;
+void main() { gl_Position = u_light_view_proj * u_model * vec4(in_pos, 1.0); }
+"""
+_DEPTH_FS = """
+#version 330
+void main() {}
+"""
+
+_LINES_VS = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_pos;
+in vec3 in_color;
+out vec3 v_color;
+void main() { v_color = in_color; gl_Position = u_view_proj * vec4(in_pos, 1.0); }
+"""
+_LINES_FS = """
+#version 330
+in vec3 v_color;
+out vec4 f_color;
+void main() { f_color = vec4(v_color, 1.0); }
+"""
+
+_TEXTURED_VS = """
+#version 330
+uniform mat4 u_mvp;
+in vec3 in_pos;
+in vec2 in_uv;
+out vec2 v_uv;
+void main() { v_uv = in_uv; gl_Position = u_mvp * vec4(in_pos, 1.0); }
+"""
+_TEXTURED_FS = """
+#version 330
+uniform sampler2D u_tex;
+uniform float u_wave;
+in vec2 v_uv;
+out vec4 f_color;
+void main() {
+    vec4 c = texture(u_tex, v_uv);
+    if (c.a < 0.02) discard;
+    f_color = vec4(c.rgb * (1.0 - u_wave * 0.15 * sin(v_uv.x * 9.0)), c.a);
+}
+"""
+
+#: Unit vector towards the sun.
+SUN = np.array([0.45, 0.8, 0.35]) / np.linalg.norm([0.45, 0.8, 0.35])
+SKY = (0.70, 0.80, 0.92)
+
+
+@dataclass
+class CameraView:
+    """Where the camera is: ``eye`` and ``target`` (m) and the vertical field of view ``fov`` (rad)."""
+
+    eye: np.ndarray
+    target: np.ndarray
+    fov: float = math.radians(60.0)
+
+
+@dataclass
+class DebugOverlay:
+    """What the debug overlay shows: contact ``points`` and ``normals`` ((K, 3) arrays, m) and
+    whether to draw the level's 2D grid cells."""
+
+    points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    normals: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    grid: bool = True
+
+
+def _f32(m):
+    return np.ascontiguousarray(np.asarray(m, np.float64).T, dtype=np.float32).tobytes()
+
+
+def _checker_texture(ctx, n=64, squares=8):
+    """RGBA chequered flag texture."""
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    black = ((i * squares // n + j * squares // n) % 2).astype(bool)
+    img = np.where(black[..., None], [20, 20, 20, 255], [250, 250, 250, 255]).astype(np.uint8)
+    tex = ctx.texture((n, n), 4, img.tobytes())
+    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    return tex
+
+
+class Renderer:
+    """Draws a level and its marble with moderngl.
+
+    ``ctx`` is a moderngl context (headless EGL or a window's), ``level`` a loaded
+    ``marbellous.game.level.Level``, ``marble_radius`` in metres, ``size`` the (width, height) in
+    pixels of the offscreen target used by :meth:`render_to_array`.
+    """
+
+    def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=2048,
+                 grid_cell=2.0):
+        self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
+        self.size = tuple(int(s) for s in size)
+        self.scene = ctx.program(vertex_shader=_SCENE_VS, fragment_shader=_SCENE_FS)
+        self.depth = ctx.program(vertex_shader=_DEPTH_VS, fragment_shader=_DEPTH_FS)
+        self.lines = ctx.program(vertex_shader=_LINES_VS, fragment_shader=_LINES_FS)
+        self.textured = ctx.program(vertex_shader=_TEXTURED_VS, fragment_shader=_TEXTURED_FS)
+        lo, hi = level.bounds()
+        center = 0.5 * (lo + hi)
+        self.items = []  # (vao_scene, vao_depth, color, model)
+        for c in level.colliders:
+            pos, nrm = collider_triangles(c, center)
+            self.items.append(self._mesh(pos, nrm, c.material.color))
+        self.marble = self._mesh(*uv_sphere(1.0), (0.85, 0.15, 0.12))
+        pole = collider_triangles(_Pole(level.goal_center, level.goal_half_extents))
+        self.pole = self._mesh(*pole, (0.9, 0.9, 0.9))
+        box = _goal_box_triangles(level.goal_center, level.goal_half_extents)
+        self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4))
+        quad = np.array([[0, 0, 0, 0, 1], [1.6, 0, 0, 1, 1], [1.6, 1.0, 0, 1, 0],
+                         [0, 0, 0, 0, 1], [1.6, 1.0, 0, 1, 0], [0, 1.0, 0, 0, 0]], np.float32)
+        self.flag_vbo = ctx.buffer(quad.tobytes())
+        self.flag_vao = ctx.vertex_array(self.textured, [(self.flag_vbo, "3f 2f", "in_pos", "in_uv")])
+        self.flag_tex = _checker_texture(ctx)
+        self.flag_top = np.array(level.goal_center) + [0.0, level.goal_half_extents[1] + 1.2, 0.0]
+        self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
+        self.shadow_tex.compare_func = ""
+        self.shadow_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
+        self.hud = HudText(ctx, self.textured)
+        self.grid_cell = grid_cell
+        self._grid_lines = None
+        self.line_vbo = ctx.buffer(reserve=6 * 4 * 2 * 1024)
+        self.line_vao = ctx.vertex_array(self.lines, [(self.line_vbo, "3f 3f", "in_pos", "in_color")])
+        self._offscreen = None
+        self._samples = samples
+
+    def _mesh(self, pos, nrm, color):
+        data = np.hstack([pos, nrm]).astype(np.float32)
+        vbo = self.ctx.buffer(data.tobytes())
+        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")]),
+                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")]), tuple(color))
+
+    # ------------------------------------------------------------------ drawing
+    def render(self, fbo, view, marble_position, marble_rotation, hud_lines=(), debug=None, viewport=None):
+        """Draw one frame into ``fbo`` (a moderngl framebuffer, e.g. ``ctx.screen``).
+
+        ``view`` is a :class:`CameraView`; ``marble_position`` (m) and ``marble_rotation`` (3, 3) place
+        the marble; ``hud_lines`` are text lines for the top-left corner; ``debug`` an optional
+        :class:`DebugOverlay`.
+        """
+        ctx = self.ctx
+        w, h = viewport[2:] if viewport else fbo.size
+        focus = np.asarray(view.target, np.float64)
+        marble_model = model_matrix(marble_position, marble_rotation, self.marble_radius)
+
+        # shadow pass: an orthographic sun camera 60 m across around the focus
+        light_view = look_at(focus + SUN * 60.0, focus, (0.0, 0.0, 1.0) if abs(SUN[1]) > 0.99 else (0, 1, 0))
+        light_vp = orthographic(30.0, 30.0, 1.0, 160.0) @ light_view
+        self.shadow_fbo.use()
+        self.shadow_fbo.clear(depth=1.0)
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        self.depth["u_light_view_proj"].write(_f32(light_vp))
+        for _vao, dvao, _c in self.items + [self.pole]:
+            self.depth["u_model"].write(_f32(np.eye(4)))
+            dvao.render()
+        self.depth["u_model"].write(_f32(marble_model))
+        self.marble[1].render()
+
+        # main pass
+        fbo.use()
+        if viewport:
+            ctx.viewport = viewport
+        fbo.clear(*SKY, 1.0, depth=1.0)
+        proj = perspective(view.fov, w / h, 0.05, 400.0)
+        view_m = look_at(view.eye, view.target)
+        vp = proj @ view_m
+        s = self.scene
+        s["u_view_proj"].write(_f32(vp))
+        s["u_light_view_proj"].write(_f32(light_vp))
+        s["u_sun"].value = tuple(SUN)
+        s["u_eye"].value = tuple(float(x) for x in view.eye)
+        s["u_alpha"].value = 1.0
+        self.shadow_tex.use(0)
+        s["u_shadow"].value = 0
+        self._draw(self.items + [self.pole], np.eye(4), pattern=0)
+        s["u_color2"].value = (0.12, 0.28, 0.85)
+        self._draw([self.marble], marble_model, pattern=1)
+
+        # the flag: an upright billboard above the goal
+        rot = billboard_y_matrix(self.flag_top, view.eye)
+        flag_model = model_matrix(self.flag_top - [0.0, 1.0, 0.0], rot)
+        self.textured["u_mvp"].write(_f32(vp @ flag_model))
+        self.textured["u_wave"].value = 1.0
+        self.flag_tex.use(1)
+        self.textured["u_tex"].value = 1
+        self.flag_vao.render()
+
+        # translucent goal box
+        ctx.enable(moderngl.BLEND)
+        ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        s["u_alpha"].value = 0.25
+        self._draw([self.goal_box], np.eye(4), pattern=2)
+        s["u_alpha"].value = 1.0
+
+        if debug is not None:
+            self._draw_debug(vp, debug)
+        if hud_lines:
+            ctx.disable(moderngl.DEPTH_TEST)
+            self.hud.draw(list(hud_lines), (w, h))
+        ctx.disable(moderngl.BLEND)
+
+    def _draw(self, items, model, pattern):
+        s = self.scene
+        s["u_model"].write(_f32(model))
+        s["u_pattern"].value = pattern
+        for vao, _d, color in items:
+            s["u_color"].value = color
+            vao.render()
+
+    def _draw_debug(self, vp, debug):
+        rows = []
+        if debug.grid:
+            if self._grid_lines is None:
+                self._grid_lines = _grid_line_rows(self.level, self.grid_cell)
+            rows.append(self._grid_lines)
+        pts = np.asarray(debug.points, np.float64).reshape(-1, 3)
+        nrm = np.asarray(debug.normals, np.float64).reshape(-1, 3)
+        if len(pts):
+            seg = np.empty((2 * len(pts), 6))
+            seg[0::2, :3], seg[1::2, :3] = pts, pts + 0.8 * nrm
+            seg[:, 3:] = (1.0, 0.1, 0.1)
+            rows.append(seg)
+        if not rows:
+            return
+        data = np.concatenate(rows).astype(np.float32).tobytes()
+        if len(data) > self.line_vbo.size:
+            self.line_vbo.orphan(len(data))
+        self.line_vbo.write(data)
+        self.lines["u_view_proj"].write(_f32(vp))
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self.line_vao.render(moderngl.LINES, vertices=len(data) // 24)
+        self.ctx.enable(moderngl.DEPTH_TEST)
+
+    # ------------------------------------------------------------------ offscreen
+    def render_to_array(self, view, marble_position, marble_rotation, hud_lines=(), debug=None):
+        """Render offscreen at :attr:`size` and return the image as a (height, width, 3) uint8 array
+        (top row first)."""
+        if self._offscreen is None:
+            self._offscreen = self._make_offscreen()
+        draw, resolve = self._offscreen
+        self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
+        if resolve is not draw:
+            self.ctx.copy_framebuffer(resolve, draw)
+        raw = resolve.read(components=3, alignment=1)
+        img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
+        return img[::-1].copy()
+
+    def _make_offscreen(self):
+        ctx = self.ctx
+        resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
+                                  depth_attachment=ctx.depth_renderbuffer(self.size))
+        samples = min(self._samples, ctx.max_samples)
+        if samples <= 1:
+            return resolve, resolve
+        draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],
+                               depth_attachment=ctx.depth_renderbuffer(self.size, samples=samples))
+        return draw, resolve
+
+
+class _Pole:
+    """The flag pole as a capsule collider look-alike, for triangulation only."""
+
+    kind = "capsule"
+
+    def __init__(self, center, half_extents):
+        top = float(half_extents[1]) + 1.2
+        self.params = {"radius": 0.05, "half_height": (top + float(half_extents[1])) / 2.0}
+        self.position = np.asarray(center, np.float64) + [0.0, (top - float(half_extents[1])) / 2.0, 0.0]
+        self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+def _goal_box_triangles(center, half_extents):
+    import trimesh
+
+    m = trimesh.creation.box(extents=2.0 * np.asarray(half_extents))
+    return m.vertices + center, m.faces
+
+
+def _grid_line_rows(level, cell):
+    """Line segments (rows ``[x, y, z, r, g, b]``) outlining the level's occupied 2D grid cells."""
+    cells, tops, origin, size = grid_cells(level, cell)
+    rows = np.empty((8 * len(cells), 6))
+    for k, ((i, j), y) in enumerate(zip(cells, tops)):
+        x0, z0 = origin + np.array([i, j]) * size
+        c = [[x0, z0], [x0 + size, z0], [x0 + size, z0 + size], [x0, z0 + size]]
+        for e in range(4):
+            a, b = c[e], c[(e + 1) % 4]
+            rows[8 * k + 2 * e] = (a[0], y + 0.02, a[1], 0.1, 0.9, 1.0)
+            rows[8 * k + 2 * e + 1] = (b[0], y + 0.02, b[1], 0.1, 0.9, 1.0)
+    return rows

@@ -1,0 +1,65 @@
+"""4x4 camera and model matrices for the renderer (column vectors, OpenGL clip space, y up).
+
+All functions return float64 (4, 4) arrays ``M`` that map column vectors, ``p' = M @ p``.  Upload
+``M.T`` (row-major NumPy to column-major GLSL) as ``float32``.
+"""
+import math
+
+import numpy as np
+
+
+def perspective(fov_y, aspect, near, far):
+    """Perspective projection: vertical field of view ``fov_y`` (rad), ``aspect`` = width / height,
+    clip distances ``near`` and ``far`` (m)."""
+    f = 1.0 / math.tan(fov_y / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = f / aspect, f
+    m[2, 2], m[2, 3] = (far + near) / (near - far), 2.0 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
+def orthographic(half_width, half_height, near, far):
+    """Orthographic projection of the box ``|x| <= half_width``, ``|y| <= half_height``, depth in
+    ``[near, far]`` (m) in front of the eye."""
+    m = np.eye(4)
+    m[0, 0], m[1, 1] = 1.0 / half_width, 1.0 / half_height
+    m[2, 2], m[2, 3] = -2.0 / (far - near), -(far + near) / (far - near)
+    return m
+
+
+def look_at(eye, target, up=(0.0, 1.0, 0.0)):
+    """View matrix of a camera at ``eye`` looking at ``target`` (m) with ``up`` roughly up.
+
+    Rows of its rotation part are the camera's right, up and backward (``-lookat``) axes.
+    """
+    eye, target, up = (np.asarray(v, np.float64) for v in (eye, target, up))
+    fwd = target - eye
+    fwd /= np.linalg.norm(fwd)
+    right = np.cross(fwd, up)
+    if np.linalg.norm(right) < 1e-9:  # looking straight along up: any right vector will do
+        right = np.cross(fwd, (1.0, 0.0, 0.0) if abs(fwd[0]) < 0.9 else (0.0, 0.0, 1.0))
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, fwd)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = right, true_up, -fwd
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def model_matrix(position, rotation=None, scale=1.0):
+    """Model matrix: scale, then rotate by the (3, 3) ``rotation`` (identity if None), then translate."""
+    m = np.eye(4)
+    m[:3, :3] = (np.eye(3) if rotation is None else np.asarray(rotation, np.float64)) * scale
+    m[:3, 3] = position
+    return m
+
+
+def quat_to_matrix(q):
+    """Rotation matrix (3, 3) of the unit quaternion ``q = (w, x, y, z)``."""
+    w, x, y, z = (float(c) for c in q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
