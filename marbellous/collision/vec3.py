@@ -1,0 +1,94 @@
+"""3-vectors as tuples ``(x, y, z)`` of floats, for the narrow-phase kernels.
+
+Tuples live in registers: the pair tests compute with them without allocating.  Rotation
+matrices are (3, 3) arrays mapping local to world coordinates (their columns are the local axes).
+"""
+import math
+
+from .._jit import njit
+
+
+@njit
+def add(a, b):
+    """``a + b``."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@njit
+def sub(a, b):
+    """``a - b``."""
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@njit
+def scale(a, s):
+    """``s a``."""
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+@njit
+def madd(a, s, b):
+    """``a + s b``."""
+    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
+
+
+@njit
+def dot(a, b):
+    """``a . b``."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit
+def cross(a, b):
+    """``a x b``."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@njit
+def length(a):
+    """Euclidean length ``|a|``."""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@njit
+def load(arr):
+    """The first three entries of a float64 array as a tuple."""
+    return (arr[0], arr[1], arr[2])
+
+
+@njit
+def column(rot, k):
+    """Column ``k`` of the rotation matrix: the shape's local axis ``k`` in world coordinates."""
+    return (rot[0, k], rot[1, k], rot[2, k])
+
+
+@njit
+def to_world(rot, v):
+    """``R v``: a local direction in world coordinates."""
+    return (rot[0, 0] * v[0] + rot[0, 1] * v[1] + rot[0, 2] * v[2],
+            rot[1, 0] * v[0] + rot[1, 1] * v[1] + rot[1, 2] * v[2],
+            rot[2, 0] * v[0] + rot[2, 1] * v[1] + rot[2, 2] * v[2])
+
+
+@njit
+def to_local(rot, v):
+    """``R^T v``: a world direction in the shape's local coordinates."""
+    return (rot[0, 0] * v[0] + rot[1, 0] * v[1] + rot[2, 0] * v[2],
+            rot[0, 1] * v[0] + rot[1, 1] * v[1] + rot[2, 1] * v[2],
+            rot[0, 2] * v[0] + rot[1, 2] * v[1] + rot[2, 2] * v[2])
+
+
+@njit
+def any_perpendicular(a):
+    """A unit vector perpendicular to the non-zero vector ``a`` (a fixed choice for each ``a``).
+
+    Crosses ``a`` with the world axis least aligned with it.
+    """
+    ax, ay, az = abs(a[0]), abs(a[1]), abs(a[2])
+    if ax <= ay and ax <= az:
+        p = (0.0, a[2], -a[1])
+    elif ay <= az:
+        p = (-a[2], 0.0, a[0])
+    else:
+        p = (a[1], -a[0], 0.0)
+    return scale(p, 1.0 / length(p))
