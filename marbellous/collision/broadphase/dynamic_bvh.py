@@ -1,0 +1,385 @@
+"""Dynamic AABB tree (bounding volume hierarchy), incremental, after Box2D's ``b2DynamicTree``.
+
+Each live body owns a leaf whose box is *fattened*: grown by ``margin * (largest edge)`` on every side.
+At an update, a leaf is removed and reinserted only when its body's box has left the fat box, or the
+fat box has become more than ``looseness`` times the wanted fat size along some axis (the body shrank);
+otherwise nothing in the tree changes.  Coherent motion therefore touches only a few leaves per step.
+
+Insertion descends from the root choosing, at each internal node, the cheapest of: pairing with the
+node itself, or descending into either child, with the surface-area heuristic
+``cost(sibling) = SA(sibling U leaf) + sum over ancestors of the growth SA(ancestor U leaf) - SA(ancestor)``.
+Walking back up, every ancestor is refitted (its box becomes the union of its children) and rebalanced
+by an AVL-style tree rotation when its children's heights differ by more than one, which keeps the
+height O(log n) even when bodies are inserted in sorted order.
+
+Queries descend through the fat boxes; at a leaf the body's own (unfattened) box is tested, so the
+pair set equals the brute-force one.
+
+State layout (``M = 2 * capacity`` nodes): ``state_f[HEADER_F:][:6M]`` fat boxes;
+``state_i[HEADER_I:][:5M]`` node rows ``[parent, child1, child2, height, body]`` (``child1 == -1`` for
+a leaf; a free node's ``parent`` links the free list), then ``leaf_of_body`` (capacity,).
+``state_i[I_ROOT]``, ``[I_NODE_COUNT]`` (high-water mark), ``[I_FREE]``; tunables ``state_f[F_MARGIN]``,
+``state_f[F_LOOSENESS]``.
+"""
+import numpy as np
+
+from marbellous._jit import njit
+from marbellous.collision.broadphase._common import (
+    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, is_alive, pair_allowed, push_index,
+    push_pair, ray_entry, row_overlaps_box, rows_overlap)
+
+I_ROOT = 3
+I_NODE_COUNT = 4
+I_FREE = 5
+F_MARGIN = 0
+F_LOOSENESS = 1
+PARENT = 0
+CHILD1 = 1
+CHILD2 = 2
+HEIGHT = 3
+BODY = 4
+
+
+def bvh_state_sizes(capacity):
+    """Lengths ``(len(state_f), len(state_i))`` of the dynamic tree state for ``capacity`` slots."""
+    m = 2 * capacity
+    return HEADER_F + 6 * m, HEADER_I + 5 * m + capacity
+
+
+def bvh_init_params(state_f, margin=0.1, looseness=4.0):
+    """Write the tunables: fattening as a fraction of a box's largest edge, and how much larger than
+    wanted a fat box may grow before its leaf is reinserted."""
+    state_f[F_MARGIN] = margin
+    state_f[F_LOOSENESS] = looseness
+
+
+@njit
+def bvh_views(state_f, state_i):
+    """Views ``(node, fat, leaf_of_body)`` into the dynamic tree state."""
+    cap = state_i[I_CAPACITY]
+    m = 2 * cap
+    node = state_i[HEADER_I:HEADER_I + 5 * m].reshape((m, 5))
+    leaf_of = state_i[HEADER_I + 5 * m:HEADER_I + 5 * m + cap]
+    fat = state_f[HEADER_F:HEADER_F + 6 * m].reshape((m, 6))
+    return node, fat, leaf_of
+
+
+@njit
+def _surface_area(fat, a):
+    """Surface area of box row ``fat[a]`` (m^2)."""
+    dx = fat[a, 3] - fat[a, 0]
+    dy = fat[a, 4] - fat[a, 1]
+    dz = fat[a, 5] - fat[a, 2]
+    return 2.0 * (dx * dy + dy * dz + dz * dx)
+
+
+@njit
+def _union_area(fat, a, b):
+    """Surface area of the union of box rows ``fat[a]`` and ``fat[b]`` (m^2)."""
+    dx = max(fat[a, 3], fat[b, 3]) - min(fat[a, 0], fat[b, 0])
+    dy = max(fat[a, 4], fat[b, 4]) - min(fat[a, 1], fat[b, 1])
+    dz = max(fat[a, 5], fat[b, 5]) - min(fat[a, 2], fat[b, 2])
+    return 2.0 * (dx * dy + dy * dz + dz * dx)
+
+
+@njit
+def _set_union(fat, dst, a, b):
+    """``fat[dst] = fat[a] U fat[b]``."""
+    for k in range(3):
+        fat[dst, k] = min(fat[a, k], fat[b, k])
+        fat[dst, k + 3] = max(fat[a, k + 3], fat[b, k + 3])
+
+
+@njit
+def _alloc(node, state_i):
+    """Take a node from the free list, or the next unused one."""
+    free = state_i[I_FREE]
+    if free >= 0:
+        state_i[I_FREE] = node[free, PARENT]
+        return free
+    idx = state_i[I_NODE_COUNT]
+    state_i[I_NODE_COUNT] = idx + 1
+    return idx
+
+
+@njit
+def _release(node, state_i, idx):
+    """Return node ``idx`` to the free list."""
+    node[idx, PARENT] = state_i[I_FREE]
+    node[idx, HEIGHT] = -1
+    state_i[I_FREE] = idx
+
+
+@njit
+def _replace_child(node, state_i, parent, old, new):
+    """Make ``new`` take ``old``'s place under ``parent`` (or as the root)."""
+    if parent >= 0:
+        if node[parent, CHILD1] == old:
+            node[parent, CHILD1] = new
+        else:
+            node[parent, CHILD2] = new
+    else:
+        state_i[I_ROOT] = new
+
+
+@njit
+def _balance(node, fat, state_i, a):
+    """Rotate the taller grandchild up if ``a``'s children differ in height by more than one.
+    Returns the node now at ``a``'s place."""
+    if node[a, CHILD1] < 0 or node[a, HEIGHT] < 2:
+        return a
+    b = node[a, CHILD1]
+    c = node[a, CHILD2]
+    balance = node[c, HEIGHT] - node[b, HEIGHT]
+    if balance > 1 or balance < -1:
+        # up: the taller child (it takes a's place); keep: the other child of a
+        up = c if balance > 1 else b
+        keep = b if balance > 1 else c
+        f = node[up, CHILD1]
+        g = node[up, CHILD2]
+        node[up, CHILD1] = a
+        node[up, PARENT] = node[a, PARENT]
+        node[a, PARENT] = up
+        _replace_child(node, state_i, node[up, PARENT], a, up)
+        # the taller grandchild stays under up, the shorter one moves under a
+        tall, short = (f, g) if node[f, HEIGHT] > node[g, HEIGHT] else (g, f)
+        node[up, CHILD2] = tall
+        if balance > 1:
+            node[a, CHILD2] = short
+        else:
+            node[a, CHILD1] = short
+        node[short, PARENT] = a
+        _set_union(fat, a, keep, short)
+        _set_union(fat, up, a, tall)
+        node[a, HEIGHT] = 1 + max(node[keep, HEIGHT], node[short, HEIGHT])
+        node[up, HEIGHT] = 1 + max(node[a, HEIGHT], node[tall, HEIGHT])
+        return up
+    return a
+
+
+@njit
+def _refit_upwards(node, fat, state_i, index):
+    """From ``index`` to the root: rebalance, then set each node's box and height from its children."""
+    while index >= 0:
+        index = _balance(node, fat, state_i, index)
+        c1 = node[index, CHILD1]
+        c2 = node[index, CHILD2]
+        node[index, HEIGHT] = 1 + max(node[c1, HEIGHT], node[c2, HEIGHT])
+        _set_union(fat, index, c1, c2)
+        index = node[index, PARENT]
+
+
+@njit
+def _insert_leaf(node, fat, state_i, leaf):
+    """Insert ``leaf`` (its fat box already set) by the surface-area heuristic, then refit."""
+    root = state_i[I_ROOT]
+    if root < 0:
+        state_i[I_ROOT] = leaf
+        node[leaf, PARENT] = -1
+        return
+    index = root
+    while node[index, CHILD1] >= 0:
+        c1 = node[index, CHILD1]
+        c2 = node[index, CHILD2]
+        area = _surface_area(fat, index)
+        combined = _union_area(fat, index, leaf)
+        cost = 2.0 * combined
+        inheritance = 2.0 * (combined - area)
+        cost1 = _union_area(fat, c1, leaf) + inheritance
+        if node[c1, CHILD1] >= 0:
+            cost1 -= _surface_area(fat, c1)
+        cost2 = _union_area(fat, c2, leaf) + inheritance
+        if node[c2, CHILD1] >= 0:
+            cost2 -= _surface_area(fat, c2)
+        if cost < cost1 and cost < cost2:
+            break
+        index = c1 if cost1 < cost2 else c2
+    sibling = index
+    old_parent = node[sibling, PARENT]
+    new_parent = _alloc(node, state_i)
+    node[new_parent, PARENT] = old_parent
+    node[new_parent, BODY] = -1
+    node[new_parent, HEIGHT] = node[sibling, HEIGHT] + 1
+    node[new_parent, CHILD1] = sibling
+    node[new_parent, CHILD2] = leaf
+    _set_union(fat, new_parent, sibling, leaf)
+    _replace_child(node, state_i, old_parent, sibling, new_parent)
+    node[sibling, PARENT] = new_parent
+    node[leaf, PARENT] = new_parent
+    _refit_upwards(node, fat, state_i, node[leaf, PARENT])
+
+
+@njit
+def _remove_leaf(node, fat, state_i, leaf):
+    """Take ``leaf`` out of the tree (the leaf node itself stays allocated), then refit."""
+    if leaf == state_i[I_ROOT]:
+        state_i[I_ROOT] = -1
+        return
+    parent = node[leaf, PARENT]
+    grand = node[parent, PARENT]
+    sibling = node[parent, CHILD2] if node[parent, CHILD1] == leaf else node[parent, CHILD1]
+    _replace_child(node, state_i, grand, parent, sibling)
+    node[sibling, PARENT] = grand
+    _release(node, state_i, parent)
+    if grand >= 0:
+        _refit_upwards(node, fat, state_i, grand)
+
+
+@njit
+def _set_fat_box(fat, leaf, aabbs, i, margin):
+    """``fat[leaf] = aabbs[i]`` grown by ``margin * (largest edge)`` on every side."""
+    edge = 0.0
+    for k in range(3):
+        edge = max(edge, aabbs[i, k + 3] - aabbs[i, k])
+    grow = margin * edge
+    for k in range(3):
+        fat[leaf, k] = aabbs[i, k] - grow
+        fat[leaf, k + 3] = aabbs[i, k + 3] + grow
+
+
+@njit
+def _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
+    """True if body ``i``'s box left its fat box, or the fat box is more than ``looseness`` times
+    the wanted fat size along some axis."""
+    edge = 0.0
+    for k in range(3):
+        edge = max(edge, aabbs[i, k + 3] - aabbs[i, k])
+    grow = margin * edge
+    for k in range(3):
+        if aabbs[i, k] < fat[leaf, k] or aabbs[i, k + 3] > fat[leaf, k + 3]:
+            return True
+        wanted = aabbs[i, k + 3] - aabbs[i, k] + 2.0 * grow
+        if fat[leaf, k + 3] - fat[leaf, k] > looseness * wanted:
+            return True
+    return False
+
+
+@njit
+def bvh_update(aabbs, flags, n_bodies, state_f, state_i):
+    """Insert new bodies, remove dead ones and reinsert leaves whose body left its fat box."""
+    node, fat, leaf_of = bvh_views(state_f, state_i)
+    n_prev = state_i[I_N_PREV]
+    if n_prev < 0:
+        state_i[I_ROOT] = -1
+        state_i[I_NODE_COUNT] = 0
+        state_i[I_FREE] = -1
+        leaf_of[:] = -1
+        n_prev = 0
+    margin = state_f[F_MARGIN]
+    looseness = state_f[F_LOOSENESS]
+    for i in range(max(n_bodies, n_prev)):
+        leaf = leaf_of[i]
+        if i >= n_bodies or not is_alive(flags, i):
+            if leaf >= 0:
+                _remove_leaf(node, fat, state_i, leaf)
+                _release(node, state_i, leaf)
+                leaf_of[i] = -1
+        elif leaf < 0:
+            leaf = _alloc(node, state_i)
+            node[leaf, CHILD1] = -1
+            node[leaf, CHILD2] = -1
+            node[leaf, HEIGHT] = 0
+            node[leaf, BODY] = i
+            leaf_of[i] = leaf
+            _set_fat_box(fat, leaf, aabbs, i, margin)
+            _insert_leaf(node, fat, state_i, leaf)
+        elif _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
+            _remove_leaf(node, fat, state_i, leaf)
+            _set_fat_box(fat, leaf, aabbs, i, margin)
+            _insert_leaf(node, fat, state_i, leaf)
+    state_i[I_N_PREV] = n_bodies
+
+
+@njit
+def _stack_for(node, state_i):
+    """A traversal stack deep enough for the current tree (depth-first: height + 1 entries)."""
+    root = state_i[I_ROOT]
+    height = node[root, HEIGHT] if root >= 0 else 0
+    return np.empty(height + 2, np.int64)
+
+
+@njit
+def bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
+    """Update the tree, then query it with each live dynamic body's box.  Returns ``(keys, count)``."""
+    bvh_update(aabbs, flags, n_bodies, state_f, state_i)
+    node, fat, _ = bvh_views(state_f, state_i)
+    root = state_i[I_ROOT]
+    count = 0
+    if root < 0:
+        return keys, count
+    stack = _stack_for(node, state_i)
+    for i in range(n_bodies):
+        if not is_alive(flags, i) or (flags[i] & STATIC) != 0:
+            continue
+        stack[0] = root
+        top = 1
+        while top > 0:
+            top -= 1
+            idx = stack[top]
+            if not rows_overlap(fat, idx, aabbs, i):
+                continue
+            if node[idx, CHILD1] >= 0:
+                stack[top] = node[idx, CHILD1]
+                stack[top + 1] = node[idx, CHILD2]
+                top += 2
+                continue
+            j = node[idx, BODY]
+            if j == i or (j < i and (flags[j] & STATIC) == 0):
+                continue
+            if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
+                keys = push_pair(keys, count, i, j, n_bodies)
+                count += 1
+    return keys, count
+
+
+@njit
+def bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf):
+    """Bodies in the tree whose own box overlaps ``[box_min, box_max]``.  Returns ``(buf, count)``."""
+    node, fat, _ = bvh_views(state_f, state_i)
+    root = state_i[I_ROOT]
+    count = 0
+    if root < 0:
+        return buf, count
+    stack = _stack_for(node, state_i)
+    stack[0] = root
+    top = 1
+    while top > 0:
+        top -= 1
+        idx = stack[top]
+        if not row_overlaps_box(fat, idx, box_min, box_max):
+            continue
+        if node[idx, CHILD1] >= 0:
+            stack[top] = node[idx, CHILD1]
+            stack[top + 1] = node[idx, CHILD2]
+            top += 2
+        elif row_overlaps_box(aabbs, node[idx, BODY], box_min, box_max):
+            buf = push_index(buf, count, node[idx, BODY])
+            count += 1
+    return buf, count
+
+
+@njit
+def bvh_query_ray(aabbs, state_f, state_i, origin, direction, max_distance, buf):
+    """Bodies in the tree whose own box the ray enters within ``max_distance``.
+    Returns ``(buf, count)``."""
+    node, fat, _ = bvh_views(state_f, state_i)
+    root = state_i[I_ROOT]
+    count = 0
+    if root < 0:
+        return buf, count
+    stack = _stack_for(node, state_i)
+    stack[0] = root
+    top = 1
+    while top > 0:
+        top -= 1
+        idx = stack[top]
+        if ray_entry(fat, idx, origin, direction, max_distance) < 0.0:
+            continue
+        if node[idx, CHILD1] >= 0:
+            stack[top] = node[idx, CHILD1]
+            stack[top + 1] = node[idx, CHILD2]
+            top += 2
+        elif ray_entry(aabbs, node[idx, BODY], origin, direction, max_distance) >= 0.0:
+            buf = push_index(buf, count, node[idx, BODY])
+            count += 1
+    return buf, count

@@ -1,0 +1,152 @@
+"""Uniform grid (spatial hash), rebuilt from the boxes at every update.
+
+Cell size ``h = cell_factor * median(largest box edge)`` over the live bodies (``cell_factor = 2``
+by default), so a typical box covers one or two cells per axis.  The grid starts at the lowest box
+corner; cell coordinates along an axis are ``floor((x - origin) / h)``.  ``h`` is raised if needed so
+that no axis has more than 2^20 cells (the packed cell key then fits in 63 bits).
+
+A box that would cover more than ``max_cells_per_axis`` cells along some axis is *oversized*: it is
+not put in the grid but tested against every live body, so one huge body among many small ones
+costs O(n) instead of filling O(n) cells each tested against everything.
+
+Each box is entered into every cell it covers; the entries are bucketed by a hash of their cell with a
+counting sort (O(entries)).  Inside a bucket, two entries of the same cell are a candidate pair, and the
+pair is reported only in the lowest cell both boxes cover (cell ``max(lo_i, lo_j)`` per axis), so each
+overlapping pair is found exactly once without a dedupe pass.
+
+The grid is transient (rebuilt each update), so box and ray queries for this method are linear scans.
+State: only the header; ``state_f[F_CELL_FACTOR]`` and ``state_f[F_MAX_CELLS]`` hold the tunables.
+"""
+import math
+
+import numpy as np
+
+from marbellous._jit import njit
+from marbellous.collision.broadphase._common import (
+    HEADER_F, HEADER_I, I_N_PREV, alive_indices, pair_allowed, push_pair, rows_overlap)
+
+F_CELL_FACTOR = 0
+F_MAX_CELLS = 1
+_AXIS_CELLS = 1 << 20
+
+
+def grid_state_sizes(capacity):
+    """Lengths ``(len(state_f), len(state_i))`` of the grid state (the grid itself is transient)."""
+    return HEADER_F, HEADER_I
+
+
+def grid_init_params(state_f, cell_factor=2.0, max_cells_per_axis=3):
+    """Write the tunables: cell size over median box size, and cells per axis beyond which a box
+    is handled as oversized."""
+    state_f[F_CELL_FACTOR] = cell_factor
+    state_f[F_MAX_CELLS] = max_cells_per_axis
+
+
+@njit
+def _cell_size(aabbs, live, cell_factor):
+    """Edge of a grid cell (m) and the grid origin (lowest corner of all live boxes)."""
+    m = live.shape[0]
+    edge = np.empty(m)
+    origin = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    for a in range(m):
+        i = live[a]
+        e = 0.0
+        for k in range(3):
+            e = max(e, aabbs[i, k + 3] - aabbs[i, k])
+            origin[k] = min(origin[k], aabbs[i, k])
+            top[k] = max(top[k], aabbs[i, k + 3])
+        edge[a] = e
+    h = cell_factor * np.median(edge)
+    span = 0.0
+    for k in range(3):
+        span = max(span, top[k] - origin[k])
+    h = max(h, span / _AXIS_CELLS)
+    if not h > 0.0:
+        h = 1.0
+    return h, origin
+
+
+@njit
+def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
+    """Build the grid over the live boxes and collect every overlapping, filter-passing pair.
+    Returns ``(keys, count)``."""
+    state_i[I_N_PREV] = n_bodies
+    live = alive_indices(flags, n_bodies)
+    m = live.shape[0]
+    count = 0
+    if m < 2:
+        return keys, count
+    h, origin = _cell_size(aabbs, live, state_f[F_CELL_FACTOR])
+    max_cells = int(state_f[F_MAX_CELLS])
+    lo = np.empty((n_bodies, 3), np.int64)
+    hi = np.empty((n_bodies, 3), np.int64)
+    oversized = np.zeros(n_bodies, np.bool_)
+    n_entries = 0
+    for a in range(m):
+        i = live[a]
+        cells = 1
+        for k in range(3):
+            lo[i, k] = int(math.floor((aabbs[i, k] - origin[k]) / h))
+            hi[i, k] = int(math.floor((aabbs[i, k + 3] - origin[k]) / h))
+            c = hi[i, k] - lo[i, k] + 1
+            if c > max_cells:
+                oversized[i] = True
+            cells *= c
+        if not oversized[i]:
+            n_entries += cells
+    stride = _AXIS_CELLS + 2
+    table = 1
+    while table < 2 * n_entries:
+        table *= 2
+    start = np.zeros(table + 1, np.int64)
+    entry_body = np.empty(n_entries, np.int64)
+    entry_cell = np.empty(n_entries, np.int64)
+    for pass_ in range(2):
+        for a in range(m):
+            i = live[a]
+            if oversized[i]:
+                continue
+            for cx in range(lo[i, 0], hi[i, 0] + 1):
+                for cy in range(lo[i, 1], hi[i, 1] + 1):
+                    for cz in range(lo[i, 2], hi[i, 2] + 1):
+                        bucket = ((cx * 73856093) ^ (cy * 19349663) ^ (cz * 83492791)) & (table - 1)
+                        if pass_ == 0:
+                            start[bucket + 1] += 1
+                        else:
+                            slot = start[bucket]
+                            start[bucket] += 1
+                            entry_body[slot] = i
+                            entry_cell[slot] = (cx * stride + cy) * stride + cz
+        if pass_ == 0:
+            for b in range(table):
+                start[b + 1] += start[b]
+    # after the scatter, start[b] is the end of bucket b, which is the start of bucket b + 1
+    begin = 0
+    for b in range(table):
+        end = start[b]
+        for p in range(begin, end):
+            i = entry_body[p]
+            for q in range(p + 1, end):
+                if entry_cell[q] != entry_cell[p]:
+                    continue
+                j = entry_body[q]
+                lowest = ((max(lo[i, 0], lo[j, 0]) * stride + max(lo[i, 1], lo[j, 1])) * stride
+                          + max(lo[i, 2], lo[j, 2]))
+                if lowest == entry_cell[p] and pair_allowed(i, j, flags, groups, masks) \
+                        and rows_overlap(aabbs, i, aabbs, j):
+                    keys = push_pair(keys, count, i, j, n_bodies)
+                    count += 1
+        begin = end
+    for a in range(m):
+        i = live[a]
+        if not oversized[i]:
+            continue
+        for b in range(m):
+            j = live[b]
+            if j == i or (oversized[j] and j < i):
+                continue
+            if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
+                keys = push_pair(keys, count, i, j, n_bodies)
+                count += 1
+    return keys, count
