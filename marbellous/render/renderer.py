@@ -5,7 +5,6 @@ The renderer draws into any framebuffer: an offscreen one for headless video (``
 a window's screen.  One directional light (the sun) casts shadows through a shadow map rendered from
 its orthographic view around the camera's focus.
 """
-import math
 from dataclasses import dataclass, field
 
 import moderngl
@@ -142,15 +141,6 @@ void main() {
 #: Unit vector towards the sun.
 SUN = np.array([0.45, 0.8, 0.35]) / np.linalg.norm([0.45, 0.8, 0.35])
 SKY = (0.70, 0.80, 0.92)
-
-
-@dataclass
-class CameraView:
-    """Where the camera is: ``eye`` and ``target`` (m) and the vertical field of view ``fov`` (rad)."""
-
-    eye: np.ndarray
-    target: np.ndarray
-    fov: float = math.radians(60.0)
 
 
 @dataclass

@@ -1,0 +1,126 @@
+"""The ``marbellous`` command.
+
+    marbellous demo [--level NAME_OR_PATH] [--out FILE.mp4|FILE.gif] [--seconds S]
+    marbellous play [--level NAME_OR_PATH]
+    marbellous levels
+
+Each subcommand is a :class:`Command`: a name, a one-line help, a function that adds its arguments to
+an ``argparse`` parser, and a function that runs it and returns the exit code.  To add one, append a
+``Command`` to :data:`COMMANDS`.
+"""
+import argparse
+import sys
+from dataclasses import dataclass
+from typing import Callable
+
+
+@dataclass(frozen=True)
+class Command:
+    """A subcommand of ``marbellous``: ``add_arguments(parser)`` declares its options and
+    ``run(args) -> int`` carries it out."""
+
+    name: str
+    help: str
+    add_arguments: Callable
+    run: Callable
+
+
+def _level_argument(p):
+    p.add_argument("--level", default=None, metavar="NAME_OR_PATH",
+                   help="a shipped level (see `marbellous levels`) or a level TOML file (default: course)")
+
+
+def _demo_arguments(p):
+    _level_argument(p)
+    p.add_argument("--out", default="marbellous-demo.mp4", metavar="FILE",
+                   help="video to write, .mp4 or .gif (default: marbellous-demo.mp4)")
+    p.add_argument("--seconds", type=float, default=60.0, metavar="S",
+                   help="give up after S simulated seconds (default: 60)")
+    p.add_argument("--size", default="640x360", metavar="WxH", help="video size in pixels (default: 640x360)")
+    p.add_argument("--fps", type=int, default=30, help="video frames per second (default: 30)")
+    p.add_argument("--debug", action="store_true", help="draw contacts, normals and the level's 2D grid")
+
+
+def _parse_size(text):
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"--size must look like 640x360, got {text!r}") from None
+    if not (16 <= w <= 4096 and 16 <= h <= 4096):
+        raise ValueError(f"--size must be between 16 and 4096 pixels per side, got {text!r}")
+    return w, h
+
+
+def _run_demo(args):
+    from .game.demo import run_demo
+
+    if not args.seconds > 0:
+        raise ValueError(f"--seconds must be > 0, got {args.seconds}")
+    if not args.out.lower().endswith((".mp4", ".gif")):
+        raise ValueError(f"--out must end in .mp4 or .gif, got {args.out!r}")
+    result = run_demo(args.level, args.out, args.seconds, fps=args.fps, size=_parse_size(args.size),
+                      debug=args.debug)
+    print("\n".join(result.summary()), flush=True)
+    return 0 if result.reached else 1
+
+
+def _play_arguments(p):
+    _level_argument(p)
+    p.add_argument("--size", default="1280x720", metavar="WxH", help="window size in pixels (default: 1280x720)")
+    p.add_argument("--debug", action="store_true", help="start with the debug overlay on (toggle with F1)")
+    p.add_argument("--print-state", action="store_true",
+                   help="print the time and the marble's position every half second (for scripts)")
+
+
+def _run_play(args):
+    from .render.window import play
+
+    return play(args.level, size=_parse_size(args.size), debug=args.debug, print_state=args.print_state)
+
+
+def _levels_arguments(p):
+    pass
+
+
+def _run_levels(args):
+    from .game.level import level_names, load_level
+
+    for name in level_names():
+        lvl = load_level(name)
+        print(f"{name:10s} {lvl.name}: {lvl.description}")
+    return 0
+
+
+COMMANDS = [
+    Command("demo", "an autopilot plays a level headless and writes a video", _demo_arguments, _run_demo),
+    Command("play", "play a level in a window (arrows/WASD, space jumps, R restarts)", _play_arguments, _run_play),
+    Command("levels", "list the shipped levels", _levels_arguments, _run_levels),
+]
+
+
+def build_parser():
+    """The ``argparse`` parser with every command in :data:`COMMANDS`."""
+    from . import __version__
+
+    parser = argparse.ArgumentParser(prog="marbellous", description="Marbellous: a marble game and its physics engine")
+    parser.add_argument("--version", action="version", version=f"marbellous {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for cmd in COMMANDS:
+        cmd.add_arguments(sub.add_parser(cmd.name, help=cmd.help, description=cmd.help))
+    return parser
+
+
+def main(argv=None):
+    """Entry point of the ``marbellous`` command; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    run = {c.name: c.run for c in COMMANDS}[args.command]
+    try:
+        return run(args)
+    except (ValueError, OSError) as e:
+        print(f"marbellous {args.command}: error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,57 @@
+"""Player controls: keys push the marble in the ground plane relative to where the camera looks.
+
+A control input ``move = (forward, right)``, each in [-1, 1] and together clipped to the unit disc,
+becomes a force in the x-z plane
+
+    F = m a_push (forward * f + right * r),   f = (cos psi, 0, sin psi),   r = (-sin psi, 0, cos psi)
+
+for a camera heading ``psi`` (rad).  The force acts at the marble's centre; friction with the ground
+turns it into rolling, as in the lecture ("apply forces when keys are pressed").
+"""
+import math
+
+import numpy as np
+
+#: Keys (pyglet key names) for each direction of the control input.
+FORWARD_KEYS = ("W", "UP")
+BACK_KEYS = ("S", "DOWN")
+LEFT_KEYS = ("A", "LEFT")
+RIGHT_KEYS = ("D", "RIGHT")
+
+
+def clip_to_disc(move):
+    """``move`` (2,) scaled down onto the unit disc if it lies outside it; NaN raises ValueError."""
+    m = np.asarray(move, np.float64).reshape(2)
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"move must be 2 finite numbers, got {move!r}")
+    n = float(np.hypot(m[0], m[1]))
+    return m / n if n > 1.0 else m
+
+
+def heading_axes(heading):
+    """``(forward, right)`` unit vectors in the ground plane for a camera heading (rad)."""
+    c, s = math.cos(heading), math.sin(heading)
+    return np.array([c, 0.0, s]), np.array([-s, 0.0, c])
+
+
+def control_force(move, heading, mass, push):
+    """World-space force (N) for a control input ``move = (forward, right)`` seen from a camera with
+    ``heading`` (rad) on a marble of ``mass`` (kg) pushed with ``push`` (m/s^2) at full input."""
+    f, r = heading_axes(heading)
+    m = clip_to_disc(move)
+    return mass * push * (m[0] * f + m[1] * r)
+
+
+def move_for_direction(direction, heading):
+    """The control input that pushes along the world-space ``direction`` (its x-z part; length up to
+    1 is full input) for a camera ``heading``: the inverse of :func:`control_force`."""
+    f, r = heading_axes(heading)
+    d = np.asarray(direction, np.float64)
+    return clip_to_disc((d @ f, d @ r))
+
+
+def move_from_keys(pressed):
+    """Control input from the set of pressed key names (e.g. ``{"W", "LEFT"}``)."""
+    fwd = any(k in pressed for k in FORWARD_KEYS) - any(k in pressed for k in BACK_KEYS)
+    right = any(k in pressed for k in RIGHT_KEYS) - any(k in pressed for k in LEFT_KEYS)
+    return clip_to_disc((fwd, right))

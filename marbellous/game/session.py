@@ -1,0 +1,183 @@
+"""One play-through of a level: the world, the marble, the controls, the camera, the goal and timer.
+
+The game steps the physics with a fixed step ``dt`` (default 1/120 s).  Each step applies the control
+force (and a jump impulse) to the marble, advances the world, respawns the marble at the start when it
+falls below the level's ``fall_height``, and tests the goal box.  A window's frame loop calls
+:meth:`Game.advance` with the frame time; an autopilot or a learning agent calls :meth:`Game.step`.
+"""
+import time
+
+import numpy as np
+
+from .camera import FollowCamera
+from .controls import control_force
+from .course import CoursePath
+from .goal import BestTimes, GoalArea, format_time
+from .marble import MarbleSpec
+
+
+def build_world(level):
+    """A new ``marbellous.World`` holding the level's colliders as static bodies; returns ``(world,
+    statics)``."""
+    import marbellous as mb
+
+    world = mb.World()
+    statics = []
+    for c in level.colliders:
+        m = c.material
+        statics.append(world.add_static(c.shape(), position=c.position, orientation=c.orientation,
+                                        friction=m.friction, static_friction=m.static_friction,
+                                        restitution=m.restitution, rolling_friction=m.rolling_friction))
+    return world, statics
+
+
+class Game:
+    """The game state for one ``level`` (a loaded ``Level``).
+
+    ``marble`` is a :class:`MarbleSpec`; ``dt`` the physics step (s); ``best_times`` a
+    :class:`BestTimes` store (None: the user's default one).
+    """
+
+    #: Up to this many physics steps are taken per rendered frame; slower frames slow the game down.
+    MAX_STEPS_PER_FRAME = 8
+    #: A contact supports the marble when its normal towards the marble is this close to +y.
+    GROUND_COS = 0.5
+    #: Speculative contacts with a gap up to this (m) still count as touching the ground.
+    GROUND_GAP = 0.03
+
+    def __init__(self, level, *, marble=None, dt=1.0 / 120.0, best_times=None):
+        self.level = level
+        self.spec = marble if marble is not None else MarbleSpec()
+        self.dt = float(dt)
+        self.best_times = best_times if best_times is not None else BestTimes()
+        self.world, self.statics = build_world(level)
+        self.marble = self.spec.add_to(self.world, level.start_position)
+        self.goal = GoalArea(level.goal_center, level.goal_half_extents)
+        self.course = CoursePath(level.path, level.speeds) if level.path is not None else None
+        self.camera = FollowCamera(heading=level.start_heading)
+        self.physics_seconds = 0.0
+        self.physics_steps = 0
+        self._accumulator = 0.0
+        self.restart()
+
+    # ------------------------------------------------------------------ state changes
+    def restart(self):
+        """Back to the start with the timer at zero."""
+        self.elapsed = 0.0
+        self.finished = False
+        self.finish_time = None
+        self.new_best = False
+        self.respawns = 0
+        self._place_at_start()
+
+    def respawn(self):
+        """Put the marble back at the start after a fall; the timer keeps running."""
+        self.respawns += 1
+        self._place_at_start()
+
+    def _place_at_start(self):
+        b = self.marble
+        b.position = self.level.start_position
+        b.orientation = (1.0, 0.0, 0.0, 0.0)
+        b.velocity = (0.0, 0.0, 0.0)
+        b.angular_velocity = (0.0, 0.0, 0.0)
+        self._jump_cooldown = 0.0
+        self.camera.reset(self.level.start_position, self.level.start_heading)
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, move=(0.0, 0.0), jump=False):
+        """One physics step of :attr:`dt` with the control input ``move = (forward, right)`` relative
+        to the camera and an optional jump (only when the marble touches the ground)."""
+        b = self.marble
+        b.apply_force(control_force(move, self.camera.heading, b.mass, self.spec.push))
+        self._jump_cooldown = max(0.0, self._jump_cooldown - self.dt)
+        if jump and self._jump_cooldown == 0.0 and self.on_ground():
+            b.apply_impulse((0.0, b.mass * self.spec.jump_speed, 0.0))
+            self._jump_cooldown = 0.25
+        t0 = time.perf_counter()
+        self.world.step(self.dt)
+        self.physics_seconds += time.perf_counter() - t0
+        self.physics_steps += 1
+        if not self.finished:
+            self.elapsed += self.dt
+        p = b.position
+        if p[1] < self.level.fall_height:
+            self.respawn()
+        elif not self.finished and self.goal.reached(p, self.spec.radius):
+            self.finished = True
+            self.finish_time = self.elapsed
+            self.new_best = self.best_times.record(self.level.key, self.elapsed)
+
+    def advance(self, frame_time, move=(0.0, 0.0), jump=False):
+        """Step the physics through ``frame_time`` seconds of a rendered frame (fixed steps, the rest
+        carried over); returns the number of steps taken."""
+        self._accumulator = min(self._accumulator + float(frame_time), self.MAX_STEPS_PER_FRAME * self.dt)
+        n = 0
+        while self._accumulator >= self.dt:
+            self.step(move, jump and n == 0)
+            self._accumulator -= self.dt
+            n += 1
+        return n
+
+    def on_ground(self):
+        """True when a contact from the last step supports the marble from below."""
+        for c in self.world.contacts():
+            if c.body_b is self.marble:
+                n = c.normal
+            elif c.body_a is self.marble:
+                n = -c.normal
+            else:
+                continue
+            if n[1] >= self.GROUND_COS and c.depth >= -self.GROUND_GAP:
+                return True
+        return False
+
+    # ------------------------------------------------------------------ camera and display
+    def raycast_level(self, origin, direction, max_distance):
+        """Distance (m) along ``direction`` to the nearest level geometry (the marble is ignored), or
+        None."""
+        skipped = 0.0
+        origin = np.asarray(origin, np.float64)
+        for _ in range(4):
+            hit = self.world.raycast(origin, direction, max_distance - skipped)
+            if hit is None:
+                return None
+            if hit.body is not self.marble:
+                return skipped + hit.distance
+            step = hit.distance + 2.0 * self.spec.radius
+            origin = origin + np.asarray(direction) * step
+            skipped += step
+            if skipped >= max_distance:
+                return None
+        return None
+
+    def update_camera(self, frame_time):
+        """Move the follow camera by ``frame_time`` seconds; returns its ``CameraView``."""
+        b = self.marble
+        return self.camera.update(frame_time, b.position, b.velocity, self.raycast_level)
+
+    def marble_rotation(self):
+        """The marble's rotation matrix (3, 3)."""
+        from ..render.transforms import quat_to_matrix
+
+        return quat_to_matrix(self.marble.orientation)
+
+    def contact_points(self):
+        """``(points, normals)`` (K, 3) of the last step's contacts, for the debug overlay."""
+        cs = self.world.contacts()
+        if not cs:
+            return np.zeros((0, 3)), np.zeros((0, 3))
+        return np.array([c.point for c in cs]), np.array([c.normal for c in cs])
+
+    def progress(self):
+        """Arc length (m) of the marble along the course (0 without a course)."""
+        return self.course.project(self.marble.position) if self.course is not None else 0.0
+
+    def hud_lines(self):
+        """The HUD: level, timer, best time, and the goal message once finished."""
+        best = self.best_times.get(self.level.key)
+        lines = [f"{self.level.name}   time {format_time(self.elapsed)}",
+                 f"best {format_time(best) if best is not None else '--'}   falls {self.respawns}"]
+        if self.finished:
+            lines.append(f"GOAL in {format_time(self.finish_time)}" + ("  new best!" if self.new_best else ""))
+        return lines

@@ -1,0 +1,112 @@
+"""Controls, course path and best-time records (no physics needed)."""
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from marbellous.game.controls import (clip_to_disc, control_force, heading_axes, move_for_direction,
+                                      move_from_keys)
+from marbellous.game.course import CoursePath
+from marbellous.game.goal import BestTimes, format_time
+
+unit = st.floats(-1, 1, allow_nan=False)
+angle = st.floats(-10, 10, allow_nan=False)
+
+
+@settings(max_examples=300)
+@given(f=unit, r=unit, heading=angle)
+def test_force_lies_in_ground_plane_relative_to_camera(f, r, heading):
+    force = control_force((f, r), heading, mass=2.0, push=5.0)
+    fwd, right = heading_axes(heading)
+    m = clip_to_disc((f, r))
+    assert force[1] == 0.0
+    assert np.linalg.norm(force) == pytest.approx(10.0 * np.hypot(*m), abs=1e-12)
+    assert force @ fwd == pytest.approx(10.0 * m[0], abs=1e-12)
+    assert force @ right == pytest.approx(10.0 * m[1], abs=1e-12)
+    assert np.hypot(*m) <= 1.0 + 1e-12
+
+
+@settings(max_examples=300)
+@given(f=unit, r=unit, heading=angle)
+def test_move_for_direction_inverts_control_force(f, r, heading):
+    m = clip_to_disc((f, r))
+    force = control_force(m, heading, mass=1.0, push=1.0)
+    assert np.allclose(move_for_direction(force, heading), m, atol=1e-12)
+
+
+def test_heading_axes_right_handed_y_up():
+    fwd, right = heading_axes(0.0)
+    assert np.allclose(fwd, [1, 0, 0]) and np.allclose(right, [0, 0, 1])
+    assert np.allclose(np.cross(right, fwd), [0, 1, 0])
+    fwd, _ = heading_axes(math.pi / 2)
+    assert np.allclose(fwd, [0, 0, 1])
+
+
+def test_keys_map_to_moves():
+    assert np.allclose(move_from_keys({"W"}), [1, 0])
+    assert np.allclose(move_from_keys({"DOWN"}), [-1, 0])
+    assert np.allclose(move_from_keys({"D"}), [0, 1])
+    assert np.allclose(move_from_keys({"LEFT", "UP"}), [math.sqrt(0.5), -math.sqrt(0.5)])
+    assert np.allclose(move_from_keys({"W", "S"}), [0, 0])
+    assert np.allclose(move_from_keys(set()), [0, 0])
+
+
+def test_bad_move_is_rejected():
+    with pytest.raises(ValueError, match="move"):
+        control_force((float("nan"), 0.0), 0.0, 1.0, 1.0)
+
+
+def test_course_path_projection_and_points():
+    path = CoursePath([[0, 0, 0], [4, 0, 0], [4, 0, 3]], speeds=[1, 2, 3])
+    assert path.length == pytest.approx(7.0)
+    assert path.project((2.0, 0.5, 0.3)) == pytest.approx(2.0)
+    assert path.project((5.0, 0.0, 2.0)) == pytest.approx(6.0)
+    assert np.allclose(path.point_at(5.5), [4, 0, 1.5])
+    assert np.allclose(path.point_at(-3), [0, 0, 0]) and np.allclose(path.point_at(99), [4, 0, 3])
+    assert path.speed_at(2.0) == pytest.approx(1.5)
+    # with a hint, only the nearby part of the course counts
+    loop = CoursePath([[0, 0, 0], [10, 0, 0], [10, 0, 1], [0, 0, 1]])
+    assert loop.project((5.0, 0.0, 0.4)) == pytest.approx(5.0)
+    assert loop.project((5.0, 0.0, 0.4), near=15.0, window=3.0) == pytest.approx(16.0)
+
+
+@settings(max_examples=200)
+@given(s=st.floats(0, 7))
+def test_point_at_projects_back(s):
+    path = CoursePath([[0, 0, 0], [4, 0, 0], [4, 0, 3]])
+    assert path.project(path.point_at(s)) == pytest.approx(s, abs=1e-9)
+
+
+def test_best_times_are_stored_per_level(tmp_path):
+    bt = BestTimes(tmp_path / "sub" / "best.json")
+    assert bt.get("course") is None
+    assert bt.record("course", 30.0) is True
+    assert bt.record("course", 31.0) is False
+    assert bt.record("course", 25.5) is True
+    assert bt.record("hills", 40.0) is True
+    again = BestTimes(tmp_path / "sub" / "best.json")
+    assert again.get("course") == 25.5 and again.get("hills") == 40.0
+    assert json.loads((tmp_path / "sub" / "best.json").read_text()) == {"course": 25.5, "hills": 40.0}
+
+
+def test_best_times_survive_a_corrupt_file_and_default_to_user_dir(tmp_path, monkeypatch):
+    p = tmp_path / "best.json"
+    p.write_text("{not json")
+    bt = BestTimes(p)
+    assert bt.get("course") is None
+    assert bt.record("course", 12.0)
+    assert BestTimes(p).get("course") == 12.0
+    monkeypatch.setenv("MARBELLOUS_DATA_DIR", str(tmp_path / "data"))
+    assert BestTimes().path == tmp_path / "data" / "best_times.json"
+    mem = BestTimes(persistent=False)
+    assert mem.record("x", 3.0) and mem.get("x") == 3.0 and not mem.path.exists()
+
+
+def test_format_time():
+    assert format_time(0) == "0:00.0"
+    assert format_time(83.25) == "1:23.2" or format_time(83.25) == "1:23.3"
+    assert format_time(9.96) == "0:10.0"
+    assert format_time(59.96) == "1:00.0"
