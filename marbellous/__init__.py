@@ -10,9 +10,9 @@ SI units, y up, quaternions (w, x, y, z).  Start with :class:`World`::
 from .body import Body
 from .constraints import Cable, Rod, Spring
 from .shapes import Box, Capsule, Plane, Shape, Sphere
-from .world import Snapshot, World
+from .world import Contact, Snapshot, World
 
 __version__ = "0.1.0"
 
 __all__ = ["World", "Body", "Snapshot", "Shape", "Sphere", "Box", "Capsule", "Plane", "Spring", "Rod",
-           "Cable", "__version__"]
+           "Cable", "Contact", "__version__"]

@@ -27,7 +27,9 @@ W_FREE = 49        # angular velocity after integrating forces, before the solve
 X_PRED = 52        # position the integrator predicts without constraints (m), 3
 Q_PRED = 55        # orientation the integrator predicts without constraints, 4
 SLEEP_TIME = 59    # seconds the body has been nearly at rest
-BF_COLS = 60
+POS0 = 60          # position at the start of the step (m), 3: the solver updates separations from it
+BF_COLS = 63
+
 
 # --- bodies, int table bi -----------------------------------------------------------------
 FLAGS = 0          # bit field, see F_* below
@@ -84,3 +86,41 @@ KF_BROKEN = 2
 W_TIME = 0         # simulated time (s)
 W_PREV_DT = 1      # length of the last sub-step (s), for Verlet
 WS_COLS = 2
+
+# --- contact points, float table cf and int table ci (one row per contact point) -------------------
+C_POINT = 0        # contact point, world (m), midway between the surfaces, 3
+C_NORMAL = 3       # unit normal from body a to body b, 3
+C_DEPTH = 6        # penetration depth at detection (m); <= 0: speculative gap
+C_RA = 7           # contact point relative to a's centre of mass (m), 3
+C_RB = 10          # contact point relative to b's centre of mass (m), 3
+C_T1 = 13          # first tangent of the contact basis, 3
+C_T2 = 16          # second tangent, 3
+C_MASS_N = 19      # effective mass along the normal, 1 / (J M^-1 J^T) (kg)
+C_MASS_T1 = 20     # effective mass along t1 (kg)
+C_MASS_T2 = 21     # effective mass along t2 (kg)
+C_LAMBDA_N = 22    # accumulated normal impulse (N s)
+C_LAMBDA_T1 = 23   # accumulated friction impulse along t1 (N s)
+C_LAMBDA_T2 = 24   # accumulated friction impulse along t2 (N s)
+C_LAMBDA_R = 25    # accumulated rolling-resistance angular impulse (N m s), 3
+C_MU_D = 28        # combined dynamic friction coefficient
+C_MU_S = 29        # combined static friction coefficient
+C_E = 30           # combined restitution
+C_ROLL = 31        # combined rolling friction (m)
+C_VN0 = 32         # relative normal velocity before the solve (m/s), for restitution
+C_MAX_N = 33       # largest normal impulse in the step (N s), for restitution
+C_ADJ_SEP = 34     # separation at detection, for updating it from the bodies' motion (m)
+C_SUM_N = 35       # normal impulse applied over the whole step (N s)
+C_SUM_T = 36       # friction impulse applied over the whole step, world vector (N s), 3
+CF_COLS = 39
+
+C_BODY_A = 0
+C_BODY_B = 1
+C_SHAPE_A = 2
+C_SHAPE_B = 3
+C_FEATURE = 4
+C_FLAGS = 5        # bit field, see CP_* below
+CI_COLS = 6
+
+CP_SLIDING = 1     # friction saturated (dynamic coefficient applies)
+CP_SENSOR = 2      # a sensor takes part: reported, not solved
+CP_MATCHED = 4     # warm-started from last step's contact with the same features

@@ -7,6 +7,9 @@ import numpy as np
 from . import layout as L
 from ._validate import as_choice, as_float, as_int, as_quat, as_vec3
 from .body import Body
+from .collision.aabb import shape_aabb
+from .collision.broadphase import METHODS as BROADPHASE_CODES
+from .collision.broadphase import make_state as make_broadphase_state
 from .constraints import Cable, Constraint, Rod, Spring
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.rigid import inverse_inertia_np
@@ -15,8 +18,28 @@ from .pipeline import step as S
 from .shapes import Shape
 
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
-BROADPHASES = ("brute", "sap", "grid", "bvh", "octree", "kdtree", "bsp")
+BROADPHASES = tuple(BROADPHASE_CODES)
 DEFAULT_DENSITY = 1000.0
+DEFAULT_SUBSTEPS = 4
+DEFAULT_ITERATIONS = 4
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact point found by the last step's collision detection (at the poses the step began with).
+
+    ``normal`` points from ``body_a`` to ``body_b``; ``depth > 0`` is overlap (m), ``depth <= 0`` a
+    speculative contact with gap ``-depth``.  ``normal_impulse`` (N s) and ``tangent_impulse`` (N s,
+    world vector) are what the solver applied at this point over the step.
+    """
+
+    body_a: Body
+    body_b: Body
+    point: np.ndarray
+    normal: np.ndarray
+    depth: float
+    normal_impulse: float
+    tangent_impulse: np.ndarray
 
 
 @dataclass
@@ -96,8 +119,9 @@ class World:
         self.solver = as_choice("solver", solver, SOLVERS)
         self.integrator = as_choice("integrator", integrator, INTEGRATORS)
         self.broadphase = as_choice("broadphase", broadphase, BROADPHASES)
-        self.iterations = 8 if iterations is None else as_int("iterations", iterations, lo=1, hi=10000)
-        self.substeps = 1 if substeps is None else as_int("substeps", substeps, lo=1, hi=1000)
+        self.iterations = DEFAULT_ITERATIONS if iterations is None else as_int("iterations", iterations, lo=1,
+                                                                               hi=10000)
+        self.substeps = DEFAULT_SUBSTEPS if substeps is None else as_int("substeps", substeps, lo=1, hi=1000)
         if not isinstance(ccd, bool):
             raise TypeError(f"ccd must be True or False, got {ccd!r}")
         if not isinstance(sleeping, bool):
@@ -121,6 +145,31 @@ class World:
         self._accumulator = 0.0
         self._params_f = np.zeros(S.PF_LEN)
         self._params_i = np.zeros(S.PI_LEN, dtype=np.int64)
+        self._stats = np.zeros(S.STATS_LEN, dtype=np.int64)
+        # Collision detection: body boxes, broad-phase state, candidate pairs, contact points (this
+        # step's and last step's, swapped after each step: the last one is the warm-start cache).
+        self._aabbs = np.zeros((8, 6))
+        self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], 8)
+        self._pairs = np.zeros((64, 2), dtype=np.int64)
+        self._raw_f = np.zeros((64, 7))
+        self._raw_i = np.zeros(64, dtype=np.int64)
+        self._cf = np.zeros((64, L.CF_COLS))
+        self._ci = np.zeros((64, L.CI_COLS), dtype=np.int64)
+        self._pcf = np.zeros((64, L.CF_COLS))
+        self._pci = np.zeros((64, L.CI_COLS), dtype=np.int64)
+        self._npc = 0
+        #: Tunables in physical units (see docs/architecture.md); change them before stepping.
+        self.speculative_distance = 0.02
+        self.contact_hertz = 30.0
+        self.contact_damping_ratio = 10.0
+        self.joint_hertz = 60.0
+        self.joint_damping_ratio = 2.0
+        self.max_push_speed = 3.0
+        self.slide_speed = 0.01
+        self.velocity_tolerance = 1e-5
+        self.sleep_linear_speed = 0.05
+        self.sleep_angular_speed = 0.05
+        self.time_to_sleep = 0.5
 
     # --- properties -------------------------------------------------------------------------------
     @property
@@ -222,6 +271,10 @@ class World:
         i = self._nb
         self._bf = _grow(self._bf, i + 1)
         self._bi = _grow(self._bi, i + 1)
+        if self._aabbs.shape[0] < self._bf.shape[0]:
+            self._aabbs = _grow(self._aabbs, self._bf.shape[0])
+            self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase],
+                                                           self._bf.shape[0])
         s0 = self._ns
         self._sf = _grow(self._sf, s0 + len(parts))
         self._si = _grow(self._si, s0 + len(parts))
@@ -260,11 +313,33 @@ class World:
         if sensor:
             flags |= L.F_SENSOR
         self._bi[i] = (flags, s0, len(parts), 1, -1, -1)
+        self._aabbs[i] = self._static_box(parts, pos, quat) if static else 0.0
         self._nb += 1
         self._ns += len(parts)
         body = Body(self, i, [(s, p.copy(), q.copy()) for s, p, q in parts])
         self._bodies.append(body)
         return body
+
+    @staticmethod
+    def _static_box(parts, pos, quat):
+        """World AABB of a static body's shapes (m); unbounded shapes give an infinite box."""
+        r_body = quat_to_matrix_np(quat)
+        box = np.array([np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf])
+        for s, p, q in parts:
+            rot = r_body @ quat_to_matrix_np(q)
+            centre = pos + r_body @ p
+            part = np.empty(6)
+            if hasattr(s, "local_aabb"):
+                lo, hi = s.local_aabb()
+                corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                                    for z in (lo[2], hi[2])])
+                world = corners @ rot.T + centre
+                part[:3], part[3:] = world.min(axis=0), world.max(axis=0)
+            else:
+                shape_aabb(s._type, centre, rot, s._params(), part)
+            box[:3] = np.minimum(box[:3], part[:3])
+            box[3:] = np.maximum(box[3:], part[3:])
+        return box
 
     def _check_body(self, body, name):
         if not isinstance(body, Body):
@@ -343,16 +418,95 @@ class World:
         pb = as_vec3("anchor_b", anchor_b)
         return self._insert_constraint(Spring, L.C_SPRING, a, b, pa, pb, l0, k, c, breaking_force)
 
+    def add_rod(self, a, b, *, length=None, anchor_a=(0.0, 0.0, 0.0), anchor_b=(0.0, 0.0, 0.0)):
+        """Keep the anchors of ``a`` and ``b`` (``b=None``: the world point ``anchor_b``) at a fixed distance.
+
+        ``length`` (m; None: the current distance).  Solved with the contacts as a stiff constraint:
+        the separating velocity along the rod is driven to zero.
+        """
+        pa = as_vec3("anchor_a", anchor_a)
+        pb = as_vec3("anchor_b", anchor_b)
+        length = self._joint_length("length", length, a, b, pa, pb)
+        return self._insert_constraint(Rod, L.C_ROD, a, b, pa, pb, length)
+
+    def add_cable(self, a, b, *, max_length, anchor_a=(0.0, 0.0, 0.0), anchor_b=(0.0, 0.0, 0.0)):
+        """An inextensible cable: the anchors stay at most ``max_length`` (m) apart, slack when closer."""
+        pa = as_vec3("anchor_a", anchor_a)
+        pb = as_vec3("anchor_b", anchor_b)
+        length = as_float("max_length", max_length, positive=True)
+        return self._insert_constraint(Cable, L.C_CABLE, a, b, pa, pb, length)
+
+    def _joint_length(self, name, length, a, b, pa, pb):
+        if length is not None:
+            return as_float(name, length, positive=True)
+        ia = self._check_body(a, "a")
+        wa = self._bf[ia, L.POS:L.POS + 3] + quat_to_matrix_np(self._bf[ia, L.QUAT:L.QUAT + 4]) @ pa
+        if b is None:
+            wb = pb
+        else:
+            ib = self._check_body(b, "b")
+            wb = self._bf[ib, L.POS:L.POS + 3] + quat_to_matrix_np(self._bf[ib, L.QUAT:L.QUAT + 4]) @ pb
+        d = float(np.linalg.norm(wb - wa))
+        if d <= 0.0:
+            raise ValueError(f"{name} is None and the anchors coincide: give a positive {name}")
+        return d
+
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt):
         """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps)."""
         dt = as_float("dt", dt, positive=True)
-        self._params_f[S.P_DT] = dt
-        self._params_f[S.P_GRAVITY:S.P_GRAVITY + 3] = self._gravity
-        self._params_i[S.P_INTEGRATOR] = INTEGRATORS.index(self.integrator)
-        self._params_i[S.P_SUBSTEPS] = self.substeps
-        S.step_world(self._bf, self._bi, self._kf, self._ki, self._ws, self._nb, self._nk,
-                     self._params_f, self._params_i)
+        pf, pi = self._params_f, self._params_i
+        pf[S.P_DT] = dt
+        pf[S.P_GRAVITY:S.P_GRAVITY + 3] = self._gravity
+        h = dt / self.substeps
+        pf[S.P_SPECULATIVE] = self.speculative_distance
+        # Contacts no stiffer than a quarter of the sub-step rate (stable for any dt).
+        pf[S.P_CONTACT_HERTZ] = min(self.contact_hertz, 0.25 / h)
+        pf[S.P_CONTACT_ZETA] = self.contact_damping_ratio
+        pf[S.P_JOINT_HERTZ] = min(self.joint_hertz, 0.5 / h)
+        pf[S.P_JOINT_ZETA] = self.joint_damping_ratio
+        pf[S.P_MAX_PUSH] = self.max_push_speed
+        pf[S.P_SLIDE_SPEED] = self.slide_speed
+        pf[S.P_TOLERANCE] = self.velocity_tolerance
+        pf[S.P_SLEEP_LINEAR] = self.sleep_linear_speed
+        pf[S.P_SLEEP_ANGULAR] = self.sleep_angular_speed
+        pf[S.P_TIME_TO_SLEEP] = self.time_to_sleep if self.sleeping else 0.0
+        # A contact closing no faster than gravity makes in one sub-step is resting, not bouncing.
+        pf[S.P_RESTITUTION_SPEED] = float(np.linalg.norm(self._gravity)) * h
+        pi[S.P_INTEGRATOR] = INTEGRATORS.index(self.integrator)
+        pi[S.P_SUBSTEPS] = self.substeps
+        pi[S.P_ITERATIONS] = self.iterations
+        pi[S.P_BROADPHASE] = BROADPHASE_CODES[self.broadphase]
+        while True:
+            status = S.step_world(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
+                                  self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
+                                  self._raw_f, self._raw_i, self._cf, self._ci, self._pcf, self._pci, self._npc,
+                                  self._nb, self._nk, pf, pi, self._stats)
+            if status == S.OK:
+                break
+            if status == S.GROW_PAIRS:
+                self._pairs = _grow(self._pairs, int(self._stats[S.S_PAIRS]))
+            else:
+                n = int(self._stats[S.S_CONTACTS])
+                self._raw_f = _grow(self._raw_f, n)
+                self._raw_i = _grow(self._raw_i, n)
+                self._cf = _grow(self._cf, n)
+                self._ci = _grow(self._ci, n)
+        # This step's contacts become the warm-start cache of the next.
+        self._cf, self._pcf = self._pcf, self._cf
+        self._ci, self._pci = self._pci, self._ci
+        self._npc = int(self._stats[S.S_CONTACTS])
+
+    def contacts(self):
+        """The contacts that the last step's collision detection found (at the poses the step began with),
+        with the impulses the solver applied at each."""
+        out = []
+        for c in range(self._npc):
+            f, i = self._pcf[c], self._pci[c]
+            out.append(Contact(self._bodies[i[L.C_BODY_A]], self._bodies[i[L.C_BODY_B]],
+                               f[L.C_POINT:L.C_POINT + 3].copy(), f[L.C_NORMAL:L.C_NORMAL + 3].copy(),
+                               float(f[L.C_DEPTH]), float(f[L.C_SUM_N]), f[L.C_SUM_T:L.C_SUM_T + 3].copy()))
+        return out
 
     def advance(self, frame_time, dt=1.0 / 120.0, max_steps=None):
         """Game-loop accumulator: take as many fixed steps of ``dt`` as ``frame_time`` (s) allows.
@@ -378,12 +532,12 @@ class World:
         return alpha if alpha < 1.0 else math.nextafter(1.0, 0.0)
 
     # --- state -------------------------------------------------------------------------------------------
-    _TABLES = ("_bf", "_bi", "_sf", "_si", "_kf", "_ki", "_ws", "_geom_f", "_geom_i")
+    _TABLES = ("_bf", "_bi", "_sf", "_si", "_kf", "_ki", "_ws", "_geom_f", "_geom_i", "_aabbs", "_pcf", "_pci")
 
     def snapshot(self):
         """The whole state (bodies, constraints, time, caches) as a picklable :class:`Snapshot`."""
         tables = {name: getattr(self, name).copy() for name in self._TABLES}
-        return Snapshot(tables, (self._nb, self._ns, self._nk), self._accumulator)
+        return Snapshot(tables, (self._nb, self._ns, self._nk, self._npc), self._accumulator)
 
     def restore(self, snapshot):
         """Return to ``snapshot`` (taken of this world, or of one built the same way).
@@ -392,7 +546,7 @@ class World:
         """
         if not isinstance(snapshot, Snapshot):
             raise TypeError(f"snapshot must be a Snapshot, got {snapshot!r}")
-        nb, ns, nk = snapshot.counts
+        nb, ns, nk, npc = snapshot.counts
         if nb > self._nb or nk > self._nk or ns > self._ns:
             raise ValueError("snapshot holds more bodies or constraints than this world: it was taken of a "
                              "world built differently")
@@ -415,8 +569,14 @@ class World:
             if alive and self._bodies[k] is None:
                 raise ValueError("snapshot holds a body that was removed since; restore it into a world "
                                  "built the same way")
-        self._nb, self._ns, self._nk = nb, ns, nk
+        self._nb, self._ns, self._nk, self._npc = nb, ns, nk, npc
         self._accumulator = snapshot.accumulator
+        # Buffers sized for the restored tables; the broad phase rebuilds from a fresh state.
+        self._cf = _grow(self._cf, self._pcf.shape[0])
+        self._ci = _grow(self._ci, self._pci.shape[0])
+        self._raw_f = _grow(self._raw_f, self._pcf.shape[0])
+        self._raw_i = _grow(self._raw_i, self._pcf.shape[0])
+        self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], self._aabbs.shape[0])
 
     def state_hash(self):
         """A hash of the whole state, bit for bit (hex string): equal hashes mean identical worlds."""

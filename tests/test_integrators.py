@@ -11,7 +11,7 @@ INTEGRATORS = ["explicit_euler", "semi_implicit_euler", "verlet", "rk4"]
 
 
 def falling_ball(integrator, v0=(0.0, 0.0, 0.0)):
-    w = mb.World(integrator=integrator)
+    w = mb.World(integrator=integrator, substeps=1)
     b = w.add_body(mb.Sphere(0.5), position=(0.0, 100.0, 0.0), velocity=v0)
     return w, b
 
@@ -62,7 +62,7 @@ def oscillator(integrator, h, t_end, k=100.0, m=2.0, x0=0.3, rest=1.0):
 
     The spring stays linear while the amplitude is below its ``rest`` length.
     """
-    w = mb.World(gravity=(0.0, 0.0, 0.0), integrator=integrator)
+    w = mb.World(gravity=(0.0, 0.0, 0.0), integrator=integrator, substeps=1)
     b = w.add_body(mb.Sphere(0.1), mass=m, position=(rest + x0, 0.0, 0.0))
     w.add_spring(b, None, rest_length=rest, stiffness=k)
     xs, vs = [], []

@@ -77,7 +77,7 @@ def test_mass_argument_scales_inertia():
 
 def test_off_centre_force_gives_torque():
     # torque = p x f; for one semi-implicit step from rest: domega = I^-1 (r x F) h, dv = F/m h.
-    w = mb.World(gravity=(0, 0, 0))
+    w = mb.World(gravity=(0, 0, 0), substeps=1)
     b = w.add_body(mb.Box((0.5, 0.5, 0.5)), mass=3.0)
     f = np.array([0.0, 0.0, 6.0])
     p = np.array([0.5, 0.0, 0.0])

@@ -22,7 +22,7 @@ def is_moving(bi, i):
 def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record):
     """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``; rows of resting bodies are zero.
 
-    ``record``: store each spring's force in the constraint table (done once per step).
+    ``record``: weight with which each spring's force is added to its recorded mean (0: none).
     """
     for i in range(nb):
         if is_moving(bi, i):

@@ -143,7 +143,7 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, dX, dQ, d
 
 
 @njit
-def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h):
+def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
     # y = (X, Q, V, W) as column blocks of one scratch table; k1..k4 likewise.
     y0 = np.empty((nb, 13))
     ys = np.empty((nb, 13))
@@ -160,7 +160,7 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h):
                 ys[i, k] = y0[i, k] + offsets[stage] * h * kk[i, k]
         _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity,
                         ys[:, 0:3], ys[:, 3:7], ys[:, 7:10], ys[:, 10:13], F, T,
-                        kk[:, 0:3], kk[:, 3:7], kk[:, 7:10], kk[:, 10:13], stage == 0)
+                        kk[:, 0:3], kk[:, 3:7], kk[:, 7:10], kk[:, 10:13], record if stage == 0 else 0.0)
         for i in range(nb):
             for k in range(13):
                 acc[i, k] += weights[stage] * kk[i, k]
@@ -178,16 +178,17 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h):
 
 
 @njit
-def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h):
+def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record):
     """Stage "integrate velocities": apply all forces over ``h`` seconds with the chosen ``method``.
 
-    ``F``, ``T`` are scratch (nb, 3) tables; the forces of the step's start are recorded on the springs.
+    ``F``, ``T`` are scratch (nb, 3) tables; the springs' forces at the sub-step's start are added to
+    their recorded mean with weight ``record``.
     """
     if method == RK4:
-        _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h)
+        _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record)
         return
     accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, bf[:, POS:POS + 3], bf[:, QUAT:QUAT + 4],
-                      bf[:, VEL:VEL + 3], bf[:, OMEGA:OMEGA + 3], F, T, True)
+                      bf[:, VEL:VEL + 3], bf[:, OMEGA:OMEGA + 3], F, T, record)
     if method == EXPLICIT_EULER:
         _explicit_euler_velocities(bf, bi, nb, F, T, h)
     else:

@@ -6,7 +6,7 @@ inverse inertia is ``I_w^-1 = R I_body^-1 R^T``.
 import numpy as np
 
 from .._jit import njit
-from ..layout import INV_I, I_BODY
+from ..layout import INV_I, I_BODY, OMEGA, VEL
 from ..math3d import quat_to_matrix, world_inverse_inertia
 
 
@@ -29,3 +29,64 @@ def body_inertia_world(bf, i, rot, out):
 def inverse_inertia_np(inertia):
     """Inverse of a symmetric positive-definite 3x3 inertia tensor (Python side, for body creation)."""
     return np.linalg.inv(np.asarray(inertia, dtype=np.float64))
+
+
+@njit
+def point_velocity(bf, i, r, out):
+    """Velocity of the point at offset ``r`` from body ``i``'s centre of mass: ``v + omega x r`` (m/s)."""
+    w0, w1, w2 = bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2]
+    out[0] = bf[i, VEL] + w1 * r[2] - w2 * r[1]
+    out[1] = bf[i, VEL + 1] + w2 * r[0] - w0 * r[2]
+    out[2] = bf[i, VEL + 2] + w0 * r[1] - w1 * r[0]
+
+
+@njit
+def relative_velocity(bf, a, ra, b, rb, out):
+    """Velocity of b's point ``rb`` relative to a's point ``ra`` (m/s); ``b < 0`` is the fixed world."""
+    va = np.empty(3)
+    point_velocity(bf, a, ra, va)
+    if b >= 0:
+        point_velocity(bf, b, rb, out)
+    else:
+        out[0] = 0.0
+        out[1] = 0.0
+        out[2] = 0.0
+    for k in range(3):
+        out[k] -= va[k]
+
+
+@njit
+def effective_mass(inv_ma, iwa, ra, inv_mb, iwb, rb, d):
+    """``1 / (m_a^-1 + m_b^-1 + (ra x d) . I_a^-1 (ra x d) + (rb x d) . I_b^-1 (rb x d))`` along unit ``d`` (kg).
+
+    ``iwa``, ``iwb``: world inverse inertia, 9 values row-major.  Returns 0 if nothing can move.
+    """
+    k = inv_ma + inv_mb
+    for sgn in range(2):
+        r = ra if sgn == 0 else rb
+        iw = iwa if sgn == 0 else iwb
+        cx = r[1] * d[2] - r[2] * d[1]
+        cy = r[2] * d[0] - r[0] * d[2]
+        cz = r[0] * d[1] - r[1] * d[0]
+        k += (cx * (iw[0] * cx + iw[1] * cy + iw[2] * cz) + cy * (iw[3] * cx + iw[4] * cy + iw[5] * cz)
+              + cz * (iw[6] * cx + iw[7] * cy + iw[8] * cz))
+    return 1.0 / k if k > 0.0 else 0.0
+
+
+@njit
+def apply_impulse_pair(bf, a, inv_ma, iwa, ra, b, inv_mb, iwb, rb, p):
+    """Apply impulse ``p`` (N s) to b at ``rb`` and ``-p`` to a at ``ra`` (``b < 0``: the world)."""
+    cx = ra[1] * p[2] - ra[2] * p[1]
+    cy = ra[2] * p[0] - ra[0] * p[2]
+    cz = ra[0] * p[1] - ra[1] * p[0]
+    for k in range(3):
+        bf[a, VEL + k] -= inv_ma * p[k]
+        bf[a, OMEGA + k] -= iwa[3 * k] * cx + iwa[3 * k + 1] * cy + iwa[3 * k + 2] * cz
+    if b < 0:
+        return
+    cx = rb[1] * p[2] - rb[2] * p[1]
+    cy = rb[2] * p[0] - rb[0] * p[2]
+    cz = rb[0] * p[1] - rb[1] * p[0]
+    for k in range(3):
+        bf[b, VEL + k] += inv_mb * p[k]
+        bf[b, OMEGA + k] += iwb[3 * k] * cx + iwb[3 * k + 1] * cy + iwb[3 * k + 2] * cz

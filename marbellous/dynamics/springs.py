@@ -52,7 +52,11 @@ def add_force_at(X, F, T, body, point, f, sign):
 
 @njit
 def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record):
-    """Accumulate the force and torque of every live, unbroken spring; store it in K_FORCE if ``record``."""
+    """Accumulate the force and torque of every live, unbroken spring.
+
+    ``record`` (a weight, 0: none) adds ``record * F`` to each spring's K_FORCE: with weight h / dt at
+    each sub-step, K_FORCE ends up as the step's mean force.
+    """
     pa = np.empty(3)
     pb = np.empty(3)
     va = np.empty(3)
@@ -83,7 +87,17 @@ def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record):
         add_force_at(X, F, T, a, pa, f, 1.0)
         if b >= 0:
             add_force_at(X, F, T, b, pb, f, -1.0)
-        if record:
-            kf[c, K_FORCE] = f[0]
-            kf[c, K_FORCE + 1] = f[1]
-            kf[c, K_FORCE + 2] = f[2]
+        if record != 0.0:
+            kf[c, K_FORCE] += record * f[0]
+            kf[c, K_FORCE + 1] += record * f[1]
+            kf[c, K_FORCE + 2] += record * f[2]
+
+
+@njit
+def clear_spring_forces(kf, ki, nk):
+    """Zero the recorded force of every spring before a step accumulates its mean."""
+    for c in range(nk):
+        if ki[c, K_TYPE] == C_SPRING:
+            kf[c, K_FORCE] = 0.0
+            kf[c, K_FORCE + 1] = 0.0
+            kf[c, K_FORCE + 2] = 0.0

@@ -1,44 +1,154 @@
 """One world step as a list of named stages, compiled as one kernel so its fixed cost stays small.
 
+    collide                 AABBs, broad phase, narrow phase at the poses the step began with
+    match                   warm-start contacts from last step's by (bodies, shapes, feature)
+    wake                    awake bodies touching sleeping islands wake them
+    prepare                 contact basis, effective masses, materials
     for each sub-step of h = dt / substeps:
-        integrate velocities   forces (gravity, user, springs) -> velocities
-        integrate positions    velocities -> poses, quaternions renormalised
-        break constraints      springs over their breaking force snap
+        integrate velocities    forces (gravity, user, springs) -> velocities, by the chosen integrator
+        warm start              apply last sub-step's impulses (joints, contacts)
+        solve                   sequential impulses with soft position correction, adaptive iterations
+        integrate positions     velocities -> poses, quaternions renormalised
+        relax                   sequential impulses without position bias (removes correction velocity)
+        store impulses          add the sub-step's impulses to the step's totals
+    restitution             closing contacts bounce with -e times their approach speed
+    store friction state    contacts at the friction cone slide in the next step
+    break constraints       springs, rods and cables over their breaking force snap
+    islands and sleep       resting islands fall asleep
     clear force accumulators
 """
 import numpy as np
 
 from .._jit import njit
+from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
+from ..dynamics.contact_cache import match_contacts
+from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
+                                       solve_contacts, store_friction_state, warm_start_contacts)
 from ..dynamics.integrators import integrate_positions, integrate_velocities
-from ..layout import FORCE, TORQUE, W_PREV_DT, W_TIME
+from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
+from ..dynamics.sleep import update_sleep, wake_touched_islands
+from ..dynamics.springs import clear_spring_forces
+from ..dynamics.soft import soft_coefficients
+from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies
+from ..layout import (C_POINT, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, POS, POS0,
+                      TORQUE, W_PREV_DT, W_TIME)
+from .collide import narrow_phase, update_aabbs
 
-# params_f layout
+# params_f layout (tunables travel as arguments, never as globals)
 P_DT = 0
-P_GRAVITY = 1      # 3 values
-PF_LEN = 4
+P_GRAVITY = 1           # 3 values (m/s^2)
+P_SPECULATIVE = 4       # speculative distance (m)
+P_CONTACT_HERTZ = 5     # stiffness of contact position correction (Hz)
+P_CONTACT_ZETA = 6      # its damping ratio
+P_JOINT_HERTZ = 7       # stiffness of rod/cable position correction (Hz)
+P_JOINT_ZETA = 8        # its damping ratio
+P_MAX_PUSH = 9          # fastest overlap removal (m/s)
+P_SLIDE_SPEED = 10      # tangential speed above which a new contact slides (m/s)
+P_TOLERANCE = 11        # adaptive iterations stop when no velocity changes more than this (m/s)
+P_SLEEP_LINEAR = 12     # rest tolerance, linear (m/s)
+P_SLEEP_ANGULAR = 13    # rest tolerance, angular (rad/s)
+P_TIME_TO_SLEEP = 14    # seconds at rest before an island sleeps (<= 0: never)
+P_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s)
+PF_LEN = 16
 # params_i layout
 P_INTEGRATOR = 0
 P_SUBSTEPS = 1
-PI_LEN = 2
+P_ITERATIONS = 2        # most velocity iterations per sub-step
+P_BROADPHASE = 3
+PI_LEN = 4
+# stats (int64) written by the step
+S_PAIRS = 0             # candidate pairs found by the broad phase
+S_CONTACTS = 1          # contact points found by the narrow phase
+S_ITERATIONS = 2        # velocity iterations used in the step (all sub-steps)
+STATS_LEN = 3
+OK = 0
+GROW_PAIRS = 1
+GROW_CONTACTS = 2
 
 
 @njit
-def step_world(bf, bi, kf, ki, ws, nb, nk, params_f, params_i):
-    """Advance the world by ``params_f[P_DT]`` seconds in ``params_i[P_SUBSTEPS]`` equal sub-steps."""
+def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i,
+               cf, ci, pcf, pci, npc, nb, nk, params_f, params_i, stats):
+    """Advance the world by ``params_f[P_DT]`` seconds.  Returns OK, or GROW_PAIRS / GROW_CONTACTS
+    (with the needed sizes in ``stats``) having changed nothing but scratch, so the caller can grow
+    the buffers and call again."""
+    dt = params_f[P_DT]
     substeps = params_i[P_SUBSTEPS]
-    method = params_i[P_INTEGRATOR]
-    h = params_f[P_DT] / substeps
+    h = dt / substeps
     gravity = params_f[P_GRAVITY:P_GRAVITY + 3]
+    g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
+
+    # --- collide -----------------------------------------------------------------------------------
+    sweep = np.empty(nb)
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, g_mag, params_f[P_SPECULATIVE])
+    n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
+                         bp_f, bp_i, pairs)
+    stats[S_PAIRS] = n_pairs
+    if n_pairs > pairs.shape[0]:
+        return GROW_PAIRS
+    nc = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, params_f[P_SPECULATIVE],
+                      raw_f, raw_i, ci)
+    stats[S_CONTACTS] = nc
+    if nc > cf.shape[0]:
+        return GROW_CONTACTS
+    for c in range(nc):
+        for k in range(7):
+            cf[c, C_POINT + k] = raw_f[c, k]   # point, normal, depth are the first 7 columns
+
+    # --- match, wake, prepare -------------------------------------------------------------------------
+    match_contacts(cf, ci, nc, pcf, pci, npc)
+    wake_touched_islands(bi, bf, ci, nc, nb)
+    sb = np.empty((nb, SB_COLS))
+    prepare_solver_bodies(bf, bi, nb, sb)
+    prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
+    for i in range(nb):
+        for k in range(3):
+            bf[i, POS0 + k] = bf[i, POS + k]
+
+    # --- sub-steps ---------------------------------------------------------------------------------------
+    contact_soft = np.empty(3)
+    joint_soft = np.empty(3)
+    soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
+    soft_coefficients(params_f[P_JOINT_HERTZ], params_f[P_JOINT_ZETA], h, joint_soft)
     F = np.empty((nb, 3))
     T = np.empty((nb, 3))
+    joint_totals = np.zeros(nk)
+    clear_spring_forces(kf, ki, nk)
+    iterations_used = 0
     for _ in range(substeps):
-        integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT])
-        integrate_positions(method, bf, bi, nb, h)
-        break_overloaded(kf, ki, nk)
+        integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
+                             1.0 / substeps)
+        prepare_solver_bodies(bf, bi, nb, sb)
+        warm_start_joints(bf, kf, ki, nk, sb)
+        warm_start_contacts(bf, cf, ci, nc, sb)
+        for _ in range(params_i[P_ITERATIONS]):
+            iterations_used += 1
+            change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft)
+            change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft, params_f[P_MAX_PUSH]))
+            if change < params_f[P_TOLERANCE]:
+                break
+        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
+        prepare_solver_bodies(bf, bi, nb, sb)
+        solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft)
+        solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+        accumulate_applied(cf, ci, nc)
+        for c in range(nk):
+            joint_totals[c] += kf[c, K_IMPULSE]
         ws[W_PREV_DT] = h
-    ws[W_TIME] += params_f[P_DT]
+    stats[S_ITERATIONS] = iterations_used
+
+    # --- end of step ---------------------------------------------------------------------------------------
+    apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
+    store_friction_state(cf, ci, nc)
+    record_joint_forces(bf, kf, ki, nk, dt, joint_totals)
+    break_overloaded(kf, ki, nk)
+    parent = np.empty(nb, dtype=np.int64)
+    update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, params_f[P_SLEEP_LINEAR], params_f[P_SLEEP_ANGULAR],
+                 params_f[P_TIME_TO_SLEEP], parent)
+    ws[W_TIME] += dt
     for i in range(nb):
         for k in range(3):
             bf[i, FORCE + k] = 0.0
             bf[i, TORQUE + k] = 0.0
+    return OK

@@ -1,0 +1,46 @@
+"""Axis-aligned bounding boxes of placed shapes: ``[minx, miny, minz, maxx, maxy, maxz]`` (m).
+
+Sphere: ``c +- r``.  Capsule: its segment's end points ``c +- R e_y h`` grown by ``r``.
+Box: ``c +- |R| h`` (the absolute rotation matrix times the half extents).  Planes, height fields and
+meshes are static: their boxes are computed once when they are added (``static_box``).
+"""
+import math
+
+from .._jit import njit
+from . import shape_types as st
+
+
+@njit
+def shape_aabb(stype, pos, rot, params, out):
+    """Write the world AABB of a primitive (sphere, capsule, box) at pose ``(pos, rot)`` into ``out``;
+    unbounded (+-inf) for any other type."""
+    if stype == st.SPHERE:
+        r = params[0]
+        for k in range(3):
+            out[k] = pos[k] - r
+            out[3 + k] = pos[k] + r
+    elif stype == st.CAPSULE:
+        r, hh = params[0], params[1]
+        for k in range(3):
+            e = abs(rot[k, 1]) * hh + r
+            out[k] = pos[k] - e
+            out[3 + k] = pos[k] + e
+    elif stype == st.BOX:
+        for k in range(3):
+            e = abs(rot[k, 0]) * params[0] + abs(rot[k, 1]) * params[1] + abs(rot[k, 2]) * params[2]
+            out[k] = pos[k] - e
+            out[3 + k] = pos[k] + e
+    else:
+        for k in range(3):
+            out[k] = -math.inf
+            out[3 + k] = math.inf
+
+
+@njit
+def merge_aabb(acc, box):
+    """Grow ``acc`` to contain ``box`` (both rows of 6)."""
+    for k in range(3):
+        if box[k] < acc[k]:
+            acc[k] = box[k]
+        if box[3 + k] > acc[3 + k]:
+            acc[3 + k] = box[3 + k]

@@ -1,0 +1,57 @@
+"""Persistent contacts: match this step's contact points with last step's and warm-start their impulses.
+
+A contact point is identified by ``(body_a, body_b, shape_a, shape_b, feature)``.  Both lists come in
+the broad phase's canonical pair order, so one merge pass over the pairs finds every match; within a
+pair the few candidates are compared directly.  Matched points inherit the accumulated normal,
+friction (re-projected onto the new tangents) and rolling impulses and the sliding state.
+"""
+import numpy as np
+
+from .._jit import njit
+from ..layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1,
+                      C_LAMBDA_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED, CP_SLIDING)
+from .contact_basis import contact_basis
+
+
+@njit
+def _pair_key_less(ci_x, x, ci_y, y):
+    """True if row x's body pair sorts before row y's."""
+    if ci_x[x, C_BODY_A] != ci_y[y, C_BODY_A]:
+        return ci_x[x, C_BODY_A] < ci_y[y, C_BODY_A]
+    return ci_x[x, C_BODY_B] < ci_y[y, C_BODY_B]
+
+
+@njit
+def match_contacts(cf, ci, nc, pcf, pci, npc):
+    """Stage "match": copy last step's impulses into this step's contacts with the same features."""
+    t1 = np.empty(3)
+    t2 = np.empty(3)
+    start = 0
+    for c in range(nc):
+        ci[c, C_FLAGS] &= ~(CP_MATCHED | CP_SLIDING)
+        cf[c, C_LAMBDA_N] = 0.0
+        cf[c, C_LAMBDA_T1] = 0.0
+        cf[c, C_LAMBDA_T2] = 0.0
+        for k in range(3):
+            cf[c, C_LAMBDA_R + k] = 0.0
+        while start < npc and _pair_key_less(pci, start, ci, c):
+            start += 1
+        q = start
+        while q < npc and pci[q, C_BODY_A] == ci[c, C_BODY_A] and pci[q, C_BODY_B] == ci[c, C_BODY_B]:
+            if (pci[q, C_SHAPE_A] == ci[c, C_SHAPE_A] and pci[q, C_SHAPE_B] == ci[c, C_SHAPE_B]
+                    and pci[q, C_FEATURE] == ci[c, C_FEATURE]):
+                cf[c, C_LAMBDA_N] = pcf[q, C_LAMBDA_N]
+                # Friction impulse as a world vector, projected onto the new contact basis.
+                contact_basis(cf[c, C_NORMAL:C_NORMAL + 3], t1, t2)
+                p1 = 0.0
+                p2 = 0.0
+                for k in range(3):
+                    f = pcf[q, C_LAMBDA_T1] * pcf[q, C_T1 + k] + pcf[q, C_LAMBDA_T2] * pcf[q, C_T2 + k]
+                    p1 += f * t1[k]
+                    p2 += f * t2[k]
+                    cf[c, C_LAMBDA_R + k] = pcf[q, C_LAMBDA_R + k]
+                cf[c, C_LAMBDA_T1] = p1
+                cf[c, C_LAMBDA_T2] = p2
+                ci[c, C_FLAGS] |= CP_MATCHED | (pci[q, C_FLAGS] & CP_SLIDING)
+                break
+            q += 1

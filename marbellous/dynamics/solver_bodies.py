@@ -1,0 +1,30 @@
+"""The solver's view of the bodies: inverse mass and world inverse inertia, zero for bodies that do not move.
+
+Row ``i`` of the (nb, 10) table ``sb`` holds ``[1/m, (R I_body^-1 R^T) row-major]``; static and sleeping
+bodies get zeros, so every constraint treats them as immovable without a branch.
+"""
+import numpy as np
+
+from .._jit import njit
+from ..layout import INV_MASS, QUAT
+from .forces import is_moving
+from .rigid import body_inverse_inertia_world
+
+SB_COLS = 10
+
+
+@njit
+def prepare_solver_bodies(bf, bi, nb, sb):
+    """Fill ``sb`` from the bodies' current orientations."""
+    rot = np.empty((3, 3))
+    iw = np.empty((3, 3))
+    for i in range(nb):
+        if is_moving(bi, i):
+            sb[i, 0] = bf[i, INV_MASS]
+            body_inverse_inertia_world(bf, i, bf[i, QUAT:QUAT + 4], rot, iw)
+            for r in range(3):
+                for c in range(3):
+                    sb[i, 1 + 3 * r + c] = iw[r, c]
+        else:
+            for k in range(SB_COLS):
+                sb[i, k] = 0.0
