@@ -4,6 +4,7 @@ The physics runs at the game's fixed step; the autopilot decides a control input
 the camera and a video frame advance at ``fps``.  Rendering uses an EGL context (Mesa's llvmpipe
 works with no display and no GPU).
 """
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -73,8 +74,9 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
     render_seconds, frames, kept = 0.0, 0, []
     respawns_seen = 0
     finish_frames = int(FINISH_SECONDS * fps)
+    max_frames = math.ceil(seconds * fps - 1e-9)
     try:
-        while game.elapsed < seconds or game.finished:
+        while frames < max_frames or game.finished:
             for _ in range(steps_per_frame):
                 b = game.marble
                 game.step(pilot.move(b.position, b.velocity, game.camera.heading))

@@ -175,7 +175,7 @@ class Renderer:
     pixels of the offscreen target used by :meth:`render_to_array`.
     """
 
-    def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=2048,
+    def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
                  grid_cell=2.0):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
