@@ -174,7 +174,7 @@ def hills_heights():
     h = np.zeros_like(x)
     for _ in range(14):
         cx, cz = rng.uniform(0, c[-1], 2)
-        h += rng.uniform(1.0, 3.0) * np.exp(-((x - cx) ** 2 + (z - cz) ** 2) / (2 * rng.uniform(3, 6) ** 2))
+        h += rng.uniform(2.0, 4.5) * np.exp(-((x - cx) ** 2 + (z - cz) ** 2) / (2 * rng.uniform(3, 6) ** 2))
     # the valley: a smooth trough 2.5 m wide that descends gently from start to goal
     d = _dist_to_polyline(x, z, HILLS_VALLEY)
     valley = np.exp(-(d / 2.5) ** 2)
