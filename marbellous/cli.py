@@ -39,6 +39,8 @@ def _demo_arguments(p):
     p.add_argument("--size", default="640x360", metavar="WxH", help="video size in pixels (default: 640x360)")
     p.add_argument("--fps", type=int, default=30, help="video frames per second (default: 30)")
     p.add_argument("--debug", action="store_true", help="draw contacts, normals and the level's 2D grid")
+    p.add_argument("--frames", default=None, metavar="DIR",
+                   help="also save a PNG every 4 s of video and of the last frame into DIR")
 
 
 def _parse_size(text):
@@ -59,7 +61,7 @@ def _run_demo(args):
     if not args.out.lower().endswith((".mp4", ".gif")):
         raise ValueError(f"--out must end in .mp4 or .gif, got {args.out!r}")
     result = run_demo(args.level, args.out, args.seconds, fps=args.fps, size=_parse_size(args.size),
-                      debug=args.debug)
+                      debug=args.debug, frames_dir=args.frames)
     print("\n".join(result.summary()), flush=True)
     return 0 if result.reached else 1
 

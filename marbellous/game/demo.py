@@ -5,6 +5,7 @@ the camera and a video frame advance at ``fps``.  Rendering uses an EGL context 
 works with no display and no GPU).
 """
 import math
+import pathlib
 import time
 from dataclasses import dataclass, field
 
@@ -31,7 +32,7 @@ class DemoResult:
     physics_step_seconds: float
     render_frame_seconds: float
     out: str
-    frame_images: list = field(default_factory=list, repr=False)
+    frame_files: list = field(default_factory=list)
 
     def summary(self):
         """Lines for the terminal; the last says whether and when the goal was reached."""
@@ -50,12 +51,12 @@ class DemoResult:
 
 
 def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, size=(640, 360), render=True,
-             keep_frames=(), debug=False, best_times=None):
+             frames_dir=None, frame_interval=4.0, debug=False, best_times=None):
     """Play ``level`` (a name, a path or a loaded ``Level``) with the autopilot for at most ``seconds``.
 
     Writes the video to ``out`` (``.mp4`` or ``.gif``; None writes none) unless ``render`` is False.
-    ``keep_frames`` lists frame numbers whose images are kept in the result (for docs and tests).
-    Returns a :class:`DemoResult`.
+    With ``frames_dir``, a PNG of every ``frame_interval`` seconds of video and of the last frame is
+    saved there as ``frame-NNNN.png``.  Returns a :class:`DemoResult`.
     """
     lvl = load_level(level) if level is None or not hasattr(level, "colliders") else level
     if lvl.path is None:
@@ -72,6 +73,10 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
         renderer = Renderer(headless_context(), lvl, game.spec.radius, size)
         writer = VideoWriter(out, fps) if out else None
     render_seconds, frames, kept = 0.0, 0, []
+    every = max(1, int(round(frame_interval * fps)))
+    if frames_dir is not None:
+        frames_dir = pathlib.Path(frames_dir)
+        frames_dir.mkdir(parents=True, exist_ok=True)
     respawns_seen = 0
     finish_frames = int(FINISH_SECONDS * fps)
     max_frames = math.ceil(seconds * fps - 1e-9)
@@ -95,9 +100,10 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
                 render_seconds += time.perf_counter() - t0
                 if writer is not None:
                     writer.write(img)
-                if frames in keep_frames:
-                    kept.append(img)
             frames += 1
+            last = game.finished and finish_frames <= 1 or not game.finished and frames >= max_frames
+            if renderer is not None and frames_dir is not None and ((frames - 1) % every == 0 or last):
+                kept.append(_save_png(img, frames_dir / f"frame-{frames - 1:04d}.png"))
             if game.finished:
                 finish_frames -= 1
                 if finish_frames <= 0:
@@ -110,4 +116,11 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
         simulated=game.physics_steps * game.dt, frames=frames if render else 0, respawns=game.respawns,
         physics_step_seconds=game.physics_seconds / max(game.physics_steps, 1),
         render_frame_seconds=render_seconds / max(frames, 1), out=str(out) if (render and out) else "",
-        frame_images=kept)
+        frame_files=kept)
+
+
+def _save_png(img, path):
+    from PIL import Image
+
+    Image.fromarray(img).save(path, optimize=True)
+    return str(path)

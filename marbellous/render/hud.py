@@ -13,13 +13,20 @@ class HudText:
     when the text changes.
     """
 
-    def __init__(self, ctx, program, font_size=18):
+    def __init__(self, ctx, program):
         self.ctx, self.program = ctx, program
-        self.font = ImageFont.load_default(size=font_size)
-        self.line_height = font_size + 6
         self._text, self._tex, self._tex_size = None, None, (1, 1)
+        self.font_size = None
         self.vbo = ctx.buffer(reserve=6 * 5 * 4)
         self.vao = ctx.vertex_array(program, [(self.vbo, "3f 2f", "in_pos", "in_uv")])
+
+    def set_font_size(self, size):
+        """Use Pillow's scalable default font at ``size`` pixels."""
+        if size != self.font_size:
+            self.font_size = size
+            self.font = ImageFont.load_default(size=size)
+            self.line_height = size + size // 3
+            self._text = None
 
     def image(self, lines):
         """The HUD as an RGBA Pillow image: white text with a dark outline on a translucent panel."""
@@ -29,11 +36,13 @@ class HudText:
         draw = ImageDraw.Draw(img)
         for k, t in enumerate(lines):
             draw.text((10, 6 + k * self.line_height), t, font=self.font, fill=(255, 255, 255, 255),
-                      stroke_width=2, stroke_fill=(0, 0, 0, 255))
+                      stroke_width=max(1, self.font_size // 9), stroke_fill=(0, 0, 0, 255))
         return img
 
     def draw(self, lines, frame_size):
         """Blend ``lines`` over the current framebuffer of ``frame_size`` (width, height) pixels."""
+        w, h = frame_size
+        self.set_font_size(max(10, min(26, h // 22)))
         text = "\n".join(lines)
         if text != self._text:
             img = self.image(lines)
@@ -41,7 +50,6 @@ class HudText:
                 self._tex.release()
             self._tex = self.ctx.texture(img.size, 4, img.tobytes())
             self._text, self._tex_size = text, img.size
-        w, h = frame_size
         tw, th = self._tex_size
         x0, y0 = 8.0, h - 8.0 - th
         quad = np.array([[x0, y0, 0, 0, 1], [x0 + tw, y0, 0, 1, 1], [x0 + tw, y0 + th, 0, 1, 0],
