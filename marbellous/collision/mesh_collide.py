@@ -1,0 +1,106 @@
+"""Convex shape (sphere, capsule, box) against a static triangle mesh, through its acceleration.
+
+1. Move shape a into the mesh's frame: ``c = R_b^T (p_a - p_b)``, ``R = R_b^T R_a``.
+2. Its bounding box grown by ``prediction`` selects candidate triangles: all of them
+   (``"brute"``, with a per-triangle box test), the 2D grid's cells under its x-z box
+   (``"grid2d"``) or the BVH's overlapping leaves (``"bvh"``).  Every structure yields the
+   candidates in ascending triangle order without repeats, and the exact test below decides, so
+   all three give the same contacts in the same order, bit for bit.
+3. Each live candidate triangle: the pair test (``triangle_convex``), edge contacts filtered by the
+   neighbour directions and vertex contacts by the vertex's ring (``triangle_contact``), so there
+   are no ghost contacts on internal edges anywhere in the mesh.
+4. Contacts go back to world coordinates with feature id ``triangle * 16 + code``.
+"""
+
+import numpy as np
+
+from .._jit import njit
+from . import mesh_layout as ml
+from .bvh_static import bvh_candidates
+from .grid2d import grid_candidates
+from .triangle_contact import MAX_ROWS, N_COLS, vertex_ring_passes
+from .triangle_convex import convex_local_bounds, convex_triangle, emit_row, to_static_frame
+from .triangle_sphere import VERTEX_A, VERTEX_C
+
+
+@njit
+def vertex_is_true(geom_f, geom_i, off_f, off_i, v, p):
+    """Voronoi test of a contact at vertex ``v`` for query point ``p``: ``(P - V).(W - V) <= 0``
+    for every welded ring neighbour ``W``."""
+    w = geom_i[off_i + geom_i[off_i + ml.I_WELD] + v]
+    rs = off_i + geom_i[off_i + ml.I_RING_START]
+    ring = off_i + geom_i[off_i + ml.I_RING]
+    pv = ml.vertex(geom_f, geom_i, off_f, off_i, v)
+    for k in range(geom_i[rs + w], geom_i[rs + w + 1]):
+        if not vertex_ring_passes(p, pv, ml.vertex(geom_f, geom_i, off_f, off_i, geom_i[ring + k])):
+            return False
+    return True
+
+
+@njit
+def _triangle_box_overlaps(geom_f, geom_i, off_f, off_i, t, lo, hi):
+    ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
+    a = ml.vertex(geom_f, geom_i, off_f, off_i, ia)
+    b = ml.vertex(geom_f, geom_i, off_f, off_i, ib)
+    c = ml.vertex(geom_f, geom_i, off_f, off_i, ic)
+    for ax in range(3):
+        if min(a[ax], min(b[ax], c[ax])) > hi[ax] or max(a[ax], max(b[ax], c[ax])) < lo[ax]:
+            return False
+    return True
+
+
+@njit
+def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
+    """Candidate triangles under the box ``lo..hi`` (mesh frame), ascending: ``(array, count)``."""
+    accel = int(params_b[2])
+    if accel == ml.ACCEL_GRID2D:
+        return grid_candidates(params_b, geom_i, off_i, lo, hi)
+    if accel == ml.ACCEL_BVH:
+        return bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi)
+    n_tri = int(params_b[1])
+    buf = np.empty(n_tri, np.int64)
+    m = 0
+    for t in range(n_tri):
+        if _triangle_box_overlaps(geom_f, geom_i, off_f, off_i, t, lo, hi):
+            buf[m] = t
+            m += 1
+    return buf, m
+
+
+@njit
+def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                        off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of convex shape a (SPHERE, CAPSULE or BOX) with the static mesh b.
+
+    ``pos_*`` (3,) world positions (m), ``rot_*`` (3, 3) rotations, ``params_*`` kernel records,
+    ``geom_f``/``geom_i`` the global geometry blobs with b's slices at ``off_f_b``/``off_i_b``;
+    ``prediction`` (m) speculative distance.  Appends rows to ``out_f``/``out_i`` (the buffer
+    convention of docs/architecture.md: normal from a to b) and returns the new count.
+    """
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
+    cand, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
+    scratch = np.empty((MAX_ROWS, N_COLS))
+    for j in range(count):
+        t = cand[j]
+        if ml.is_degenerate(geom_i, off_i_b, t):
+            continue
+        ia, ib, ic = ml.corners(geom_f, geom_i, off_f_b, off_i_b, t)
+        k = convex_triangle(type_a, c, rot, params_a,
+                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ia),
+                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ib),
+                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ic),
+                            ml.face_normal(geom_f, geom_i, off_f_b, off_i_b, t),
+                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0),
+                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1),
+                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2),
+                            prediction, scratch)
+        for r in range(k):
+            f = int(scratch[r, 7])
+            if VERTEX_A <= f <= VERTEX_C:
+                v = (ia, ib, ic)[f - VERTEX_A]
+                if not vertex_is_true(geom_f, geom_i, off_f_b, off_i_b, v,
+                                      (scratch[r, 8], scratch[r, 9], scratch[r, 10])):
+                    continue
+            n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
+    return n

@@ -1,0 +1,88 @@
+"""Layout of a triangle mesh's kernel record and of its slices of the geometry blobs.
+
+``params`` (``N_SHAPE_PARAMS`` floats)::
+
+    [n_vertices, n_triangles, accel, grid_x0, grid_z0, grid_cell, grid_nx, grid_nz]
+
+``accel`` is ``ACCEL_BRUTE``, ``ACCEL_GRID2D`` or ``ACCEL_BVH``; the grid fields (m, m, m, counts)
+describe the 2D grid over the mesh's local x-z plane (zero unless ``accel`` is the grid).
+
+``geom_i[off_i : off_i + HEADER]`` holds the offsets (relative to ``off_i`` / ``off_f``) of every
+section; a section that the chosen accel does not use is empty:
+
+=================  =====  ==================================================================
+section            blob   content
+=================  =====  ==================================================================
+``I_TRIS``         int    (T, 3) vertex indices, counter-clockwise seen from the front
+``I_WELD``         int    (V,) welded id of each vertex
+``I_RING_START``   int    (W + 1,) CSR start of each welded vertex's ring
+``I_RING``         int    ring members (vertex indices)
+``I_FLAGS``        int    (T,) 1 for a degenerate triangle (skipped by every query)
+``I_CELL_START``   int    (nx * nz + 1,) CSR start of each grid cell (cell ``iz * nx + ix``)
+``I_CELL_TRIS``    int    triangle indices of each cell, ascending
+``I_NODES``        int    (N, 2) BVH nodes: ``[first, count]`` for a leaf (count > 0), else
+                          ``[left child, 0]`` with the right child at ``left + 1``
+``I_ORDER``        int    (T,) triangle indices in BVH leaf order
+``I_N_NODES``      int    the value N (not an offset)
+``F_VERTS``        float  (V, 3) vertex positions in the mesh's frame, m
+``F_NORMALS``      float  (T, 3) unit face normals
+``F_M2``           float  (T, 3, 3) neighbour's in-plane direction away from each edge
+``F_BOXES``        float  (N, 6) BVH node boxes ``[min xyz, max xyz]``
+=================  =====  ==================================================================
+"""
+from .._jit import njit
+
+ACCEL_BRUTE = 0
+ACCEL_GRID2D = 1
+ACCEL_BVH = 2
+ACCELS = ("brute", "grid2d", "bvh")
+
+I_TRIS = 0
+I_WELD = 1
+I_RING_START = 2
+I_RING = 3
+I_FLAGS = 4
+I_CELL_START = 5
+I_CELL_TRIS = 6
+I_NODES = 7
+I_ORDER = 8
+I_N_NODES = 9
+F_VERTS = 10
+F_NORMALS = 11
+F_M2 = 12
+F_BOXES = 13
+HEADER = 16
+
+
+@njit
+def vertex(geom_f, geom_i, off_f, off_i, v):
+    """Position (3-tuple, m) of vertex ``v`` in the mesh's frame."""
+    o = off_f + geom_i[off_i + F_VERTS] + 3 * v
+    return (geom_f[o], geom_f[o + 1], geom_f[o + 2])
+
+
+@njit
+def corners(geom_f, geom_i, off_f, off_i, t):
+    """Vertex indices ``(ia, ib, ic)`` of triangle ``t``."""
+    o = off_i + geom_i[off_i + I_TRIS] + 3 * t
+    return geom_i[o], geom_i[o + 1], geom_i[o + 2]
+
+
+@njit
+def face_normal(geom_f, geom_i, off_f, off_i, t):
+    """Unit normal (3-tuple) of triangle ``t``."""
+    o = off_f + geom_i[off_i + F_NORMALS] + 3 * t
+    return (geom_f[o], geom_f[o + 1], geom_f[o + 2])
+
+
+@njit
+def neighbour_direction(geom_f, geom_i, off_f, off_i, t, k):
+    """``m2`` of edge ``k`` of triangle ``t`` (see ``triangle_contact``)."""
+    o = off_f + geom_i[off_i + F_M2] + 9 * t + 3 * k
+    return (geom_f[o], geom_f[o + 1], geom_f[o + 2])
+
+
+@njit
+def is_degenerate(geom_i, off_i, t):
+    """True if triangle ``t`` has no area (it never collides)."""
+    return geom_i[off_i + geom_i[off_i + I_FLAGS] + t] != 0

@@ -1,0 +1,84 @@
+"""One convex shape (sphere, capsule or box) against one triangle: picks the pair test by type code.
+
+Everything is in the static shape's local frame.  Candidate contacts go to ``scratch`` rows (layout
+in ``triangle_contact``); edge contacts that fail their Voronoi test on the whole surface are
+already dropped, vertex contacts are left to the caller, which knows the vertex's ring.
+"""
+import numpy as np
+
+from .._jit import njit
+from . import shape_types as st
+from .contact_output import add_contact
+from .triangle_box import box_triangle
+from .triangle_capsule import capsule_triangle
+from .triangle_contact import FEATURE_STRIDE, edge_is_true, write_row
+from .triangle_sphere import EDGE_AB, EDGE_BC, EDGE_CA, sphere_triangle
+from .vec3 import column, madd, to_local, to_world
+
+
+@njit
+def convex_triangle(type_a, c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
+    """Candidate contacts of shape ``type_a`` (centre ``c``, rotation ``rot``, ``params_a``) with
+    the triangle ``a b cc`` (unit normal ``n``, neighbour directions ``m2*``); returns their number.
+    """
+    if type_a == st.SPHERE:
+        feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, n, prediction)
+        if feature < 0:
+            return 0
+        if feature == EDGE_AB and not edge_is_true(c, q, m2ab):
+            return 0
+        if feature == EDGE_BC and not edge_is_true(c, q, m2bc):
+            return 0
+        if feature == EDGE_CA and not edge_is_true(c, q, m2ca):
+            return 0
+        return write_row(scratch, 0, q, normal, depth, feature, c)
+    if type_a == st.CAPSULE:
+        axis = column(rot, 1)
+        hh = params_a[1]
+        return capsule_triangle(madd(c, -hh, axis), madd(c, hh, axis), params_a[0], a, b, cc, n,
+                                m2ab, m2bc, m2ca, prediction, scratch)
+    return box_triangle(c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
+
+
+@njit
+def convex_local_bounds(type_a, c, rot, params_a, margin):
+    """Axis-aligned box ``(lo, hi)`` (3-tuples, m) of the shape in the static shape's frame,
+    grown by ``margin`` (m) on every side."""
+    if type_a == st.SPHERE:
+        e = (params_a[0], params_a[0], params_a[0])
+    elif type_a == st.CAPSULE:
+        r, hh = params_a[0], params_a[1]
+        e = (abs(rot[0, 1]) * hh + r, abs(rot[1, 1]) * hh + r, abs(rot[2, 1]) * hh + r)
+    else:
+        h = params_a
+        e = (abs(rot[0, 0]) * h[0] + abs(rot[0, 1]) * h[1] + abs(rot[0, 2]) * h[2],
+             abs(rot[1, 0]) * h[0] + abs(rot[1, 1]) * h[1] + abs(rot[1, 2]) * h[2],
+             abs(rot[2, 0]) * h[0] + abs(rot[2, 1]) * h[1] + abs(rot[2, 2]) * h[2])
+    return ((c[0] - e[0] - margin, c[1] - e[1] - margin, c[2] - e[2] - margin),
+            (c[0] + e[0] + margin, c[1] + e[1] + margin, c[2] + e[2] + margin))
+
+
+@njit
+def to_static_frame(pos_a, rot_a, pos_b, rot_b):
+    """Centre (3-tuple) and rotation matrix (new (3, 3) array) of shape a in b's frame:
+    ``c = R_b^T (p_a - p_b)``, ``R = R_b^T R_a``."""
+    rel = (pos_a[0] - pos_b[0], pos_a[1] - pos_b[1], pos_a[2] - pos_b[2])
+    c = to_local(rot_b, rel)
+    rot = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            rot[i, j] = rot_b[0, i] * rot_a[0, j] + rot_b[1, i] * rot_a[1, j] + rot_b[2, i] * rot_a[2, j]
+    return c, rot
+
+
+@njit
+def emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n):
+    """Append scratch row ``k`` (static frame) to the contact buffer in world coordinates with
+    feature id ``triangle * FEATURE_STRIDE + code``; returns the new count."""
+    q = to_world(rot_b, (scratch[k, 0], scratch[k, 1], scratch[k, 2]))
+    normal = to_world(rot_b, (scratch[k, 3], scratch[k, 4], scratch[k, 5]))
+    depth = scratch[k, 6]
+    p_on_a = (q[0] + pos_b[0] + normal[0] * depth, q[1] + pos_b[1] + normal[1] * depth,
+              q[2] + pos_b[2] + normal[2] * depth)
+    return add_contact(out_f, out_i, n, p_on_a, normal, depth,
+                       triangle * FEATURE_STRIDE + int(scratch[k, 7]))
