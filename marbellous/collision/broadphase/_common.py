@@ -64,29 +64,24 @@ def row_overlaps_box(a, ia, box_min, box_max):
 
 
 @njit
-def push_pair(keys, count, i, j, n_bodies):
-    """Append the pair ``{i, j}`` as the key ``min * n_bodies + max`` at ``keys[count]``, doubling
-    the buffer when full.  Returns the (possibly new) buffer; the caller increments ``count``."""
-    if count == keys.shape[0]:
-        grown = np.empty(2 * keys.shape[0] + 16, np.int64)
-        grown[:count] = keys[:count]
-        keys = grown
-    if i < j:
-        keys[count] = i * n_bodies + j
-    else:
-        keys[count] = j * n_bodies + i
-    return keys
+def add_pair(keys, count, i, j, n_bodies):
+    """Record the pair ``{i, j}`` as the key ``min * n_bodies + max`` at ``keys[count]`` if there is
+    room, and return ``count + 1``.  Callers that find ``count > len(keys)`` at the end run again
+    with a buffer of ``count`` keys (growing in place would slow the hot loops several times)."""
+    if count < keys.shape[0]:
+        if i < j:
+            keys[count] = i * n_bodies + j
+        else:
+            keys[count] = j * n_bodies + i
+    return count + 1
 
 
 @njit
-def push_index(buf, count, value):
-    """Append ``value`` at ``buf[count]``, doubling the buffer when full; returns the buffer."""
-    if count == buf.shape[0]:
-        grown = np.empty(2 * buf.shape[0] + 16, np.int64)
-        grown[:count] = buf[:count]
-        buf = grown
-    buf[count] = value
-    return buf
+def add_index(buf, count, value):
+    """Record ``value`` at ``buf[count]`` if there is room, and return ``count + 1``."""
+    if count < buf.shape[0]:
+        buf[count] = value
+    return count + 1
 
 
 @njit

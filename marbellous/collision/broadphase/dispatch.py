@@ -30,7 +30,8 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, I_METHOD, I_N_PREV, keep_alive, write_indices, write_pairs, write_ray_hits)
+    HEADER_F, HEADER_I, I_CAPACITY, I_METHOD, I_N_PREV, keep_alive, write_indices, write_pairs,
+    write_ray_hits)
 from marbellous.collision.broadphase.brute_force import (
     brute_force_pairs, scan_query_aabb, scan_query_ray)
 from marbellous.collision.broadphase.bsp_tree import bsp_build, bsp_init_params
@@ -140,26 +141,59 @@ def update(method, aabbs, flags, n_bodies, state_f, state_i):
 
 
 @njit
+def _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
+    """Pair keys of the up-to-date structure into ``keys`` (while it has room); returns the count."""
+    if method == BRUTE:
+        return brute_force_pairs(aabbs, flags, groups, masks, n_bodies, keys)
+    if method == SAP:
+        return sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
+    if method == GRID:
+        return grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
+    if method == BVH:
+        return bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
+    node_i, bounds, items, _ = tree_views(state_f, state_i)
+    return tree_pairs(node_i, bounds, items, state_i[I_N_NODES], aabbs, flags, groups, masks,
+                      n_bodies, keys)
+
+
+@njit
 def find_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, pairs_out):
     """Every overlapping, filter-passing pair among the first ``n_bodies`` slots, in canonical order,
     into ``pairs_out``; returns the full number of pairs (see the module docstring)."""
-    _check(method, aabbs, flags, n_bodies, state_i)
-    keys = np.empty(max(16, 2 * n_bodies), np.int64)
-    if method == BRUTE:
-        state_i[I_N_PREV] = n_bodies
-        keys, count = brute_force_pairs(aabbs, flags, groups, masks, n_bodies, keys)
-    elif method == SAP:
-        keys, count = sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
-    elif method == GRID:
-        keys, count = grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
-    elif method == BVH:
-        keys, count = bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
-    else:
-        _build_tree(method, aabbs, flags, n_bodies, state_f, state_i)
-        node_i, bounds, items, _ = tree_views(state_f, state_i)
-        keys, count = tree_pairs(node_i, bounds, items, state_i[I_N_NODES], aabbs, flags, groups,
-                                 masks, n_bodies, keys)
+    update(method, aabbs, flags, n_bodies, state_f, state_i)
+    keys = np.empty(max(64, 4 * n_bodies), np.int64)
+    count = _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
+    if count > keys.shape[0]:
+        keys = np.empty(count, np.int64)
+        count = _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i,
+                               keys)
     return write_pairs(keys, count, n_bodies, pairs_out)
+
+
+@njit
+def _collect_box_query(method, aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf):
+    """Bodies overlapping ``[box_min, box_max]`` into ``buf`` (while it has room); returns the count."""
+    if method == BRUTE or method == GRID:
+        return scan_query_aabb(aabbs, flags, n_bodies, box_min, box_max, buf)
+    if method == SAP:
+        return sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf)
+    if method == BVH:
+        return bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf)
+    node_i, bounds, items, _ = tree_views(state_f, state_i)
+    return tree_query_aabb(node_i, bounds, items, state_i[I_N_NODES], aabbs, box_min, box_max, buf)
+
+
+@njit
+def _collect_ray_query(method, aabbs, flags, n_bodies, state_f, state_i, origin, unit,
+                       max_distance, buf):
+    """Bodies whose box the ray enters into ``buf`` (while it has room); returns the count."""
+    if method == BVH:
+        return bvh_query_ray(aabbs, state_f, state_i, origin, unit, max_distance, buf)
+    if method >= OCTREE:
+        node_i, bounds, items, _ = tree_views(state_f, state_i)
+        return tree_query_ray(node_i, bounds, items, state_i[I_N_NODES], aabbs, origin, unit,
+                              max_distance, buf)
+    return scan_query_ray(aabbs, flags, n_bodies, origin, unit, max_distance, buf)
 
 
 @njit
@@ -169,17 +203,13 @@ def query_aabb(method, aabbs, flags, n_bodies, state_f, state_i, box_min, box_ma
     _check(method, aabbs, flags, n_bodies, state_i)
     if state_i[I_N_PREV] != n_bodies:
         update(method, aabbs, flags, n_bodies, state_f, state_i)
-    buf = np.empty(16, np.int64)
-    if method == BRUTE or method == GRID:
-        buf, count = scan_query_aabb(aabbs, flags, n_bodies, box_min, box_max, buf)
-    elif method == SAP:
-        buf, count = sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf)
-    elif method == BVH:
-        buf, count = bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf)
-    else:
-        node_i, bounds, items, _ = tree_views(state_f, state_i)
-        buf, count = tree_query_aabb(node_i, bounds, items, state_i[I_N_NODES], aabbs, box_min,
-                                     box_max, buf)
+    buf = np.empty(64, np.int64)
+    count = _collect_box_query(method, aabbs, flags, n_bodies, state_f, state_i, box_min, box_max,
+                               buf)
+    if count > buf.shape[0]:
+        buf = np.empty(count, np.int64)
+        count = _collect_box_query(method, aabbs, flags, n_bodies, state_f, state_i, box_min,
+                                   box_max, buf)
     count = keep_alive(buf, count, flags)
     return write_indices(buf, count, out)
 
@@ -195,14 +225,12 @@ def query_ray(method, aabbs, flags, n_bodies, state_f, state_i, origin, directio
         update(method, aabbs, flags, n_bodies, state_f, state_i)
     length = np.sqrt(direction[0] ** 2 + direction[1] ** 2 + direction[2] ** 2)
     unit = direction / length
-    buf = np.empty(16, np.int64)
-    if method == BVH:
-        buf, count = bvh_query_ray(aabbs, state_f, state_i, origin, unit, max_distance, buf)
-    elif method >= OCTREE:
-        node_i, bounds, items, _ = tree_views(state_f, state_i)
-        buf, count = tree_query_ray(node_i, bounds, items, state_i[I_N_NODES], aabbs, origin, unit,
-                                    max_distance, buf)
-    else:
-        buf, count = scan_query_ray(aabbs, flags, n_bodies, origin, unit, max_distance, buf)
+    buf = np.empty(64, np.int64)
+    count = _collect_ray_query(method, aabbs, flags, n_bodies, state_f, state_i, origin, unit,
+                               max_distance, buf)
+    if count > buf.shape[0]:
+        buf = np.empty(count, np.int64)
+        count = _collect_ray_query(method, aabbs, flags, n_bodies, state_f, state_i, origin, unit,
+                                   max_distance, buf)
     count = keep_alive(buf, count, flags)
     return write_ray_hits(buf, count, aabbs, origin, unit, max_distance, out)

@@ -25,8 +25,8 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, is_alive, pair_allowed, push_index,
-    push_pair, ray_entry, row_overlaps_box, rows_overlap)
+    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, add_index, add_pair, is_alive, pair_allowed,
+    ray_entry, row_overlaps_box, rows_overlap)
 
 I_ROOT = 3
 I_NODE_COUNT = 4
@@ -300,13 +300,13 @@ def _stack_for(node, state_i):
 
 @njit
 def bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
-    """Update the tree, then query it with each live dynamic body's box.  Returns ``(keys, count)``."""
-    bvh_update(aabbs, flags, n_bodies, state_f, state_i)
+    """Query the tree (``bvh_update`` first) with each live dynamic body's box.  Returns the number
+    of pairs (written while ``keys`` has room)."""
     node, fat, _ = bvh_views(state_f, state_i)
     root = state_i[I_ROOT]
     count = 0
     if root < 0:
-        return keys, count
+        return count
     stack = _stack_for(node, state_i)
     for i in range(n_bodies):
         if not is_alive(flags, i) or (flags[i] & STATIC) != 0:
@@ -326,20 +326,19 @@ def bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
             j = node[idx, BODY]
             if j == i or (j < i and (flags[j] & STATIC) == 0):
                 continue
-            if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
-                keys = push_pair(keys, count, i, j, n_bodies)
-                count += 1
-    return keys, count
+            if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
+                count = add_pair(keys, count, i, j, n_bodies)
+    return count
 
 
 @njit
 def bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf):
-    """Bodies in the tree whose own box overlaps ``[box_min, box_max]``.  Returns ``(buf, count)``."""
+    """Bodies in the tree whose own box overlaps ``[box_min, box_max]``.  Returns the number found (written while ``buf`` has room)."""
     node, fat, _ = bvh_views(state_f, state_i)
     root = state_i[I_ROOT]
     count = 0
     if root < 0:
-        return buf, count
+        return count
     stack = _stack_for(node, state_i)
     stack[0] = root
     top = 1
@@ -353,20 +352,19 @@ def bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf):
             stack[top + 1] = node[idx, CHILD2]
             top += 2
         elif row_overlaps_box(aabbs, node[idx, BODY], box_min, box_max):
-            buf = push_index(buf, count, node[idx, BODY])
-            count += 1
-    return buf, count
+            count = add_index(buf, count, node[idx, BODY])
+    return count
 
 
 @njit
 def bvh_query_ray(aabbs, state_f, state_i, origin, direction, max_distance, buf):
     """Bodies in the tree whose own box the ray enters within ``max_distance``.
-    Returns ``(buf, count)``."""
+    Returns the number found (written while ``buf`` has room)."""
     node, fat, _ = bvh_views(state_f, state_i)
     root = state_i[I_ROOT]
     count = 0
     if root < 0:
-        return buf, count
+        return count
     stack = _stack_for(node, state_i)
     stack[0] = root
     top = 1
@@ -380,6 +378,5 @@ def bvh_query_ray(aabbs, state_f, state_i, origin, direction, max_distance, buf)
             stack[top + 1] = node[idx, CHILD2]
             top += 2
         elif ray_entry(aabbs, node[idx, BODY], origin, direction, max_distance) >= 0.0:
-            buf = push_index(buf, count, node[idx, BODY])
-            count += 1
-    return buf, count
+            count = add_index(buf, count, node[idx, BODY])
+    return count

@@ -19,7 +19,8 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, STATIC, is_alive, pair_allowed, push_index, push_pair, ray_entry, row_overlaps_box, rows_overlap)
+    HEADER_F, HEADER_I, I_CAPACITY, STATIC, add_index, add_pair, is_alive, pair_allowed, ray_entry,
+    row_overlaps_box, rows_overlap)
 
 
 def tree_max_nodes(capacity):
@@ -75,10 +76,10 @@ def refit_bounds(node_i, bounds, items, aabbs, n_nodes):
 def tree_pairs(node_i, bounds, items, n_nodes, aabbs, flags, groups, masks, n_bodies, keys):
     """Every overlapping, filter-passing pair, by querying the tree with each live dynamic body's box.
     A pair ``(i, j)`` is recorded from ``i``'s query if ``j`` is static or ``j > i``, so it is recorded
-    exactly once.  Returns ``(keys, count)``."""
+    exactly once.  Returns the number of pairs (written while ``keys`` has room)."""
     count = 0
     if n_nodes == 0:
-        return keys, count
+        return count
     stack = np.empty(n_nodes, np.int64)
     for i in range(n_bodies):
         if not is_alive(flags, i) or (flags[i] & STATIC) != 0:
@@ -95,22 +96,21 @@ def tree_pairs(node_i, bounds, items, n_nodes, aabbs, flags, groups, masks, n_bo
                 j = items[p]
                 if j == i or (j < i and (flags[j] & STATIC) == 0):
                     continue
-                if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
-                    keys = push_pair(keys, count, i, j, n_bodies)
-                    count += 1
+                if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
+                    count = add_pair(keys, count, i, j, n_bodies)
             c = node_i[node, 0]
             for child in range(c, c + node_i[node, 1]):
                 stack[top] = child
                 top += 1
-    return keys, count
+    return count
 
 
 @njit
 def tree_query_aabb(node_i, bounds, items, n_nodes, aabbs, box_min, box_max, buf):
-    """Bodies in the tree whose box overlaps ``[box_min, box_max]``.  Returns ``(buf, count)``."""
+    """Bodies in the tree whose box overlaps ``[box_min, box_max]``.  Returns the number found (written while ``buf`` has room)."""
     count = 0
     if n_nodes == 0:
-        return buf, count
+        return count
     stack = np.empty(n_nodes, np.int64)
     stack[0] = 0
     top = 1
@@ -123,21 +123,20 @@ def tree_query_aabb(node_i, bounds, items, n_nodes, aabbs, box_min, box_max, buf
         for p in range(s, s + node_i[node, 3]):
             j = items[p]
             if row_overlaps_box(aabbs, j, box_min, box_max):
-                buf = push_index(buf, count, j)
-                count += 1
+                count = add_index(buf, count, j)
         c = node_i[node, 0]
         for child in range(c, c + node_i[node, 1]):
             stack[top] = child
             top += 1
-    return buf, count
+    return count
 
 
 @njit
 def tree_query_ray(node_i, bounds, items, n_nodes, aabbs, origin, direction, max_distance, buf):
-    """Bodies in the tree whose box the ray enters within ``max_distance``.  Returns ``(buf, count)``."""
+    """Bodies in the tree whose box the ray enters within ``max_distance``.  Returns the number found (written while ``buf`` has room)."""
     count = 0
     if n_nodes == 0:
-        return buf, count
+        return count
     stack = np.empty(n_nodes, np.int64)
     stack[0] = 0
     top = 1
@@ -150,10 +149,9 @@ def tree_query_ray(node_i, bounds, items, n_nodes, aabbs, origin, direction, max
         for p in range(s, s + node_i[node, 3]):
             j = items[p]
             if ray_entry(aabbs, j, origin, direction, max_distance) >= 0.0:
-                buf = push_index(buf, count, j)
-                count += 1
+                count = add_index(buf, count, j)
         c = node_i[node, 0]
         for child in range(c, c + node_i[node, 1]):
             stack[top] = child
             top += 1
-    return buf, count
+    return count

@@ -18,7 +18,7 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_N_PREV, is_alive, pair_allowed, push_index, push_pair, row_overlaps_box,
+    HEADER_F, HEADER_I, I_N_PREV, add_index, add_pair, is_alive, pair_allowed, row_overlaps_box,
     rows_overlap)
 
 I_AXIS = 3
@@ -114,9 +114,8 @@ def sap_update(aabbs, flags, n_bodies, state_f, state_i):
 
 @njit
 def sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
-    """Update the order, then sweep: every overlapping, filter-passing pair into ``keys``.
-    Returns ``(keys, count)``."""
-    sap_update(aabbs, flags, n_bodies, state_f, state_i)
+    """Sweep the sorted order (``sap_update`` first): every overlapping, filter-passing pair into
+    ``keys``.  Returns the number of pairs (written while ``keys`` has room)."""
     order = state_i[HEADER_I:HEADER_I + n_bodies]
     lows = state_f[HEADER_F:HEADER_F + n_bodies]
     axis = state_i[I_AXIS]
@@ -130,16 +129,15 @@ def sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
             if lows[b] > hi:
                 break
             j = order[b]
-            if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
-                keys = push_pair(keys, count, i, j, n_bodies)
-                count += 1
-    return keys, count
+            if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
+                count = add_pair(keys, count, i, j, n_bodies)
+    return count
 
 
 @njit
 def sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf):
     """Live bodies overlapping ``[box_min, box_max]``: only the prefix of the sorted list whose lower
-    bound is ``<= box_max`` on the sweep axis is tested.  Returns ``(buf, count)``."""
+    bound is ``<= box_max`` on the sweep axis is tested.  Returns the number found (written while ``buf`` has room)."""
     order = state_i[HEADER_I:HEADER_I + n_bodies]
     lows = state_f[HEADER_F:HEADER_F + n_bodies]
     axis = state_i[I_AXIS]
@@ -149,6 +147,5 @@ def sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, b
             break
         i = order[a]
         if is_alive(flags, i) and row_overlaps_box(aabbs, i, box_min, box_max):
-            buf = push_index(buf, count, i)
-            count += 1
-    return buf, count
+            count = add_index(buf, count, i)
+    return count

@@ -23,7 +23,7 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_N_PREV, alive_indices, pair_allowed, push_pair, rows_overlap)
+    HEADER_F, HEADER_I, add_pair, alive_indices, pair_allowed, rows_overlap)
 
 F_CELL_FACTOR = 0
 F_MAX_CELLS = 1
@@ -70,13 +70,12 @@ def _cell_size(aabbs, live, cell_factor):
 @njit
 def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
     """Build the grid over the live boxes and collect every overlapping, filter-passing pair.
-    Returns ``(keys, count)``."""
-    state_i[I_N_PREV] = n_bodies
+    Returns the number of pairs (written while ``keys`` has room)."""
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
     count = 0
     if m < 2:
-        return keys, count
+        return count
     h, origin = _cell_size(aabbs, live, state_f[F_CELL_FACTOR])
     max_cells = int(state_f[F_MAX_CELLS])
     lo = np.empty((n_bodies, 3), np.int64)
@@ -133,10 +132,9 @@ def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
                 j = entry_body[q]
                 lowest = ((max(lo[i, 0], lo[j, 0]) * stride + max(lo[i, 1], lo[j, 1])) * stride
                           + max(lo[i, 2], lo[j, 2]))
-                if lowest == entry_cell[p] and pair_allowed(i, j, flags, groups, masks) \
-                        and rows_overlap(aabbs, i, aabbs, j):
-                    keys = push_pair(keys, count, i, j, n_bodies)
-                    count += 1
+                if lowest == entry_cell[p] and rows_overlap(aabbs, i, aabbs, j) \
+                        and pair_allowed(i, j, flags, groups, masks):
+                    count = add_pair(keys, count, i, j, n_bodies)
         begin = end
     for a in range(m):
         i = live[a]
@@ -146,7 +144,6 @@ def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
             j = live[b]
             if j == i or (oversized[j] and j < i):
                 continue
-            if pair_allowed(i, j, flags, groups, masks) and rows_overlap(aabbs, i, aabbs, j):
-                keys = push_pair(keys, count, i, j, n_bodies)
-                count += 1
-    return keys, count
+            if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
+                count = add_pair(keys, count, i, j, n_bodies)
+    return count
