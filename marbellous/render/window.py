@@ -4,6 +4,7 @@ Controls: arrows or WASD push the marble relative to the camera, space jumps, R 
 debug overlay (contacts, normals, the level's 2D grid), Esc quits.  The physics runs at the game's
 fixed step, driven by the frame time; the HUD shows the timer and the best time.
 """
+import os
 import sys
 
 from ..game.controls import move_from_keys
@@ -12,7 +13,13 @@ from ..game.session import Game
 
 
 def play(level=None, size=(1280, 720), debug=False, print_state=False):
-    """Open a window and play ``level`` (a name or a path) until it is closed; returns 0."""
+    """Open a window and play ``level`` (a name or a path) until it is closed; returns 0.
+
+    Raises ``OSError`` when there is no display to open a window on.
+    """
+    if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise OSError("marbellous play needs a display (DISPLAY is not set); "
+                      "`marbellous demo` runs headless and writes a video")
     import moderngl
     import pyglet
     from pyglet.window import key
