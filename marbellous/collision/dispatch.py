@@ -1,0 +1,82 @@
+"""The narrow-phase dispatcher: any two shapes to the right pair test, normals from a to b.
+
+Pair tests exist for the canonical order only (sphere < capsule < box < plane < height field <
+mesh).  When the caller's a has the higher type code the shapes are swapped, the pair test runs,
+and the rows it added get their normals negated; points, depths and feature ids stay as they are
+(the point is the midpoint between the surfaces, the same seen from either side).
+"""
+from .._jit import njit
+from . import shape_types as st
+from .box_box import collide_box_box
+from .capsule_box import collide_capsule_box
+from .capsule_capsule import collide_capsule_capsule
+from .plane_pairs import collide_box_plane, collide_capsule_plane, collide_sphere_plane
+from .sphere_box import collide_sphere_box
+from .sphere_capsule import collide_sphere_capsule
+from .sphere_sphere import collide_sphere_sphere
+
+
+@njit
+def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                         out_f, out_i, n):
+    """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
+    if type_a == st.SPHERE:
+        if type_b == st.SPHERE:
+            return collide_sphere_sphere(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        if type_b == st.CAPSULE:
+            return collide_sphere_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        if type_b == st.BOX:
+            return collide_sphere_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        return collide_sphere_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+    if type_a == st.CAPSULE:
+        if type_b == st.CAPSULE:
+            return collide_capsule_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        if type_b == st.BOX:
+            return collide_capsule_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        return collide_capsule_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+    if type_a == st.BOX:
+        if type_b == st.BOX:
+            return collide_box_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        return collide_box_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+    return n
+
+
+@njit
+def flip_normals(out_f, start, stop):
+    """Negate the normals of rows ``start <= row < stop`` that fit in the buffer."""
+    for row in range(start, min(stop, out_f.shape[0])):
+        out_f[row, 3] = -out_f[row, 3]
+        out_f[row, 4] = -out_f[row, 4]
+        out_f[row, 5] = -out_f[row, 5]
+
+
+@njit
+def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                        out_f, out_i, n):
+    """Contacts of two primitives (sphere, capsule, box, plane) in any order; returns the new count.
+
+    Type codes from ``shape_types``; ``pos_*`` (3,) m, ``rot_*`` (3, 3), ``params_*`` the shape
+    records; ``prediction`` (m) the largest gap still reported; rows appended to ``out_f`` /
+    ``out_i`` from row ``n`` (docs/architecture.md), normals from a to b.
+    """
+    if type_a <= type_b:
+        return _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                    prediction, out_f, out_i, n)
+    m = _ordered_convex_pair(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
+                             prediction, out_f, out_i, n)
+    flip_normals(out_f, n, m)
+    return m
+
+
+@njit
+def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                 off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of any two shapes, normals from a to b; returns the new count.
+
+    As :func:`collide_convex_pair`, plus the geometry blobs ``geom_f`` (float64) and ``geom_i``
+    (int64) with each shape's offsets into them, used by height fields and meshes.
+    """
+    if type_a <= st.PLANE and type_b <= st.PLANE:
+        return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                   prediction, out_f, out_i, n)
+    return n

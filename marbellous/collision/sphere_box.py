@@ -1,0 +1,44 @@
+"""Sphere-box contact: the closest point of the box to the sphere's centre (the lecture's goal area).
+
+In the box frame the closest point is ``q = clamp(c, -h, h)``.  If the centre is outside,
+``depth = r - |c - q|`` and the normal runs from the centre towards ``q``.  If the centre is inside,
+the box face of least penetration ``k = argmin(h_k - |c_k|)`` pushes the sphere out:
+``depth = r + h_k - |c_k|`` along that face's normal.
+"""
+import math
+
+from .._jit import njit
+from .contact_output import add_contact
+from .vec3 import load, madd, scale, sub, to_local, to_world
+
+
+@njit
+def collide_sphere_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n):
+    """Contact of sphere a (``[radius]``) and box b (``[hx, hy, hz]``); one point, feature id 0."""
+    r = params_a[0]
+    ca = load(pos_a)
+    c = to_local(rot_b, sub(ca, load(pos_b)))
+    q = (min(max(c[0], -params_b[0]), params_b[0]),
+         min(max(c[1], -params_b[1]), params_b[1]),
+         min(max(c[2], -params_b[2]), params_b[2]))
+    d = sub(q, c)
+    dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    if dist2 > 1e-200:
+        dist = math.sqrt(dist2)
+        depth = r - dist
+        if depth < -prediction:
+            return n
+        local_normal = scale(d, 1.0 / dist)
+    else:
+        k = 0
+        best = params_b[0] - abs(c[0])
+        for m in range(1, 3):
+            gap = params_b[m] - abs(c[m])
+            if gap < best:
+                best = gap
+                k = m
+        depth = r + best
+        s = -1.0 if c[k] >= 0.0 else 1.0
+        local_normal = (s if k == 0 else 0.0, s if k == 1 else 0.0, s if k == 2 else 0.0)
+    normal = to_world(rot_b, local_normal)
+    return add_contact(out_f, out_i, n, madd(ca, r, normal), normal, depth, 0)
