@@ -10,6 +10,8 @@ from . import shape_types as st
 from .box_box import collide_box_box
 from .capsule_box import collide_capsule_box
 from .capsule_capsule import collide_capsule_capsule
+from .heightfield_collide import collide_convex_heightfield
+from .mesh_collide import collide_convex_mesh
 from .plane_pairs import collide_box_plane, collide_capsule_plane, collide_sphere_plane
 from .sphere_box import collide_sphere_box
 from .sphere_capsule import collide_sphere_capsule
@@ -69,14 +71,34 @@ def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, pa
 
 
 @njit
+def _convex_static(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                   off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Convex shape a (sphere, capsule, box) against height field or mesh b."""
+    if type_b == st.HEIGHTFIELD:
+        return collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f,
+                                          geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
+    return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                               off_f_b, off_i_b, prediction, out_f, out_i, n)
+
+
+@njit
 def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
                  off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """Contacts of any two shapes, normals from a to b; returns the new count.
 
-    As :func:`collide_convex_pair`, plus the geometry blobs ``geom_f`` (float64) and ``geom_i``
-    (int64) with each shape's offsets into them, used by height fields and meshes.
+    As :func:`collide_convex_pair`, plus height fields and meshes, whose bulk geometry lies in the
+    blobs ``geom_f`` (float64) and ``geom_i`` (int64) at each shape's offsets.  Two static-only
+    shapes (plane, height field, mesh) have no contacts.
     """
     if type_a <= st.PLANE and type_b <= st.PLANE:
         return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
                                    prediction, out_f, out_i, n)
+    if type_a <= st.BOX and type_b >= st.HEIGHTFIELD:
+        return _convex_static(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f,
+                              geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_b <= st.BOX and type_a >= st.HEIGHTFIELD:
+        m = _convex_static(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a, geom_f,
+                           geom_i, off_f_a, off_i_a, prediction, out_f, out_i, n)
+        flip_normals(out_f, n, m)
+        return m
     return n

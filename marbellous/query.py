@@ -1,0 +1,65 @@
+"""Collision queries without a world: ``collide(shape_a, shape_b, ...)``.
+
+The goal area of the game is such a query: ``collide(Box(...), Sphere(r), position_b=ball)``.
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+from ._validate import as_quat, as_vec3
+from .collision.dispatch import collide_pair
+from .math3d import quat_to_matrix_np
+from .shapes import Shape
+
+
+class ContactPoint(NamedTuple):
+    """One contact of two shapes: ``point`` (m, midway between the surfaces), ``normal`` (unit, from
+    shape a to shape b), ``depth`` (m, > 0 overlap, 0 touching)."""
+
+    point: np.ndarray
+    normal: np.ndarray
+    depth: float
+
+
+def _as_shape(name, shape):
+    if not isinstance(shape, Shape) or type(shape) is Shape:
+        raise TypeError(f"{name} must be a marbellous shape (Sphere, Box, Capsule, Plane, ...), got {shape!r}")
+    return shape
+
+
+def collide(shape_a, shape_b, *, position_a=(0.0, 0.0, 0.0), orientation_a=(1.0, 0.0, 0.0, 0.0),
+            position_b=(0.0, 0.0, 0.0), orientation_b=(1.0, 0.0, 0.0, 0.0)):
+    """Every contact point of ``shape_a`` and ``shape_b`` placed at the given poses.
+
+    Positions in metres, orientations as (w, x, y, z) quaternions (normalised here).  Returns a list
+    of :class:`ContactPoint` with ``depth >= 0`` (overlapping or touching), normals from a to b;
+    ``[]`` when the shapes do not touch.  Static-only shapes (planes, height fields, meshes) are
+    allowed; two static-only shapes report what their pair test reports (a plane pair: nothing).
+    """
+    _as_shape("shape_a", shape_a)
+    _as_shape("shape_b", shape_b)
+    pos_a = as_vec3("position_a", position_a)
+    pos_b = as_vec3("position_b", position_b)
+    rot_a = quat_to_matrix_np(as_quat("orientation_a", orientation_a))
+    rot_b = quat_to_matrix_np(as_quat("orientation_b", orientation_b))
+    params_a = np.ascontiguousarray(shape_a._params(), dtype=np.float64)
+    params_b = np.ascontiguousarray(shape_b._params(), dtype=np.float64)
+    geom_f_a, geom_i_a = shape_a._geometry()
+    geom_f_b, geom_i_b = shape_b._geometry()
+    # one blob per kind holding a's geometry, then b's
+    geom_f = np.ascontiguousarray(np.concatenate([geom_f_a, geom_f_b]), dtype=np.float64)
+    geom_i = np.ascontiguousarray(np.concatenate([geom_i_a, geom_i_b]), dtype=np.int64)
+    off_f_b = len(geom_f_a)
+    off_i_b = len(geom_i_a)
+    capacity = 16
+    while True:
+        out_f = np.zeros((capacity, 7))
+        out_i = np.zeros(capacity, np.int64)
+        n = collide_pair(shape_a._type, pos_a, rot_a, params_a, shape_b._type, pos_b, rot_b, params_b,
+                         geom_f, geom_i, 0, 0, off_f_b, off_i_b, 0.0, out_f, out_i, 0)
+        if n <= capacity:
+            break
+        capacity = n
+    # "+ 0.0" turns the -0.0 of flipped normals into 0.0
+    return [ContactPoint(out_f[k, 0:3] + 0.0, out_f[k, 3:6] + 0.0, float(out_f[k, 6]) + 0.0)
+            for k in range(n) if out_f[k, 6] >= 0.0]
