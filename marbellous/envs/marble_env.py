@@ -77,7 +77,8 @@ class MarbellousEnv(gym.Env):
                 break
             if g.finished:
                 break
-        g.update_camera(self.frame_skip * g.dt)
+        if self.render_mode is not None:
+            g.update_camera(self.frame_skip * g.dt)
         self._steps += 1
         reward = 0.0
         if not fell:
@@ -102,6 +103,5 @@ class MarbellousEnv(gym.Env):
 
             self._renderer = Renderer(headless_context(), self.level, self._game.spec.radius, self.size)
         g = self._game
-        view = g.camera.update(0.0, g.marble.position, g.marble.velocity)
-        return self._renderer.render_to_array(view, g.marble.position, g.marble_rotation(), g.hud_lines())
+        return self._renderer.render_to_array(g.camera.view(), g.marble.position, g.marble_rotation(), g.hud_lines())
 

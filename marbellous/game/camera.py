@@ -122,7 +122,11 @@ class FollowCamera:
         if raycast is not None:
             eye = self.unblocked_eye(eye, raycast)
         self.eye = eye
-        return CameraView(eye=eye.copy(), target=self.focus.copy(), fov=self.fov)
+        return self.view()
+
+    def view(self):
+        """The current :class:`CameraView` (copies)."""
+        return CameraView(eye=self.eye.copy(), target=self.focus.copy(), fov=self.fov)
 
     def unblocked_eye(self, eye, raycast):
         """``eye`` pulled towards the focus so no geometry lies between them (``margin`` m clearance)."""

@@ -169,10 +169,6 @@ class Game:
             return np.zeros((0, 3)), np.zeros((0, 3))
         return np.array([c.point for c in cs]), np.array([c.normal for c in cs])
 
-    def progress(self):
-        """Arc length (m) of the marble along the course (0 without a course)."""
-        return self.course.project(self.marble.position) if self.course is not None else 0.0
-
     def hud_lines(self):
         """The HUD: level, timer, best time, and the goal message once finished."""
         best = self.best_times.get(self.level.key)
