@@ -28,7 +28,8 @@ X_PRED = 52        # position the integrator predicts without constraints (m), 3
 Q_PRED = 55        # orientation the integrator predicts without constraints, 4
 SLEEP_TIME = 59    # seconds the body has been nearly at rest
 POS0 = 60          # position at the start of the step (m), 3: the solver updates separations from it
-BF_COLS = 63
+DTHETA = 63        # rotation vector accumulated since the start of the step (rad), 3
+BF_COLS = 66
 
 
 # --- bodies, int table bi -----------------------------------------------------------------

@@ -160,7 +160,7 @@ class World:
         self._npc = 0
         #: Tunables in physical units (see docs/architecture.md); change them before stepping.
         self.speculative_distance = 0.02
-        self.contact_hertz = 30.0
+        self.contact_hertz = 60.0
         self.contact_damping_ratio = 10.0
         self.joint_hertz = 60.0
         self.joint_damping_ratio = 2.0
@@ -487,15 +487,20 @@ class World:
             if status == S.GROW_PAIRS:
                 self._pairs = _grow(self._pairs, int(self._stats[S.S_PAIRS]))
             else:
-                n = int(self._stats[S.S_CONTACTS])
-                self._raw_f = _grow(self._raw_f, n)
-                self._raw_i = _grow(self._raw_i, n)
-                self._cf = _grow(self._cf, n)
-                self._ci = _grow(self._ci, n)
+                self._grow_contacts(int(self._stats[S.S_CONTACTS]))
         # This step's contacts become the warm-start cache of the next.
         self._cf, self._pcf = self._pcf, self._cf
         self._ci, self._pci = self._pci, self._ci
         self._npc = int(self._stats[S.S_CONTACTS])
+
+    def _grow_contacts(self, n):
+        """Room for ``n`` contact points in the narrow-phase buffer and both contact tables."""
+        self._raw_f = _grow(self._raw_f, n)
+        self._raw_i = _grow(self._raw_i, n)
+        self._cf = _grow(self._cf, n)
+        self._ci = _grow(self._ci, n)
+        self._pcf = _grow(self._pcf, n)
+        self._pci = _grow(self._pci, n)
 
     def contacts(self):
         """The contacts that the last step's collision detection found (at the poses the step began with),
@@ -572,10 +577,7 @@ class World:
         self._nb, self._ns, self._nk, self._npc = nb, ns, nk, npc
         self._accumulator = snapshot.accumulator
         # Buffers sized for the restored tables; the broad phase rebuilds from a fresh state.
-        self._cf = _grow(self._cf, self._pcf.shape[0])
-        self._ci = _grow(self._ci, self._pci.shape[0])
-        self._raw_f = _grow(self._raw_f, self._pcf.shape[0])
-        self._raw_i = _grow(self._raw_i, self._pcf.shape[0])
+        self._grow_contacts(self._pcf.shape[0])
         self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], self._aabbs.shape[0])
 
     def state_hash(self):

@@ -22,7 +22,7 @@ from .._jit import njit
 from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                       C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S,
                       C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
-                      CP_MATCHED, CP_SENSOR, CP_SLIDING, FRICTION, OMEGA, POS, POS0, RESTITUTION, ROLLING,
+                      CP_MATCHED, CP_SENSOR, CP_SLIDING, DTHETA, FRICTION, OMEGA, POS, POS0, RESTITUTION, ROLLING,
                       STATIC_FRICTION)
 from .contact_basis import contact_basis
 from .rigid import apply_impulse_pair, effective_mass, relative_velocity
@@ -104,10 +104,21 @@ def _apply_angular(bf, sb, a, b, l):
 
 @njit
 def _separation(bf, cf, c, a, b):
-    """Current separation: the one at detection plus the normal part of the bodies' motion since (m)."""
+    """Current separation (m): the one at detection plus the normal part of the contact points' motion,
+
+        s = s0 + n . ((dx_b + dtheta_b x rb) - (dx_a + dtheta_a x ra))
+
+    with dx, dtheta the bodies' displacement and rotation since the step began (first order in the
+    rotation, so a rolling ball's contact stays at its lowest point).
+    """
     s = cf[c, C_ADJ_SEP]
-    for k in range(3):
-        s += cf[c, C_NORMAL + k] * ((bf[b, POS + k] - bf[b, POS0 + k]) - (bf[a, POS + k] - bf[a, POS0 + k]))
+    for sign, body, r0 in ((1.0, b, C_RB), (-1.0, a, C_RA)):
+        t0, t1, t2 = bf[body, DTHETA], bf[body, DTHETA + 1], bf[body, DTHETA + 2]
+        r = cf[c, r0:r0 + 3]
+        mx = bf[body, POS] - bf[body, POS0] + t1 * r[2] - t2 * r[1]
+        my = bf[body, POS + 1] - bf[body, POS0 + 1] + t2 * r[0] - t0 * r[2]
+        mz = bf[body, POS + 2] - bf[body, POS0 + 2] + t0 * r[1] - t1 * r[0]
+        s += sign * (cf[c, C_NORMAL] * mx + cf[c, C_NORMAL + 1] * my + cf[c, C_NORMAL + 2] * mz)
     return s
 
 
@@ -146,6 +157,9 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
         old = cf[c, C_LAMBDA_N]
         new = max(old - cf[c, C_MASS_N] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
         cf[c, C_LAMBDA_N] = new
+        if new > 0.0 and cf[c, C_MAX_N] == 0.0 and (ci[c, C_FLAGS] & CP_MATCHED) == 0:
+            # A new contact engages: the approach speed at impact, gravity of earlier sub-steps included.
+            cf[c, C_VN0] = min(vn, cf[c, C_VN0])
         if new > cf[c, C_MAX_N]:
             cf[c, C_MAX_N] = new
         d = new - old

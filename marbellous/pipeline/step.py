@@ -31,7 +31,7 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.springs import clear_spring_forces
 from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies
-from ..layout import (C_POINT, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, POS, POS0,
+from ..layout import (C_POINT, DTHETA, FLAGS, OMEGA, FORCE, GROUP, K_IMPULSE, MASK, POS, POS0,
                       TORQUE, W_PREV_DT, W_TIME)
 from .collide import narrow_phase, update_aabbs
 
@@ -105,6 +105,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
+            bf[i, DTHETA + k] = 0.0
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     contact_soft = np.empty(3)
@@ -129,6 +130,9 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             if change < params_f[P_TOLERANCE]:
                 break
         integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
+        for i in range(nb):
+            for k in range(3):
+                bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
         prepare_solver_bodies(bf, bi, nb, sb)
         solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft)
         solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])

@@ -1,0 +1,135 @@
+"""Stacks at 60 Hz with default settings, sleeping and waking, rods, cables and breaking springs."""
+import math
+
+import numpy as np
+import pytest
+
+import marbellous as mb
+from marbellous.scenes import box_pyramid, box_tower
+
+DT = 1.0 / 60.0
+
+
+def test_tower_of_twenty_stands_for_ten_seconds():
+    w, boxes = box_tower(height=20)
+    for _ in range(600):
+        w.step(DT)
+    assert boxes[-1].is_sleeping
+    for i, b in enumerate(boxes):
+        # Each resting contact yields ~g / (2 pi f)^2 per box it carries (f = contact stiffness, 60 Hz):
+        # a few millimetres in all; the column stays upright within a centimetre.
+        assert abs(b.position[1] - (0.5 + i)) < 0.05
+        assert np.hypot(b.position[0], b.position[2]) < 0.02
+
+
+def test_pyramid_stands_falls_asleep_and_wakes_when_hit():
+    w, boxes = box_pyramid(base=20)
+    start = np.array([b.position for b in boxes])
+    for _ in range(300):
+        w.step(DT)
+    end = np.array([b.position for b in boxes])
+    assert np.max(np.abs(end - start)) < 0.05
+    assert all(b.is_sleeping for b in boxes)
+    # A ball thrown at the top wakes its island.
+    top = boxes[-1]
+    w.add_body(mb.Sphere(0.3), position=top.position + np.array([-3.0, 0.0, 0.0]), velocity=(20.0, 0, 0),
+               mass=3000.0)  # the boxes weigh a tonne each
+    for _ in range(30):
+        w.step(DT)
+    assert not top.is_sleeping
+    assert np.linalg.norm(top.position - end[-1]) > 0.1
+
+
+def test_force_wakes_a_sleeping_body():
+    w = mb.World()
+    w.add_static(mb.Plane())
+    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0, 0.5, 0))
+    for _ in range(120):
+        w.step(DT)
+    assert b.is_sleeping
+    b.apply_force((0, 2e4, 0))
+    assert not b.is_sleeping
+    w.step(DT)
+    assert b.position[1] > 0.5
+
+
+@pytest.mark.parametrize("integrator", ["semi_implicit_euler", "verlet", "rk4"])
+def test_rod_pendulum_keeps_length_and_period(integrator):
+    length, amp = 2.0, 0.2
+    w = mb.World(integrator=integrator)
+    bob = w.add_body(mb.Sphere(0.1), mass=1.0, position=(length * math.sin(amp), -length * math.cos(amp), 0))
+    w.add_rod(bob, None, anchor_b=(0, 0, 0))
+    xs, worst = [], 0.0
+    for _ in range(600):
+        w.step(DT)
+        worst = max(worst, abs(np.linalg.norm(bob.position) - length))
+        xs.append(bob.position[0])
+    assert worst < 2e-3
+    xs = np.array(xs)
+    t = (np.arange(len(xs)) + 1) * DT
+    i = np.where((xs[:-1] < 0) & (xs[1:] >= 0))[0]
+    crossings = t[i] + DT * (-xs[i]) / (xs[i + 1] - xs[i])
+    # Finite amplitude: T = T0 (1 + amp^2 / 16 + 11 amp^4 / 3072 + ...).
+    exact = 2 * math.pi * math.sqrt(length / 9.81) * (1 + amp ** 2 / 16 + 11 * amp ** 4 / 3072)
+    assert np.diff(crossings).mean() == pytest.approx(exact, rel=1e-3)
+
+
+def test_rod_between_two_bodies_and_its_force():
+    w = mb.World(gravity=(0, 0, 0))
+    a = w.add_body(mb.Sphere(0.1), mass=1.0, position=(0, 0, 0), velocity=(0, 1.0, 0))
+    b = w.add_body(mb.Sphere(0.1), mass=1.0, position=(1, 0, 0), velocity=(0, -1.0, 0))
+    rod = w.add_rod(a, b)
+    assert rod.length == pytest.approx(1.0)
+    for _ in range(120):
+        w.step(DT)
+    assert np.linalg.norm(b.position - a.position) == pytest.approx(1.0, abs=2e-3)
+    # Spinning about the centre at omega = 2 v / L: the rod pulls each with m v^2 / r = 1 * 1 / 0.5 = 2 N.
+    assert np.linalg.norm(rod.force) == pytest.approx(2.0, rel=0.02)
+    np.testing.assert_allclose(a.velocity + b.velocity, 0.0, atol=1e-9)
+
+
+def test_cable_is_slack_below_its_length_and_taut_at_it():
+    w = mb.World()
+    weight = w.add_body(mb.Sphere(0.1), mass=2.0, position=(0, -0.5, 0))
+    cable = w.add_cable(weight, None, max_length=1.0, anchor_b=(0, 0, 0))
+    w.step(DT)
+    assert np.linalg.norm(cable.force) == 0.0  # slack: free fall
+    for _ in range(180):
+        w.step(DT)
+    assert weight.position[1] == pytest.approx(-1.0, abs=2e-3)
+    # Hanging still: the cable carries the weight.
+    np.testing.assert_allclose(cable.force, [0, 2.0 * 9.81, 0], rtol=0.02, atol=0.05)
+    weight.velocity = (0, 3.0, 0)  # thrown up: the cable goes slack again
+    w.step(DT)
+    assert np.linalg.norm(cable.force) == 0.0
+
+
+def test_chain_of_springs_breaks_at_its_weakest_link():
+    # Three balls hang from springs; a strong pull breaks the link that carries the most load first.
+    w = mb.World()
+    balls = [w.add_body(mb.Sphere(0.1), mass=1.0, position=(0, -(i + 1), 0)) for i in range(3)]
+    springs = [w.add_spring(balls[0], None, rest_length=1.0, stiffness=2000.0, damping=20.0, breaking_force=200.0)]
+    for i in range(2):
+        springs.append(w.add_spring(balls[i], balls[i + 1], rest_length=1.0, stiffness=2000.0, damping=20.0,
+                                    breaking_force=200.0))
+    for _ in range(60):
+        w.step(DT)
+    assert not any(s.broken for s in springs)
+    balls[2].apply_force((0, -12000.0, 0))
+    for _ in range(5):
+        w.step(DT)
+        balls[2].apply_force((0, -12000.0, 0)) if not any(s.broken for s in springs) else None
+    assert springs[0].broken or springs[2].broken
+
+
+@pytest.mark.parametrize("kwargs,name", [({"length": 0.0}, "length"), ({"length": float("nan")}, "length"),
+                                         ({"anchor_a": (1, 2)}, "anchor_a")])
+def test_bad_rod_input(kwargs, name):
+    w = mb.World()
+    b = w.add_body(mb.Sphere(0.1))
+    before = w.state_hash()
+    with pytest.raises((ValueError, TypeError), match=name):
+        w.add_rod(b, None, **kwargs)
+    assert w.state_hash() == before
+    with pytest.raises(ValueError, match="max_length"):
+        w.add_cable(b, None, max_length=-1.0)
