@@ -329,3 +329,22 @@ def test_find_pairs_is_callable_from_another_kernel():
         out = np.empty((1000, 2), np.int64)
         count = step_like(code, a, flags, groups, masks, 120, state_f, state_i, out)
         np.testing.assert_array_equal(out[:count], expected)
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.1, 1e-3, 37.3])
+@pytest.mark.parametrize("method", ALL)
+def test_boxes_touching_at_corners_along_a_diagonal(method, scale):
+    """Oblique principal direction (BSP planes along (1, 1, 1)): boxes that touch in a single corner
+    point must still be reported, despite rounding in the plane projections."""
+    edges = np.arange(201, dtype=float)[:, None] * scale
+    a = np.hstack([np.repeat(edges[:-1], 3, axis=1), np.repeat(edges[1:], 3, axis=1)])
+    rng = np.random.default_rng(int(scale * 1000))
+    a = a[rng.permutation(len(a))]
+    flags = np.full(len(a), ALIVE, np.int64)
+    g = np.full(len(a), -1, np.int64)
+    expected = reference_pairs(a, flags, g, g)
+    assert len(expected) == 199
+    np.testing.assert_array_equal(BroadPhase(method).pairs(a), expected)
+    lo = a[:, :3].min(axis=0) + 50 * scale
+    np.testing.assert_array_equal(BroadPhase(method).query_aabb(a, lo, lo),
+                                  reference_box_query(a, flags, lo, lo))

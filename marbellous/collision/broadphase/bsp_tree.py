@@ -8,11 +8,16 @@ eigenvalue of their covariance, by power iteration from the axis of largest vari
 spread, whatever its orientation.
 
 A box projects onto ``n`` as ``[n.c - r, n.c + r]`` with ``r = sum_k |n_k| h_k`` (``h`` the half
-extents).  Boxes entirely behind (``n.c + r < d``) go to the back child, entirely in front
-(``n.c - r > d``) to the front child, and boxes the plane cuts stay at the node.  At least half the
-centres lie on each closed side, so each child holds fewer bodies than its parent, and a node either
-keeps a body or has two children: at most 2 m - 1 nodes.  If the plane cuts every box, the node is a
-leaf.  Pruning uses the tight subtree boxes (``static_tree``), which keeps the pair set exact.
+extents).  Boxes entirely behind (``n.c + r < d``) go to the back child, boxes entirely in front
+(``n.c - r > d``) to the front child.  Boxes the plane cuts go to a third, *on-plane* child: they lie
+in a thin slab around the plane, so that child's own principal direction lies along the plane and its
+split separates them there (keeping them all at the node would make every query test every box the
+root plane cuts: a percent of the scene).  The body whose centre is the median is always cut, and at
+least half of the centres lie on each closed side, so every child holds fewer bodies than its parent
+unless the plane cuts every box, and then the node is a leaf.  Every internal node has two or three
+children, so there are at most 2 m - 1 nodes.  Pruning uses the tight subtree boxes
+(``static_tree``) and, for the back and front children, the parent's plane: a query box entirely in
+front of the plane skips the back child (with a rounding allowance, so the pair set stays exact).
 
 State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]`` and ``state_f[F_POWER_ITERATIONS]``.
 """
@@ -20,7 +25,8 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import I_N_PREV, alive_indices, select_nth
-from marbellous.collision.broadphase.static_tree import I_N_NODES, refit_bounds, tree_views
+from marbellous.collision.broadphase.static_tree import (
+    F_PLANE_TOLERANCE, I_N_NODES, SIDE, plane_key_radius, refit_bounds, tree_views)
 
 F_LEAF_SIZE = 0
 F_POWER_ITERATIONS = 1
@@ -69,7 +75,7 @@ def principal_direction(aabbs, items, s, e, iterations):
 @njit
 def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
     """Rebuild the BSP tree over the live bodies among the first ``n_bodies`` slots."""
-    node_i, bounds, items, keys = tree_views(state_f, state_i)
+    node_i, bounds, items, keys, planes = tree_views(state_f, state_i)
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
     items[:m] = live
@@ -82,7 +88,13 @@ def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
         node_i[0, 1] = 0
         node_i[0, 2] = 0
         node_i[0, 3] = m
+        planes[0, SIDE] = 0.0
         n_nodes = 1
+        scale = 0.0
+        for i in live:
+            for k in range(6):
+                scale = max(scale, abs(aabbs[i, k]))
+        state_f[F_PLANE_TOLERANCE] = 1e-10 * scale
         work = np.empty(node_i.shape[0], np.int64)
         work[0] = 0
         top = 1
@@ -95,19 +107,13 @@ def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
                 continue
             n = principal_direction(aabbs, items, s, s + cnt, iterations)
             for p in range(s, s + cnt):
-                i = items[p]
-                keys[p] = 0.0
-                for k in range(3):
-                    keys[p] += n[k] * 0.5 * (aabbs[i, k] + aabbs[i, k + 3])
+                keys[p], _ = plane_key_radius(n, aabbs, items[p])
             select_nth(items, keys, s, s + cnt, s + cnt // 2)
             d = keys[s + cnt // 2]
             n_back = 0
             n_front = 0
             for p in range(s, s + cnt):
-                i = items[p]
-                r = 0.0
-                for k in range(3):
-                    r += abs(n[k]) * 0.5 * (aabbs[i, k + 3] - aabbs[i, k])
+                _, r = plane_key_radius(n, aabbs, items[p])
                 if keys[p] + r < d:
                     side[p - s] = 1
                     n_back += 1
@@ -118,7 +124,7 @@ def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
                     side[p - s] = 0
             if n_back == 0 and n_front == 0:
                 continue
-            # stable three-way partition: [cut by the plane | back | front]
+            # stable three-way partition: [cut by the plane | back | front], one child each
             n_cut = cnt - n_back - n_front
             fill = np.array([s, s + n_cut, s + n_cut + n_back])
             moved = items[s:s + cnt].copy()
@@ -128,16 +134,19 @@ def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
                 fill[g] += 1
             c = n_nodes
             node_i[node, 0] = c
-            node_i[node, 3] = n_cut
-            child_start = s + n_cut
-            for g in range(2):
-                size = n_back if g == 0 else n_front
+            node_i[node, 3] = 0
+            child_start = s
+            for g in range(3):
+                size = n_cut if g == 0 else (n_back if g == 1 else n_front)
                 if size == 0:
                     continue
                 node_i[n_nodes, 0] = 0
                 node_i[n_nodes, 1] = 0
                 node_i[n_nodes, 2] = child_start
                 node_i[n_nodes, 3] = size
+                planes[n_nodes, :3] = n
+                planes[n_nodes, 3] = d
+                planes[n_nodes, SIDE] = g
                 child_start += size
                 work[top] = n_nodes
                 top += 1

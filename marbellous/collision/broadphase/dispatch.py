@@ -40,7 +40,7 @@ from marbellous.collision.broadphase.dynamic_bvh import (
 from marbellous.collision.broadphase.kd_tree import kd_build, kd_init_params
 from marbellous.collision.broadphase.loose_octree import octree_build, octree_init_params
 from marbellous.collision.broadphase.static_tree import (
-    I_N_NODES, tree_pairs, tree_query_aabb, tree_query_ray, tree_state_sizes, tree_views)
+    F_PLANE_TOLERANCE, I_N_NODES, tree_pairs, tree_query_aabb, tree_query_ray, tree_state_sizes, tree_views)
 from marbellous.collision.broadphase.sweep_and_prune import (
     sap_init_params, sap_pairs, sap_query_aabb, sap_state_sizes, sap_update)
 from marbellous.collision.broadphase.uniform_grid import (
@@ -63,7 +63,7 @@ def state_sizes(method, capacity):
     """Lengths ``(len(state_f), len(state_i))`` of the state of ``method`` for ``capacity`` slots:
 
     brute ``(4, 8)``; sap ``(4 + c, 8 + c)``; grid ``(4, 8)`` (the grid is rebuilt each update);
-    bvh ``(4 + 12 c, 8 + 11 c)``; octree, kdtree, bsp ``(4 + 6 M + c, 8 + 4 M + c)`` with
+    bvh ``(4 + 12 c, 8 + 11 c)``; octree, kdtree, bsp ``(4 + 11 M + c, 8 + 4 M + c)`` with
     ``M = 2 c + 16`` nodes.
     """
     if method in (BRUTE, GRID):
@@ -151,9 +151,9 @@ def _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state
         return grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
     if method == BVH:
         return bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
-    node_i, bounds, items, _ = tree_views(state_f, state_i)
-    return tree_pairs(node_i, bounds, items, state_i[I_N_NODES], aabbs, flags, groups, masks,
-                      n_bodies, keys)
+    node_i, bounds, items, _, planes = tree_views(state_f, state_i)
+    return tree_pairs(node_i, bounds, planes, state_f[F_PLANE_TOLERANCE], items, state_i[I_N_NODES],
+                      aabbs, flags, groups, masks, n_bodies, keys)
 
 
 @njit
@@ -179,8 +179,9 @@ def _collect_box_query(method, aabbs, flags, n_bodies, state_f, state_i, box_min
         return sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf)
     if method == BVH:
         return bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf)
-    node_i, bounds, items, _ = tree_views(state_f, state_i)
-    return tree_query_aabb(node_i, bounds, items, state_i[I_N_NODES], aabbs, box_min, box_max, buf)
+    node_i, bounds, items, _, planes = tree_views(state_f, state_i)
+    return tree_query_aabb(node_i, bounds, planes, state_f[F_PLANE_TOLERANCE], items,
+                           state_i[I_N_NODES], aabbs, box_min, box_max, buf)
 
 
 @njit
@@ -190,7 +191,7 @@ def _collect_ray_query(method, aabbs, flags, n_bodies, state_f, state_i, origin,
     if method == BVH:
         return bvh_query_ray(aabbs, state_f, state_i, origin, unit, max_distance, buf)
     if method >= OCTREE:
-        node_i, bounds, items, _ = tree_views(state_f, state_i)
+        node_i, bounds, items, _, _ = tree_views(state_f, state_i)
         return tree_query_ray(node_i, bounds, items, state_i[I_N_NODES], aabbs, origin, unit,
                               max_distance, buf)
     return scan_query_ray(aabbs, flags, n_bodies, origin, unit, max_distance, buf)

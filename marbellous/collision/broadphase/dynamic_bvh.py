@@ -12,8 +12,8 @@ Walking back up, every ancestor is refitted (its box becomes the union of its ch
 by an AVL-style tree rotation when its children's heights differ by more than one, which keeps the
 height O(log n) even when bodies are inserted in sorted order.
 
-Queries descend through the fat boxes; at a leaf the body's own (unfattened) box is tested, so the
-pair set equals the brute-force one.
+Pairs come from one descent of the tree against itself; box and ray queries descend through the fat
+boxes.  At a leaf the body's own (unfattened) box is tested, so the pair set equals the brute-force one.
 
 State layout (``M = 2 * capacity`` nodes): ``state_f[HEADER_F:][:6M]`` fat boxes;
 ``state_i[HEADER_I:][:5M]`` node rows ``[parent, child1, child2, height, body]`` (``child1 == -1`` for
@@ -25,7 +25,7 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, add_index, add_pair, is_alive, pair_allowed,
+    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, add_index, add_pair, is_alive, pair_allowed,
     ray_entry, row_overlaps_box, rows_overlap)
 
 I_ROOT = 3
@@ -170,6 +170,68 @@ def _refit_upwards(node, fat, state_i, index):
 
 
 @njit
+def _best_sibling(node, fat, root, leaf):
+    """The node to pair ``leaf`` with: least ``SA(sibling U leaf) + sum of the ancestors' growth``,
+    by Box2D v3's branch and bound descent (stop when no child's lower bound beats the best so far;
+    when both children contain the leaf, descend into the one whose centre is nearer)."""
+    area_leaf = _surface_area(fat, leaf)
+    area_base = _surface_area(fat, root)
+    direct = _union_area(fat, root, leaf)
+    inherited = 0.0
+    best = root
+    best_cost = direct
+    index = root
+    while node[index, CHILD1] >= 0:
+        cost = direct + inherited
+        if cost < best_cost:
+            best = index
+            best_cost = cost
+        inherited += direct - area_base
+        c1 = node[index, CHILD1]
+        c2 = node[index, CHILD2]
+        leaf1 = node[c1, CHILD1] < 0
+        leaf2 = node[c2, CHILD1] < 0
+        direct1 = _union_area(fat, c1, leaf)
+        direct2 = _union_area(fat, c2, leaf)
+        area1 = _surface_area(fat, c1)
+        area2 = _surface_area(fat, c2)
+        lower1 = np.inf
+        lower2 = np.inf
+        if leaf1:
+            if direct1 + inherited < best_cost:
+                best = c1
+                best_cost = direct1 + inherited
+        else:
+            lower1 = inherited + direct1 + min(area_leaf - area1, 0.0)
+        if leaf2:
+            if direct2 + inherited < best_cost:
+                best = c2
+                best_cost = direct2 + inherited
+        else:
+            lower2 = inherited + direct2 + min(area_leaf - area2, 0.0)
+        if leaf1 and leaf2:
+            break
+        if best_cost <= lower1 and best_cost <= lower2:
+            break
+        if lower1 == lower2 and not leaf1:
+            lower1 = 0.0
+            lower2 = 0.0
+            for k in range(3):
+                centre_leaf = fat[leaf, k] + fat[leaf, k + 3]
+                lower1 += (fat[c1, k] + fat[c1, k + 3] - centre_leaf) ** 2
+                lower2 += (fat[c2, k] + fat[c2, k + 3] - centre_leaf) ** 2
+        if lower1 < lower2 and not leaf1:
+            index = c1
+            area_base = area1
+            direct = direct1
+        else:
+            index = c2
+            area_base = area2
+            direct = direct2
+    return best
+
+
+@njit
 def _insert_leaf(node, fat, state_i, leaf):
     """Insert ``leaf`` (its fat box already set) by the surface-area heuristic, then refit."""
     root = state_i[I_ROOT]
@@ -177,24 +239,7 @@ def _insert_leaf(node, fat, state_i, leaf):
         state_i[I_ROOT] = leaf
         node[leaf, PARENT] = -1
         return
-    index = root
-    while node[index, CHILD1] >= 0:
-        c1 = node[index, CHILD1]
-        c2 = node[index, CHILD2]
-        area = _surface_area(fat, index)
-        combined = _union_area(fat, index, leaf)
-        cost = 2.0 * combined
-        inheritance = 2.0 * (combined - area)
-        cost1 = _union_area(fat, c1, leaf) + inheritance
-        if node[c1, CHILD1] >= 0:
-            cost1 -= _surface_area(fat, c1)
-        cost2 = _union_area(fat, c2, leaf) + inheritance
-        if node[c2, CHILD1] >= 0:
-            cost2 -= _surface_area(fat, c2)
-        if cost < cost1 and cost < cost2:
-            break
-        index = c1 if cost1 < cost2 else c2
-    sibling = index
+    sibling = _best_sibling(node, fat, root, leaf)
     old_parent = node[sibling, PARENT]
     new_parent = _alloc(node, state_i)
     node[new_parent, PARENT] = old_parent
@@ -255,6 +300,45 @@ def _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
 
 
 @njit
+def _spread_bits(v):
+    """Spread the low 21 bits of ``v`` so that two zero bits follow each one (Morton interleave)."""
+    v &= 0x1FFFFF
+    v = (v | (v << 32)) & 0x1F00000000FFFF
+    v = (v | (v << 16)) & 0x1F0000FF0000FF
+    v = (v | (v << 8)) & 0x100F00F00F00F00F
+    v = (v | (v << 4)) & 0x10C30C30C30C30C3
+    v = (v | (v << 2)) & 0x1249249249249249
+    return v
+
+
+@njit
+def _morton_order(aabbs, bodies):
+    """``bodies`` sorted along the Morton (Z-order) curve of their box centres.  Inserting many
+    bodies in this order allocates neighbouring nodes next to each other in memory, so traversals
+    stay in cache; the insertion cost and rotations still decide the tree's shape."""
+    m = bodies.shape[0]
+    if m < 2:
+        return bodies
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for i in bodies:
+        for k in range(3):
+            c = 0.5 * (aabbs[i, k] + aabbs[i, k + 3])
+            lo[k] = min(lo[k], c)
+            hi[k] = max(hi[k], c)
+    code = np.zeros(m, np.int64)
+    for a in range(m):
+        i = bodies[a]
+        for k in range(3):
+            span = hi[k] - lo[k]
+            q = 0
+            if span > 0.0:
+                q = int((0.5 * (aabbs[i, k] + aabbs[i, k + 3]) - lo[k]) / span * 2097151.0)
+            code[a] |= _spread_bits(q) << k
+    return bodies[np.argsort(code, kind="mergesort")]
+
+
+@njit
 def bvh_update(aabbs, flags, n_bodies, state_f, state_i):
     """Insert new bodies, remove dead ones and reinsert leaves whose body left its fat box."""
     node, fat, leaf_of = bvh_views(state_f, state_i)
@@ -267,6 +351,8 @@ def bvh_update(aabbs, flags, n_bodies, state_f, state_i):
         n_prev = 0
     margin = state_f[F_MARGIN]
     looseness = state_f[F_LOOSENESS]
+    arrivals = np.empty(n_bodies, np.int64)
+    n_arrivals = 0
     for i in range(max(n_bodies, n_prev)):
         leaf = leaf_of[i]
         if i >= n_bodies or not is_alive(flags, i):
@@ -275,18 +361,21 @@ def bvh_update(aabbs, flags, n_bodies, state_f, state_i):
                 _release(node, state_i, leaf)
                 leaf_of[i] = -1
         elif leaf < 0:
-            leaf = _alloc(node, state_i)
-            node[leaf, CHILD1] = -1
-            node[leaf, CHILD2] = -1
-            node[leaf, HEIGHT] = 0
-            node[leaf, BODY] = i
-            leaf_of[i] = leaf
-            _set_fat_box(fat, leaf, aabbs, i, margin)
-            _insert_leaf(node, fat, state_i, leaf)
+            arrivals[n_arrivals] = i
+            n_arrivals += 1
         elif _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
             _remove_leaf(node, fat, state_i, leaf)
             _set_fat_box(fat, leaf, aabbs, i, margin)
             _insert_leaf(node, fat, state_i, leaf)
+    for i in _morton_order(aabbs, arrivals[:n_arrivals]):
+        leaf = _alloc(node, state_i)
+        node[leaf, CHILD1] = -1
+        node[leaf, CHILD2] = -1
+        node[leaf, HEIGHT] = 0
+        node[leaf, BODY] = i
+        leaf_of[i] = leaf
+        _set_fat_box(fat, leaf, aabbs, i, margin)
+        _insert_leaf(node, fat, state_i, leaf)
     state_i[I_N_PREV] = n_bodies
 
 
@@ -300,34 +389,53 @@ def _stack_for(node, state_i):
 
 @njit
 def bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
-    """Query the tree (``bvh_update`` first) with each live dynamic body's box.  Returns the number
-    of pairs (written while ``keys`` has room)."""
+    """Every overlapping, filter-passing pair, by one descent of the tree against itself
+    (``bvh_update`` first).  A work item is a pair of nodes whose fat boxes overlap: ``(a, a)``
+    splits into ``(c1, c1)``, ``(c2, c2)``, ``(c1, c2)``; ``(a, b)`` splits the taller node against
+    the other; two leaves are an exact test of their bodies' own boxes.  Each pair of leaves is met
+    at most once, and only subtrees whose fat boxes overlap are entered.  Returns the number of pairs
+    (written while ``keys`` has room)."""
     node, fat, _ = bvh_views(state_f, state_i)
     root = state_i[I_ROOT]
     count = 0
     if root < 0:
         return count
-    stack = _stack_for(node, state_i)
-    for i in range(n_bodies):
-        if not is_alive(flags, i) or (flags[i] & STATIC) != 0:
-            continue
-        stack[0] = root
-        top = 1
-        while top > 0:
-            top -= 1
-            idx = stack[top]
-            if not rows_overlap(fat, idx, aabbs, i):
-                continue
-            if node[idx, CHILD1] >= 0:
-                stack[top] = node[idx, CHILD1]
-                stack[top + 1] = node[idx, CHILD2]
+    # at most two pending items per level of the descent, which is at most 2 * height deep
+    work = np.empty((4 * node[root, HEIGHT] + 8, 2), np.int64)
+    work[0, 0] = root
+    work[0, 1] = root
+    top = 1
+    while top > 0:
+        top -= 1
+        a = work[top, 0]
+        b = work[top, 1]
+        if a == b:
+            if node[a, CHILD1] >= 0:
+                c1 = node[a, CHILD1]
+                c2 = node[a, CHILD2]
+                work[top, 0] = c1
+                work[top, 1] = c1
+                work[top + 1, 0] = c2
+                work[top + 1, 1] = c2
                 top += 2
-                continue
-            j = node[idx, BODY]
-            if j == i or (j < i and (flags[j] & STATIC) == 0):
-                continue
+                if rows_overlap(fat, c1, fat, c2):
+                    work[top, 0] = c1
+                    work[top, 1] = c2
+                    top += 1
+            continue
+        if node[a, CHILD1] < 0 and node[b, CHILD1] < 0:
+            i = node[a, BODY]
+            j = node[b, BODY]
             if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
                 count = add_pair(keys, count, i, j, n_bodies)
+            continue
+        if node[b, CHILD1] >= 0 and (node[a, CHILD1] < 0 or node[b, HEIGHT] > node[a, HEIGHT]):
+            a, b = b, a
+        for c in (node[a, CHILD1], node[a, CHILD2]):
+            if rows_overlap(fat, c, fat, b):
+                work[top, 0] = c
+                work[top, 1] = b
+                top += 1
     return count
 
 

@@ -26,7 +26,7 @@ def kd_init_params(state_f, leaf_size=4):
 @njit
 def kd_build(aabbs, flags, n_bodies, state_f, state_i):
     """Rebuild the KD-tree over the live bodies among the first ``n_bodies`` slots."""
-    node_i, bounds, items, keys = tree_views(state_f, state_i)
+    node_i, bounds, items, keys, _ = tree_views(state_f, state_i)
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
     items[:m] = live

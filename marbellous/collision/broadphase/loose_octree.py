@@ -32,7 +32,7 @@ def octree_init_params(state_f, leaf_size=8, max_depth=20):
 @njit
 def octree_build(aabbs, flags, n_bodies, state_f, state_i):
     """Rebuild the loose octree over the live bodies among the first ``n_bodies`` slots."""
-    node_i, bounds, items, _ = tree_views(state_f, state_i)
+    node_i, bounds, items, _, _ = tree_views(state_f, state_i)
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
     items[:m] = live

@@ -11,15 +11,19 @@ boxes too big for its children);
 ``bounds`` (max_nodes, 6) float64: the tight box around every body in the node's subtree;
 ``items`` (capacity,) int64: the live body indices, permuted by the build.
 
-Pruning uses only the tight bounds, which are unions (min/max, no arithmetic) of the bodies' own boxes,
-so pruning never drops an overlap and every method reports exactly the brute-force pairs.  Node 0 is
+``planes`` (max_nodes, 5) float64 rows ``[nx, ny, nz, d, side]``: for BSP children, the parent's plane and
+which side of it the node's boxes lie on (side 0: no plane test; kd-tree and octree leave it 0).
+
+Pruning uses the tight bounds, which are unions (min/max, no arithmetic) of the bodies' own boxes, and
+for BSP nodes the parent's plane with a rounding allowance; so pruning never drops an overlap and every
+method reports exactly the brute-force pairs.  Node 0 is
 the root.  Traversals use an explicit stack (no recursion).
 """
 import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, STATIC, add_index, add_pair, is_alive, pair_allowed, ray_entry,
+    HEADER_F, HEADER_I, I_CAPACITY, STATIC, add_index, add_pair, pair_allowed, ray_entry,
     row_overlaps_box, rows_overlap)
 
 
@@ -31,25 +35,31 @@ def tree_max_nodes(capacity):
 
 #: ``state_i[I_N_NODES]``: number of nodes of the tree built by the last update.
 I_N_NODES = 3
+#: ``state_f[F_PLANE_TOLERANCE]``: rounding allowance of the plane tests (m), written by the build.
+F_PLANE_TOLERANCE = 3
+#: ``planes[node, SIDE]``: 0 no plane test, 1 the node holds only boxes behind its parent's plane
+#: ``planes[node, :4] = (n, d)``, 2 only boxes in front of it.
+SIDE = 4
 
 
 def tree_state_sizes(capacity):
-    """Lengths ``(len(state_f), len(state_i))`` of a rebuilt tree's state: node bounds and one
-    float scratch key per slot; node rows and the item permutation."""
+    """Lengths ``(len(state_f), len(state_i))`` of a rebuilt tree's state: node bounds, parent
+    planes and one float scratch key per slot; node rows and the item permutation."""
     m = tree_max_nodes(capacity)
-    return HEADER_F + 6 * m + capacity, HEADER_I + 4 * m + capacity
+    return HEADER_F + 11 * m + capacity, HEADER_I + 4 * m + capacity
 
 
 @njit
 def tree_views(state_f, state_i):
-    """Views ``(node_i, bounds, items, keys)`` into a rebuilt tree's state arrays."""
+    """Views ``(node_i, bounds, items, keys, planes)`` into a rebuilt tree's state arrays."""
     cap = state_i[I_CAPACITY]
     m = 2 * cap + 16
     node_i = state_i[HEADER_I:HEADER_I + 4 * m].reshape((m, 4))
     items = state_i[HEADER_I + 4 * m:HEADER_I + 4 * m + cap]
     bounds = state_f[HEADER_F:HEADER_F + 6 * m].reshape((m, 6))
     keys = state_f[HEADER_F + 6 * m:HEADER_F + 6 * m + cap]
-    return node_i, bounds, items, keys
+    planes = state_f[HEADER_F + 6 * m + cap:HEADER_F + 11 * m + cap].reshape((m, 5))
+    return node_i, bounds, items, keys, planes
 
 
 @njit
@@ -73,23 +83,65 @@ def refit_bounds(node_i, bounds, items, aabbs, n_nodes):
 
 
 @njit
-def tree_pairs(node_i, bounds, items, n_nodes, aabbs, flags, groups, masks, n_bodies, keys):
-    """Every overlapping, filter-passing pair, by querying the tree with each live dynamic body's box.
+def plane_key_radius(n, box, r):
+    """Projection of box row ``box[r]`` onto the unit normal ``n``: centre ``n . c`` and radius
+    ``sum_k |n_k| h_k`` (m).  Builds and queries use this one function, so their roundings agree."""
+    key = 0.0
+    radius = 0.0
+    for k in range(3):
+        key += n[k] * 0.5 * (box[r, k] + box[r, k + 3])
+        radius += abs(n[k]) * 0.5 * (box[r, k + 3] - box[r, k])
+    return key, radius
+
+
+@njit
+def outside_parent_plane(planes, node, box, r, tolerance):
+    """True if box row ``box[r]`` lies strictly on the other side of the plane that put ``node``'s
+    boxes behind (side 1) or in front of it (side 2), by more than ``tolerance``.
+
+    Sound despite rounding: a body in the back child has computed ``key + radius < d``, so a box
+    that touches it has computed ``key - radius <= d + (both rounding errors)``, and ``tolerance``
+    (1e-10 of the largest coordinate) exceeds that sum by orders of magnitude."""
+    side = planes[node, SIDE]
+    if side == 0.0:
+        return False
+    key, radius = plane_key_radius(planes[node, :3], box, r)
+    if side == 1.0:
+        return key - radius > planes[node, 3] + tolerance
+    return key + radius < planes[node, 3] - tolerance
+
+
+@njit
+def _tree_body_count(node_i, n_nodes):
+    """Number of bodies in the tree: ``items[:count]`` (every node's items are a slice of it)."""
+    total = 0
+    for node in range(n_nodes):
+        total += node_i[node, 3]
+    return total
+
+
+@njit
+def tree_pairs(node_i, bounds, planes, tolerance, items, n_nodes, aabbs, flags, groups, masks,
+               n_bodies, keys):
+    """Every overlapping, filter-passing pair, by querying the tree with each dynamic body's box.
     A pair ``(i, j)`` is recorded from ``i``'s query if ``j`` is static or ``j > i``, so it is recorded
     exactly once.  Returns the number of pairs (written while ``keys`` has room)."""
     count = 0
     if n_nodes == 0:
         return count
     stack = np.empty(n_nodes, np.int64)
-    for i in range(n_bodies):
-        if not is_alive(flags, i) or (flags[i] & STATIC) != 0:
+    # query in tree order: consecutive queries walk the same nodes, which stay in cache
+    for p_query in range(_tree_body_count(node_i, n_nodes)):
+        i = items[p_query]
+        if (flags[i] & STATIC) != 0:
             continue
         stack[0] = 0
         top = 1
         while top > 0:
             top -= 1
             node = stack[top]
-            if not rows_overlap(bounds, node, aabbs, i):
+            if not rows_overlap(bounds, node, aabbs, i) \
+                    or outside_parent_plane(planes, node, aabbs, i, tolerance):
                 continue
             s = node_i[node, 2]
             for p in range(s, s + node_i[node, 3]):
@@ -106,18 +158,23 @@ def tree_pairs(node_i, bounds, items, n_nodes, aabbs, flags, groups, masks, n_bo
 
 
 @njit
-def tree_query_aabb(node_i, bounds, items, n_nodes, aabbs, box_min, box_max, buf):
+def tree_query_aabb(node_i, bounds, planes, tolerance, items, n_nodes, aabbs, box_min, box_max,
+                    buf):
     """Bodies in the tree whose box overlaps ``[box_min, box_max]``.  Returns the number found (written while ``buf`` has room)."""
     count = 0
     if n_nodes == 0:
         return count
+    query = np.empty((1, 6))
+    query[0, :3] = box_min
+    query[0, 3:] = box_max
     stack = np.empty(n_nodes, np.int64)
     stack[0] = 0
     top = 1
     while top > 0:
         top -= 1
         node = stack[top]
-        if not row_overlaps_box(bounds, node, box_min, box_max):
+        if not row_overlaps_box(bounds, node, box_min, box_max) \
+                or outside_parent_plane(planes, node, query, 0, tolerance):
             continue
         s = node_i[node, 2]
         for p in range(s, s + node_i[node, 3]):
