@@ -4,15 +4,19 @@ SI units, y up, quaternions (w, x, y, z).  Start with :class:`World`::
 
     import marbellous as mb
     w = mb.World()
+    w.add_static(mb.Plane())
     ball = w.add_body(mb.Sphere(0.5), position=(0, 2, 0))
     w.step(1 / 60)
 """
 from .body import Body
 from .constraints import Cable, Rod, Spring
+from .heightfield import HeightField
+from .mesh import TriangleMesh
+from .query import ContactPoint, collide
 from .shapes import Box, Capsule, Plane, Shape, Sphere
-from .world import Contact, Snapshot, World
+from .world import Contact, RayHit, Snapshot, World
 
 __version__ = "0.1.0"
 
-__all__ = ["World", "Body", "Snapshot", "Shape", "Sphere", "Box", "Capsule", "Plane", "Spring", "Rod",
-           "Cable", "Contact", "__version__"]
+__all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
+           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "__version__"]

@@ -15,6 +15,7 @@ from .dynamics.integrators import INTEGRATORS
 from .dynamics.rigid import inverse_inertia_np
 from .math3d import quat_to_matrix_np
 from .pipeline import step as S
+from .pipeline.raycast import raycast_world
 from .shapes import Shape
 
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
@@ -22,6 +23,16 @@ BROADPHASES = tuple(BROADPHASE_CODES)
 DEFAULT_DENSITY = 1000.0
 DEFAULT_SUBSTEPS = 4
 DEFAULT_ITERATIONS = 4
+
+
+@dataclass(frozen=True)
+class RayHit:
+    """The nearest surface a ray hit: ``body``, ``point`` (m), unit ``normal`` there, ``distance`` (m)."""
+
+    body: Body
+    point: np.ndarray
+    normal: np.ndarray
+    distance: float
 
 
 @dataclass(frozen=True)
@@ -535,6 +546,27 @@ class World:
         self._accumulator = max(acc - n * dt, 0.0)
         alpha = self._accumulator / dt
         return alpha if alpha < 1.0 else math.nextafter(1.0, 0.0)
+
+    def raycast(self, origin, direction, max_distance=math.inf):
+        """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
+
+        ``direction`` need not be unit length (it must not be zero).  Returns a :class:`RayHit` or None.
+        A ray that starts inside a solid shape hits it at distance 0.
+        """
+        o = as_vec3("origin", origin)
+        d = as_vec3("direction", direction)
+        length = float(np.linalg.norm(d))
+        if length == 0.0:
+            raise ValueError("direction must be a non-zero vector")
+        max_distance = as_float("max_distance", max_distance, nonnegative=True, allow_inf=True)
+        hit = np.zeros(8)
+        candidates = np.zeros(max(self._nb, 1), dtype=np.int64)
+        found = raycast_world(self._bf, self._bi, self._sf, self._si, self._geom_f, self._geom_i, self._aabbs,
+                              self._bp_f, self._bp_i, BROADPHASE_CODES[self.broadphase], self._nb, o,
+                              d / length, max_distance, candidates, hit)
+        if not found:
+            return None
+        return RayHit(self._bodies[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))
 
     # --- state -------------------------------------------------------------------------------------------
     _TABLES = ("_bf", "_bi", "_sf", "_si", "_kf", "_ki", "_ws", "_geom_f", "_geom_i", "_aabbs", "_pcf", "_pci")

@@ -16,7 +16,7 @@ import numpy as np
 from .._jit import njit
 from ..collision import shape_types as st
 from ..collision.aabb import merge_aabb, shape_aabb
-from ..collision.dispatch import collide_convex_pair
+from ..collision.dispatch import collide_pair
 from ..layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                       F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
                       S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
@@ -96,9 +96,10 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
             shape_pose(bf, sf, sa, a, pos_a, rot_a)
             for sb in range(bi[b, SHAPE_START], bi[b, SHAPE_START] + bi[b, SHAPE_COUNT]):
                 shape_pose(bf, sf, sb, b, pos_b, rot_b)
-                m = collide_convex_pair(si[sa, S_TYPE], pos_a, rot_a, sf[sa, S_PARAMS:S_PARAMS + 8],
-                                        si[sb, S_TYPE], pos_b, rot_b, sf[sb, S_PARAMS:S_PARAMS + 8],
-                                        prediction, raw_f, raw_i, n)
+                m = collide_pair(si[sa, S_TYPE], pos_a, rot_a, sf[sa, S_PARAMS:S_PARAMS + 8],
+                                 si[sb, S_TYPE], pos_b, rot_b, sf[sb, S_PARAMS:S_PARAMS + 8],
+                                 geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F],
+                                 si[sb, S_OFF_I], prediction, raw_f, raw_i, n)
                 for c in range(n, min(m, cap)):
                     ci[c, C_BODY_A] = a
                     ci[c, C_BODY_B] = b

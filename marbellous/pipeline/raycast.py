@@ -1,0 +1,55 @@
+"""The world's ray cast: broad-phase candidates in order of entry distance, then exact shape tests.
+
+Candidates come from the broad phase's ray query over the bodies' boxes, sorted by where the ray enters
+each box; the search stops once a box is entered beyond the nearest exact hit found so far.
+"""
+import numpy as np
+
+from .._jit import njit
+from ..collision.broadphase import query_ray, update
+from ..collision.raycast import raycast_shape
+from ..layout import FLAGS, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
+from .collide import shape_pose, update_aabbs
+
+
+@njit
+def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, origin, direction,
+                  max_distance, candidates, hit):
+    """Nearest hit of the ray; writes ``hit = [distance, body, px, py, pz, nx, ny, nz]`` and returns True.
+
+    ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
+    """
+    sweep = np.empty(nb)
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0)
+    update(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i)
+    count = query_ray(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, origin, direction, max_distance, candidates)
+    best = max_distance
+    found = False
+    pos = np.empty(3)
+    rot = np.empty((3, 3))
+    normal = np.empty(3)
+    for k in range(min(count, candidates.shape[0])):
+        b = candidates[k]
+        # Entry distance of b's box: no shape inside can be nearer.
+        lo = aabbs[b]
+        entry = 0.0
+        for d in range(3):
+            if direction[d] != 0.0:
+                t1 = (lo[d] - origin[d]) / direction[d]
+                t2 = (lo[3 + d] - origin[d]) / direction[d]
+                entry = max(entry, min(t1, t2))
+        if found and entry > best:
+            break
+        for s in range(bi[b, SHAPE_START], bi[b, SHAPE_START] + bi[b, SHAPE_COUNT]):
+            shape_pose(bf, sf, s, b, pos, rot)
+            t = raycast_shape(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + 8], geom_f, geom_i,
+                              si[s, S_OFF_F], si[s, S_OFF_I], origin, direction, best, normal)
+            if t >= 0.0 and (not found or t < best):
+                found = True
+                best = t
+                hit[0] = t
+                hit[1] = b
+                for d in range(3):
+                    hit[2 + d] = origin[d] + t * direction[d]
+                    hit[5 + d] = normal[d]
+    return found
