@@ -69,19 +69,21 @@ def cell_triangle(params, geom_f, off_f, i, j, k):
     b = grid_point(params, geom_f, off_f, i + ca[1][0], j + ca[1][1])
     c = grid_point(params, geom_f, off_f, i + ca[2][0], j + ca[2][1])
     cr = cross(sub(b, a), sub(c, a))
-    inv = 1.0 / math.sqrt(dot(cr, cr))
-    return a, b, c, (cr[0] * inv, cr[1] * inv, cr[2] * inv)
+    length = math.sqrt(dot(cr, cr))
+    return a, b, c, (cr[0] / length, cr[1] / length, cr[2] / length)
 
 
 @njit
 def _away(u, w, o):
     """Unit direction, perpendicular to edge ``u w``, from the edge towards ``o``."""
     d = sub(w, u)
+    ld = math.sqrt(dot(d, d))
+    d = (d[0] / ld, d[1] / ld, d[2] / ld)
     v = sub(o, u)
-    s = dot(v, d) / dot(d, d)
+    s = dot(v, d)
     m = (v[0] - s * d[0], v[1] - s * d[1], v[2] - s * d[2])
-    inv = 1.0 / math.sqrt(dot(m, m))
-    return (m[0] * inv, m[1] * inv, m[2] * inv)
+    lm = math.sqrt(dot(m, m))
+    return (m[0] / lm, m[1] / lm, m[2] / lm)
 
 
 @njit

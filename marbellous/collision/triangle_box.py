@@ -1,9 +1,10 @@
 """Box against one triangle by the separating-axis test (13 axes), with a clipped contact manifold.
 
-Axes, each ``L`` unit length: the triangle's normal ``n`` (one-sided: the box is pushed out to the
-front), the box's three face normals ``u_k``, and the nine edge-edge axes ``u_k x e_j``.  On an
-axis the box projects to ``L.c +- sum_i h_i |u_i.L|`` and the triangle to ``[min, max]`` of its
-vertices; the overlap is the smaller of the two ways of pushing them apart.  Any axis with a gap
+Axes, each ``L`` unit length: the triangle's normal ``n``, the box's three face normals ``u_k``,
+and the nine edge-edge axes ``u_k x e_j``.  On an axis the box projects to
+``L.c +- sum_i h_i |u_i.L|`` and the triangle to ``[min, max]`` of its vertices.  The triangle is
+one-sided, so its overlap on an axis is measured in the direction that pushes the box to the
+triangle's front (both directions for axes in the triangle's plane).  Any axis with a gap
 larger than ``prediction`` separates them.  The axis of least overlap wins, with a bias
 (``tolerances.FACE_BIAS``) towards the triangle's face and then the box's faces, so a resting box
 keeps its reference face.
@@ -28,6 +29,9 @@ from .tolerances import CROSS_AXIS_MIN, FACE_BIAS
 from .triangle_contact import GHOST_ROUNDING, write_row
 from .vec3 import column, cross, dot, madd, scale, sub
 
+#: An axis with ``|L.n|`` below this lies in the triangle's plane: both directions push the box
+#: off the triangle sideways.
+_IN_PLANE = 1e-9
 #: Feature codes of box contacts: clipped polygon vertex ``i`` is ``CLIP_FIRST + i``; edge pair.
 CLIP_FIRST = 8
 EDGE_PAIR = 15
@@ -41,18 +45,28 @@ def _project_box(c, u, h, axis):
 
 
 @njit
-def _axis_overlap(c, u, h, a, b, cc, axis):
-    """Overlap (m) of box and triangle on ``axis`` and the direction ``L`` (+-axis) from the
-    triangle towards the box along which that overlap is measured."""
+def _axis_overlap(c, u, h, a, b, cc, n, axis):
+    """Overlap of box and triangle on ``axis``: ``(gap test, overlap, L)``.
+
+    The gap test is the smaller of the two ways to push them apart (< 0: separated on this axis).
+    The overlap (m) is the smaller of the ways that push the box to the triangle's front
+    (``L.n >= 0``, with ``L`` the direction from the triangle towards the box), as the triangle
+    is one-sided.
+    """
     cl, rb = _project_box(c, u, h, axis)
     pa, pb, pc = dot(axis, a), dot(axis, b), dot(axis, cc)
     tmin = min(pa, min(pb, pc))
     tmax = max(pa, max(pb, pc))
-    low = tmax - (cl - rb)          # box on the + side of the triangle
-    high = (cl + rb) - tmin         # box on the - side
+    low = tmax - (cl - rb)          # push the box along +axis
+    high = (cl + rb) - tmin         # push the box along -axis
+    an = dot(axis, n)
+    if an > _IN_PLANE:
+        return min(low, high), low, axis
+    if an < -_IN_PLANE:
+        return min(low, high), high, (-axis[0], -axis[1], -axis[2])
     if low <= high:
-        return low, axis
-    return high, (-axis[0], -axis[1], -axis[2])
+        return low, low, axis
+    return high, high, (-axis[0], -axis[1], -axis[2])
 
 
 @njit
@@ -99,8 +113,8 @@ def box_triangle(c, rot, h, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
     best_k = 0
     best_j = 0
     for k in range(3):
-        ov, l = _axis_overlap(c, u, hs, a, b, cc, u[k])
-        if ov < -prediction:
+        gap, ov, l = _axis_overlap(c, u, hs, a, b, cc, n, u[k])
+        if gap < -prediction:
             return 0
         if ov < best - bias:
             best, kind, best_l, best_k = ov, 1, l, k
@@ -115,8 +129,8 @@ def box_triangle(c, rot, h, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
             la = math.sqrt(dot(axis, axis))
             if la < CROSS_AXIS_MIN:
                 continue
-            ov, l = _axis_overlap(c, u, hs, a, b, cc, scale(axis, 1.0 / la))
-            if ov < -prediction:
+            gap, ov, l = _axis_overlap(c, u, hs, a, b, cc, n, scale(axis, 1.0 / la))
+            if gap < -prediction:
                 return 0
             if ov < best - 2.0 * bias:
                 best, kind, best_l, best_k, best_j = ov, 2, l, k, j
