@@ -4,6 +4,8 @@ Each live body owns a leaf whose box is *fattened*: grown by ``margin * (largest
 At an update, a leaf is removed and reinserted only when its body's box has left the fat box, or the
 fat box has become more than ``looseness`` times the wanted fat size along some axis (the body shrank);
 otherwise nothing in the tree changes.  Coherent motion therefore touches only a few leaves per step.
+When more than ``rebuild_fraction`` of the bodies need reinsertion (a fresh state, fast motion), the
+tree is instead rebuilt top-down: leaves sorted along the Morton curve, each run split in half.
 
 Insertion descends from the root choosing, at each internal node, the cheapest of: pairing with the
 node itself, or descending into either child, with the surface-area heuristic
@@ -19,20 +21,21 @@ State layout (``M = 2 * capacity`` nodes): ``state_f[HEADER_F:][:6M]`` fat boxes
 ``state_i[HEADER_I:][:5M]`` node rows ``[parent, child1, child2, height, body]`` (``child1 == -1`` for
 a leaf; a free node's ``parent`` links the free list), then ``leaf_of_body`` (capacity,).
 ``state_i[I_ROOT]``, ``[I_NODE_COUNT]`` (high-water mark), ``[I_FREE]``; tunables ``state_f[F_MARGIN]``,
-``state_f[F_LOOSENESS]``.
+``state_f[F_LOOSENESS]``, ``state_f[F_REBUILD_FRACTION]``.
 """
 import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, add_index, add_pair, is_alive, pair_allowed,
-    ray_entry, row_overlaps_box, rows_overlap)
+    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, add_index, add_pair, alive_indices, is_alive,
+    pair_allowed, ray_entry, row_overlaps_box, rows_overlap)
 
 I_ROOT = 3
 I_NODE_COUNT = 4
 I_FREE = 5
 F_MARGIN = 0
 F_LOOSENESS = 1
+F_REBUILD_FRACTION = 2
 PARENT = 0
 CHILD1 = 1
 CHILD2 = 2
@@ -46,11 +49,13 @@ def bvh_state_sizes(capacity):
     return HEADER_F + 6 * m, HEADER_I + 5 * m + capacity
 
 
-def bvh_init_params(state_f, margin=0.1, looseness=4.0):
-    """Write the tunables: fattening as a fraction of a box's largest edge, and how much larger than
-    wanted a fat box may grow before its leaf is reinserted."""
+def bvh_init_params(state_f, margin=0.1, looseness=4.0, rebuild_fraction=0.25):
+    """Write the tunables: fattening as a fraction of a box's largest edge, how much larger than
+    wanted a fat box may grow before its leaf is reinserted, and the fraction of live bodies needing
+    reinsertion above which the whole tree is rebuilt instead."""
     state_f[F_MARGIN] = margin
     state_f[F_LOOSENESS] = looseness
+    state_f[F_REBUILD_FRACTION] = rebuild_fraction
 
 
 @njit
@@ -339,43 +344,112 @@ def _morton_order(aabbs, bodies):
 
 
 @njit
+def _new_leaf(node, fat, leaf_of, state_i, aabbs, i, margin):
+    """Allocate a leaf for body ``i`` with its fat box (not yet linked into the tree)."""
+    leaf = _alloc(node, state_i)
+    node[leaf, CHILD1] = -1
+    node[leaf, CHILD2] = -1
+    node[leaf, HEIGHT] = 0
+    node[leaf, BODY] = i
+    leaf_of[i] = leaf
+    _set_fat_box(fat, leaf, aabbs, i, margin)
+    return leaf
+
+
+@njit
+def _rebuild(node, fat, leaf_of, state_i, aabbs, flags, n_bodies, margin):
+    """Build the whole tree top-down from the live bodies: leaves in Morton order, each internal node
+    splitting its run of leaves in half (a linear BVH), boxes and heights filled in bottom-up."""
+    state_i[I_ROOT] = -1
+    state_i[I_NODE_COUNT] = 0
+    state_i[I_FREE] = -1
+    leaf_of[:] = -1
+    order = _morton_order(aabbs, alive_indices(flags, n_bodies))
+    m = order.shape[0]
+    for a in range(m):
+        _new_leaf(node, fat, leaf_of, state_i, aabbs, order[a], margin)   # leaf a is node a
+    if m == 0:
+        return
+    if m == 1:
+        state_i[I_ROOT] = 0
+        node[0, PARENT] = -1
+        return
+    root = _alloc(node, state_i)
+    node[root, PARENT] = -1
+    state_i[I_ROOT] = root
+    work = np.empty((m, 3), np.int64)
+    work[0, 0] = root
+    work[0, 1] = 0
+    work[0, 2] = m
+    top = 1
+    while top > 0:
+        top -= 1
+        parent = work[top, 0]
+        lo = work[top, 1]
+        hi = work[top, 2]
+        mid = (lo + hi) // 2
+        node[parent, BODY] = -1
+        for half in range(2):
+            a = lo if half == 0 else mid
+            b = mid if half == 0 else hi
+            if b - a == 1:
+                child = a
+            else:
+                child = _alloc(node, state_i)
+                work[top, 0] = child
+                work[top, 1] = a
+                work[top, 2] = b
+                top += 1
+            node[child, PARENT] = parent
+            node[parent, CHILD1 + half] = child
+    for idx in range(state_i[I_NODE_COUNT] - 1, m - 1, -1):
+        c1 = node[idx, CHILD1]
+        c2 = node[idx, CHILD2]
+        node[idx, HEIGHT] = 1 + max(node[c1, HEIGHT], node[c2, HEIGHT])
+        _set_union(fat, idx, c1, c2)
+
+
+@njit
 def bvh_update(aabbs, flags, n_bodies, state_f, state_i):
-    """Insert new bodies, remove dead ones and reinsert leaves whose body left its fat box."""
+    """Remove dead bodies, then insert new bodies and reinsert leaves whose body left its fat box, in
+    Morton order.  If more than ``rebuild_fraction`` of the live bodies need it (a fresh state, a
+    teleport of everything, fast motion), rebuild the whole tree top-down instead."""
     node, fat, leaf_of = bvh_views(state_f, state_i)
     n_prev = state_i[I_N_PREV]
-    if n_prev < 0:
-        state_i[I_ROOT] = -1
-        state_i[I_NODE_COUNT] = 0
-        state_i[I_FREE] = -1
-        leaf_of[:] = -1
-        n_prev = 0
     margin = state_f[F_MARGIN]
     looseness = state_f[F_LOOSENESS]
-    arrivals = np.empty(n_bodies, np.int64)
-    n_arrivals = 0
+    if n_prev < 0:
+        _rebuild(node, fat, leaf_of, state_i, aabbs, flags, n_bodies, margin)
+        state_i[I_N_PREV] = n_bodies
+        return
     for i in range(max(n_bodies, n_prev)):
         leaf = leaf_of[i]
-        if i >= n_bodies or not is_alive(flags, i):
-            if leaf >= 0:
-                _remove_leaf(node, fat, state_i, leaf)
-                _release(node, state_i, leaf)
-                leaf_of[i] = -1
-        elif leaf < 0:
-            arrivals[n_arrivals] = i
-            n_arrivals += 1
-        elif _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
+        if leaf >= 0 and (i >= n_bodies or not is_alive(flags, i)):
             _remove_leaf(node, fat, state_i, leaf)
-            _set_fat_box(fat, leaf, aabbs, i, margin)
+            _release(node, state_i, leaf)
+            leaf_of[i] = -1
+    changed = np.empty(n_bodies, np.int64)
+    n_changed = 0
+    n_live = 0
+    for i in range(n_bodies):
+        if not is_alive(flags, i):
+            continue
+        n_live += 1
+        leaf = leaf_of[i]
+        if leaf < 0 or _needs_reinsert(fat, leaf, aabbs, i, margin, looseness):
+            changed[n_changed] = i
+            n_changed += 1
+    if n_changed > state_f[F_REBUILD_FRACTION] * n_live:
+        _rebuild(node, fat, leaf_of, state_i, aabbs, flags, n_bodies, margin)
+    else:
+        for i in _morton_order(aabbs, changed[:n_changed]):
+            leaf = leaf_of[i]
+            if leaf < 0:
+                leaf = _new_leaf(node, fat, leaf_of, state_i, aabbs, i, margin)
+            else:
+                _remove_leaf(node, fat, state_i, leaf)
+                _set_fat_box(fat, leaf, aabbs, i, margin)
             _insert_leaf(node, fat, state_i, leaf)
-    for i in _morton_order(aabbs, arrivals[:n_arrivals]):
-        leaf = _alloc(node, state_i)
-        node[leaf, CHILD1] = -1
-        node[leaf, CHILD2] = -1
-        node[leaf, HEIGHT] = 0
-        node[leaf, BODY] = i
-        leaf_of[i] = leaf
-        _set_fat_box(fat, leaf, aabbs, i, margin)
-        _insert_leaf(node, fat, state_i, leaf)
     state_i[I_N_PREV] = n_bodies
 
 
