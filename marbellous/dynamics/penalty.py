@@ -1,0 +1,156 @@
+"""The spring-based scheme of the lecture: a damped spring at each contact point forces the bodies apart.
+
+At the start of every sub-step each contact point with overlap ``d = -s > 0`` (``s`` the separation
+now, updated from the bodies' motion since detection) pushes b along the normal and a against it with
+
+    F_n = max(0, k d - c v_n)                         (never pulls)
+    k = m_n omega^2,   c = 2 zeta m_n omega,          omega = 2 pi f
+
+where ``m_n`` is the contact's effective mass along the normal (``1 / (J M^-1 J^T)``), so every contact
+is a damped oscillator of frequency ``f`` whatever the masses.  The damping ratio follows from the
+coefficient of restitution ``e`` of the pair: a half-period of the damped oscillator returns the
+approach speed times ``e`` when ``zeta = -ln e / sqrt(pi^2 + ln^2 e)`` (capped at 1, critical, for e = 0).
+
+Stability.  The semi-implicit Euler update of a damped oscillator is stable for
+``(omega h)^2 + 4 zeta omega h < 4``; a column of contacts has modes up to twice the single-contact
+frequency, so ``f`` is capped at ``STABLE_FRACTION / h`` (omega h <= 0.4, i.e. at most 2 omega h = 0.8 in
+a stack: 0.64 + 3.2 zeta < 4 for zeta <= 1).  A resting body sinks in by ``g / omega^2`` per contact
+layer (about 1 mm at h = 1/240 s), the price of the method; more sub-steps make the springs stiffer.
+
+Friction is a regularised Coulomb force on the tangent plane, the force that would stop the sliding
+within the sub-step, bounded by the cone:
+
+    F_t = -(m_t1 v_t1, m_t2 v_t2) / h,   |F_t| <= mu F_n    (mu = mu_s while sticking, mu_d sliding)
+
+and rolling resistance a torque ``-I_r dw / h`` on the relative angular velocity ``dw = w_b - w_a``,
+bounded by ``rho F_n`` (``I_r = 1 / (d . (I_a^-1 + I_b^-1) d)``, ``d = dw / |dw|``).
+
+The forces are added to the bodies' force and torque accumulators before the integrator runs, so
+every integrator sees them; the impulses ``F h`` are stored in the contact rows as the other
+solvers' impulses are (reports, sliding state).
+"""
+import math
+
+import numpy as np
+
+from .._jit import njit
+from ..layout import (C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
+                      C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1,
+                      C_T2, CP_SENSOR, CP_SLIDING, FORCE, OMEGA, TORQUE)
+from .contact_solver import _separation
+from .rigid import relative_velocity
+
+#: The contact frequency is at most this fraction of the sub-step rate (omega h <= 2 pi * 0.064 = 0.4).
+STABLE_FRACTION = 0.4 / (2.0 * math.pi)
+
+
+@njit
+def damping_ratio(e):
+    """Damping ratio of a contact spring that rebounds with restitution ``e`` in [0, 1] (1 for e = 0)."""
+    if e <= 0.0:
+        return 1.0
+    log_e = math.log(e)
+    return min(-log_e / math.sqrt(math.pi * math.pi + log_e * log_e), 1.0)
+
+
+@njit
+def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, saved):
+    """Stage "penalty forces": add every contact spring's force and torque to the accumulators.
+
+    ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step.
+    The accumulators' previous contents (the user's forces) are kept in ``saved`` (nb, 6) for
+    :func:`restore_user_forces`.
+    """
+    for i in range(nb):
+        for k in range(6):
+            saved[i, k] = bf[i, FORCE + k]
+    omega = 2.0 * math.pi * min(hertz, STABLE_FRACTION / h)
+    F = bf[:, FORCE:FORCE + 3]
+    T = bf[:, TORQUE:TORQUE + 3]
+    dv = np.empty(3)
+    f = np.empty(3)
+    for c in range(nc):
+        for k in range(3):
+            cf[c, C_LAMBDA_R + k] = 0.0
+        cf[c, C_LAMBDA_N] = 0.0
+        cf[c, C_LAMBDA_T1] = 0.0
+        cf[c, C_LAMBDA_T2] = 0.0
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        a = ci[c, C_BODY_A]
+        b = ci[c, C_BODY_B]
+        depth = -_separation(bf, cf, c, a, b)
+        m_n = cf[c, C_MASS_N]
+        if depth <= 0.0 or m_n == 0.0:
+            continue
+        n = cf[c, C_NORMAL:C_NORMAL + 3]
+        relative_velocity(bf, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], dv)
+        vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
+        zeta = damping_ratio(cf[c, C_E])
+        fn = max(m_n * omega * (omega * depth - 2.0 * zeta * vn), 0.0)
+        if fn == 0.0:
+            continue
+        # Friction: the force that stops the sliding in one sub-step, within the Coulomb disc.
+        t1 = cf[c, C_T1:C_T1 + 3]
+        t2 = cf[c, C_T2:C_T2 + 3]
+        f1 = -cf[c, C_MASS_T1] * (dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2]) / h
+        f2 = -cf[c, C_MASS_T2] * (dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2]) / h
+        mu = cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S]
+        length = math.sqrt(f1 * f1 + f2 * f2)
+        if length > mu * fn:
+            scale = mu * fn / length
+            f1 *= scale
+            f2 *= scale
+        for k in range(3):
+            f[k] = fn * n[k] + f1 * t1[k] + f2 * t2[k]
+        # f acts on b and -f on a, at the contact's offsets of the step's start (as the impulse solvers).
+        _push(F, T, b, cf[c, C_RB:C_RB + 3], f, 1.0)
+        _push(F, T, a, cf[c, C_RA:C_RA + 3], f, -1.0)
+        cf[c, C_LAMBDA_N] = fn * h
+        cf[c, C_LAMBDA_T1] = f1 * h
+        cf[c, C_LAMBDA_T2] = f2 * h
+        cf[c, C_MAX_N] = max(cf[c, C_MAX_N], fn * h)
+        if cf[c, C_ROLL] > 0.0:
+            _rolling_torque(bf, cf, c, sb, a, b, cf[c, C_ROLL] * fn, h, T)
+
+
+@njit
+def _push(F, T, body, r, f, sign):
+    """Add the force ``sign f`` (N) at offset ``r`` (m) from ``body``'s centre of mass, and its torque."""
+    for k in range(3):
+        F[body, k] += sign * f[k]
+    T[body, 0] += sign * (r[1] * f[2] - r[2] * f[1])
+    T[body, 1] += sign * (r[2] * f[0] - r[0] * f[2])
+    T[body, 2] += sign * (r[0] * f[1] - r[1] * f[0])
+
+
+@njit
+def _rolling_torque(bf, cf, c, sb, a, b, bound, h, T):
+    """Torque opposing the relative spin ``w_b - w_a``, the one that stops it in ``h``, at most ``bound``."""
+    dw = np.empty(3)
+    for k in range(3):
+        dw[k] = bf[b, OMEGA + k] - bf[a, OMEGA + k]
+    speed = math.sqrt(dw[0] * dw[0] + dw[1] * dw[1] + dw[2] * dw[2])
+    if speed == 0.0:
+        return
+    inv_i = 0.0
+    for r in range(3):
+        for q in range(3):
+            inv_i += dw[r] * (sb[a, 1 + 3 * r + q] + sb[b, 1 + 3 * r + q]) * dw[q]
+    inv_i /= speed * speed
+    if inv_i <= 0.0:
+        return
+    tau = min(speed / (inv_i * h), bound)
+    for k in range(3):
+        t = -tau * dw[k] / speed
+        T[b, k] += t
+        T[a, k] -= t
+        cf[c, C_LAMBDA_R + k] = t * h
+
+
+@njit
+def restore_user_forces(bf, nb, saved):
+    """Put the user's forces and torques back into the accumulators after the integrator used them."""
+    for i in range(nb):
+        for k in range(6):
+            bf[i, FORCE + k] = saved[i, k]
