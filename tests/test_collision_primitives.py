@@ -72,23 +72,24 @@ class Shape:
         return self.pos + self.rot @ (self.params[:3] * np.where(local >= 0.0, 1.0, -1.0))
 
     def sdf(self, p):
-        """Signed distance of the world point ``p`` to the shape's surface (< 0 inside)."""
+        """Signed distance of the world point(s) ``p`` (..., 3) to the shape's surface (< 0 inside)."""
         p = np.asarray(p, float)
         if self.kind == st.SPHERE:
-            return np.linalg.norm(p - self.pos) - self.params[0]
+            return np.linalg.norm(p - self.pos, axis=-1) - self.params[0]
         if self.kind == st.CAPSULE:
             return point_segment_distance(p, *self.segment()) - self.params[0]
         if self.kind == st.BOX:
-            q = np.abs(self.rot.T @ (p - self.pos)) - self.params[:3]
-            return np.linalg.norm(np.maximum(q, 0.0)) + min(q.max(), 0.0)
+            q = np.abs((p - self.pos) @ self.rot) - self.params[:3]
+            return np.linalg.norm(np.maximum(q, 0.0), axis=-1) + np.minimum(q.max(axis=-1), 0.0)
         n, off = self.plane()
-        return n @ p - off
+        return p @ n - off
 
 
 def point_segment_distance(p, a, b):
+    """Distance of the point(s) ``p`` (..., 3) to the segment ``a b``."""
     d = b - a
     t = np.clip((p - a) @ d / (d @ d), 0.0, 1.0)
-    return np.linalg.norm(p - (a + t * d))
+    return np.linalg.norm(p - (a + t[..., None] * d), axis=-1)
 
 
 def ternary_min(f, iterations=100):
