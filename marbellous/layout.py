@@ -46,6 +46,7 @@ F_STATIC = 2       # never moves
 F_SENSOR = 4       # detects overlaps, exerts no force
 F_SLEEPING = 8     # resting island, not integrated until woken
 F_RESTART = 16     # Verlet: the previous position is unknown (new body or velocity/position set by hand)
+F_ISOTROPIC = 32   # inertia tensor is a multiple of the identity (spheres, cubes): rotation needs no matrices
 
 # --- shapes, float table sf and int table si ------------------------------------------------
 S_PARAMS = 0       # N_SHAPE_PARAMS kernel parameters (see collision/shape_types.py)

@@ -35,6 +35,8 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
     A contact slides (dynamic friction) if its tangential speed exceeds ``slide_speed`` (m/s) or its
     friction was saturated in the last step; otherwise it sticks (static friction).
     """
+    if nc == 0:
+        return
     dv = np.empty(3)
     for c in range(nc):
         a = ci[c, C_BODY_A]
@@ -78,6 +80,8 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
 @njit
 def warm_start_contacts(bf, cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
+    if nc == 0:
+        return
     p = np.empty(3)
     for c in range(nc):
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
@@ -130,6 +134,8 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
     the speed at which overlap is removed.  Returns the largest velocity change made (m/s), for the
     adaptive iteration count.
     """
+    if nc == 0:
+        return 0.0
     dv = np.empty(3)
     p = np.empty(3)
     largest = 0.0
@@ -234,6 +240,8 @@ def _solve_rolling(bf, cf, c, sb, a, b, bound):
 @njit
 def apply_restitution(bf, cf, ci, nc, sb, threshold):
     """Stage "restitution": contacts that closed faster than ``threshold`` (m/s) separate at ``-e vn0``."""
+    if nc == 0:
+        return
     dv = np.empty(3)
     p = np.empty(3)
     for c in range(nc):

@@ -22,8 +22,8 @@ torque-free body conserves its angular momentum to round-off, even about its uns
 import numpy as np
 
 from .._jit import njit
-from ..layout import (F_RESTART, FLAGS, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT, V_FREE, VEL,
-                      W_FREE, X_PRED)
+from ..layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT,
+                      V_FREE, VEL, W_FREE, X_PRED)
 from ..math3d import mat3_vec, quat_integrate, quat_normalize, quat_to_matrix
 from .forces import accumulate_forces, is_moving
 from .rigid import body_inertia_world, body_inverse_inertia_world
@@ -104,6 +104,12 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
         else:
             for k in range(3):
                 bf[i, VEL + k] += F[i, k] * inv_m * h
+        if (bi[i, FLAGS] & F_ISOTROPIC) != 0:
+            # I = I E: omega += T h / I
+            for k in range(3):
+                bf[i, OMEGA + k] += bf[i, INV_I] * T[i, k] * h
+            _store_free_velocity(bf, i)
+            continue
         # L = I_w omega + T h, omega = I_w^-1 L
         q = bf[i, QUAT:QUAT + 4]
         body_inverse_inertia_world(bf, i, q, rot, iw_inv)
@@ -196,23 +202,19 @@ def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_
 
 
 @njit
-def _rotate_conserving_momentum(bf, i, h):
-    """Advance the orientation by the implicit-midpoint rule at constant world angular momentum."""
-    rot = np.empty((3, 3))
-    iw_inv = np.empty((3, 3))
-    iw = np.empty((3, 3))
-    lw = np.empty(3)
+def _rotate_conserving_momentum(bf, i, h, rot, iw_inv, iw, lw, q_mid, w_mid, q_new):
+    """Advance the orientation by the implicit-midpoint rule at constant world angular momentum.
+
+    The remaining arguments are scratch arrays (3x3, 3x3, 3x3, 3, 4, 3, 4).
+    """
     q = bf[i, QUAT:QUAT + 4]
     w = bf[i, OMEGA:OMEGA + 3]
     body_inverse_inertia_world(bf, i, q, rot, iw_inv)
     body_inertia_world(bf, i, rot, iw)
     mat3_vec(iw, w, lw)
-    q_mid = np.empty(4)
     quat_integrate(q, w, 0.5 * h, q_mid)
-    w_mid = np.empty(3)
     body_inverse_inertia_world(bf, i, q_mid, rot, iw_inv)
     mat3_vec(iw_inv, lw, w_mid)
-    q_new = np.empty(4)
     quat_integrate(q, w_mid, h, q_new)
     for k in range(4):
         q[k] = q_new[k]
@@ -229,6 +231,11 @@ def integrate_positions(method, bf, bi, nb, h):
     """
     dq = np.empty(4)
     dw = np.empty(3)
+    rot = np.empty((3, 3))
+    iw_inv = np.empty((3, 3))
+    iw = np.empty((3, 3))
+    q_mid = np.empty(4)
+    w_mid = np.empty(3)
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -243,4 +250,10 @@ def integrate_positions(method, bf, bi, nb, h):
             for k in range(3):
                 bf[i, PREV_POS + k] = bf[i, POS + k]
                 bf[i, POS + k] += bf[i, VEL + k] * h
-            _rotate_conserving_momentum(bf, i, h)
+            if (bi[i, FLAGS] & F_ISOTROPIC) != 0:
+                # omega is constant under torque-free rotation of an isotropic body.
+                quat_integrate(bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], h, dq)
+                for k in range(4):
+                    bf[i, QUAT + k] = dq[k]
+            else:
+                _rotate_conserving_momentum(bf, i, h, rot, iw_inv, iw, dw, q_mid, w_mid, dq)

@@ -48,6 +48,8 @@ def _anchors(bf, kf, ki, c, ra, rb, pa, pb):
 @njit
 def warm_start_joints(bf, kf, ki, nk, sb):
     """Apply each rod's and cable's impulse of the last sub-step along its current axis."""
+    if nk == 0:
+        return
     ra = np.empty(3)
     rb = np.empty(3)
     pa = np.empty(3)
@@ -72,6 +74,8 @@ def warm_start_joints(bf, kf, ki, nk, sb):
 @njit
 def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
     """One pass over rods and cables (``use_bias``: solve, else relax); returns the largest velocity change."""
+    if nk == 0:
+        return 0.0
     ra = np.empty(3)
     rb = np.empty(3)
     pa = np.empty(3)
@@ -127,6 +131,8 @@ def record_joint_forces(bf, kf, ki, nk, dt, totals):
 
     ``totals`` holds the impulses summed over the step's sub-steps.
     """
+    if nk == 0:
+        return
     ra = np.empty(3)
     rb = np.empty(3)
     pa = np.empty(3)

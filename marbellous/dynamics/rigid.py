@@ -43,16 +43,16 @@ def point_velocity(bf, i, r, out):
 @njit
 def relative_velocity(bf, a, ra, b, rb, out):
     """Velocity of b's point ``rb`` relative to a's point ``ra`` (m/s); ``b < 0`` is the fixed world."""
-    va = np.empty(3)
-    point_velocity(bf, a, ra, va)
     if b >= 0:
         point_velocity(bf, b, rb, out)
     else:
         out[0] = 0.0
         out[1] = 0.0
         out[2] = 0.0
-    for k in range(3):
-        out[k] -= va[k]
+    w0, w1, w2 = bf[a, OMEGA], bf[a, OMEGA + 1], bf[a, OMEGA + 2]
+    out[0] -= bf[a, VEL] + w1 * ra[2] - w2 * ra[1]
+    out[1] -= bf[a, VEL + 1] + w2 * ra[0] - w0 * ra[2]
+    out[2] -= bf[a, VEL + 2] + w0 * ra[1] - w1 * ra[0]
 
 
 @njit

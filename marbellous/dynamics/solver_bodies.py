@@ -6,7 +6,7 @@ bodies get zeros, so every constraint treats them as immovable without a branch.
 import numpy as np
 
 from .._jit import njit
-from ..layout import INV_MASS, QUAT
+from ..layout import F_ISOTROPIC, FLAGS, INV_I, INV_MASS, QUAT
 from .forces import is_moving
 from .rigid import body_inverse_inertia_world
 
@@ -19,7 +19,12 @@ def prepare_solver_bodies(bf, bi, nb, sb):
     rot = np.empty((3, 3))
     iw = np.empty((3, 3))
     for i in range(nb):
-        if is_moving(bi, i):
+        if is_moving(bi, i) and (bi[i, FLAGS] & F_ISOTROPIC) != 0:
+            # R (s E) R^T = s E: the body-frame inverse inertia is already the world one.
+            sb[i, 0] = bf[i, INV_MASS]
+            for k in range(9):
+                sb[i, 1 + k] = bf[i, INV_I + k]
+        elif is_moving(bi, i):
             sb[i, 0] = bf[i, INV_MASS]
             body_inverse_inertia_world(bf, i, bf[i, QUAT:QUAT + 4], rot, iw)
             for r in range(3):

@@ -57,6 +57,8 @@ def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record):
     ``record`` (a weight, 0: none) adds ``record * F`` to each spring's K_FORCE: with weight h / dt at
     each sub-step, K_FORCE ends up as the step's mean force.
     """
+    if nk == 0:
+        return
     pa = np.empty(3)
     pb = np.empty(3)
     va = np.empty(3)
