@@ -51,6 +51,7 @@ class Game:
         self.dt = float(dt)
         self.best_times = best_times if best_times is not None else BestTimes()
         self.world, self.statics = build_world(level)
+        self.scenery, _ = build_world(level)
         self.marble = self.spec.add_to(self.world, level.start_position)
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)
         self.course = CoursePath(level.path, level.speeds) if level.path is not None else None
@@ -134,22 +135,13 @@ class Game:
 
     # ------------------------------------------------------------------ camera and display
     def raycast_level(self, origin, direction, max_distance):
-        """Distance (m) along ``direction`` to the nearest level geometry (the marble is ignored), or
-        None."""
-        skipped = 0.0
-        origin = np.asarray(origin, np.float64)
-        for _ in range(4):
-            hit = self.world.raycast(origin, direction, max_distance - skipped)
-            if hit is None:
-                return None
-            if hit.body is not self.marble:
-                return skipped + hit.distance
-            step = hit.distance + 2.0 * self.spec.radius
-            origin = origin + np.asarray(direction) * step
-            skipped += step
-            if skipped >= max_distance:
-                return None
-        return None
+        """Distance (m) along the unit ``direction`` to the nearest level geometry, or None.
+
+        Rays are cast in :attr:`scenery`, a world holding only the level (never stepped), so the
+        marble itself is never hit.
+        """
+        hit = self.scenery.raycast(origin, direction, max_distance)
+        return None if hit is None else hit.distance
 
     def update_camera(self, frame_time):
         """Move the follow camera by ``frame_time`` seconds; returns its ``CameraView``."""

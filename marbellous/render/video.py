@@ -29,7 +29,7 @@ class VideoWriter:
             import imageio.v2 as imageio
 
             self._writer = imageio.get_writer(self.path, fps=self.fps, codec="libx264", quality=7,
-                                              macro_block_size=8, pixelformat="yuv420p")
+                                              macro_block_size=2, pixelformat="yuv420p")
 
     def write(self, frame):
         """Append one frame: a (H, W, 3) uint8 array."""
