@@ -82,6 +82,10 @@ def scene(kind, n, seed):
     elif kind == "huge":
         a = boxes(rng.uniform(0, 20, (n, 3)), rng.uniform(0.1, 0.4, (n, 3)))
         a[n // 2] = [-5, 4, -5, 25, 6, 25]
+    elif kind == "many_big":
+        a = boxes(rng.uniform(0, 30, (n, 3)), rng.uniform(0.1, 0.4, (n, 3)))
+        big = rng.random(n) < 0.15
+        a[big] = boxes(rng.uniform(0, 30, (int(big.sum()), 3)), rng.uniform(1.5, 5, (int(big.sum()), 3)))
     elif kind == "plane":
         c = rng.uniform(0, 10, (n, 3))
         c[:, 1] = 0.0
@@ -109,7 +113,7 @@ def scene(kind, n, seed):
     return a, flags, groups, masks
 
 
-SCENES = ["uniform", "clustered", "sparse", "huge", "plane", "flat", "touching", "points",
+SCENES = ["uniform", "clustered", "sparse", "huge", "many_big", "plane", "flat", "touching", "points",
           "coincident", "mixed"]
 
 

@@ -6,8 +6,10 @@ corner; cell coordinates along an axis are ``floor((x - origin) / h)``.  ``h`` i
 that no axis has more than 2^20 cells (the packed cell key then fits in 63 bits).
 
 A box that would cover more than ``max_cells_per_axis`` cells along some axis is *oversized*: it is
-not put in the grid but tested against every live body, so one huge body among many small ones
-costs O(n) instead of filling O(n) cells each tested against everything.
+not put in the grid, so one huge body among many small ones costs O(n) tests instead of filling
+O(n) cells.  Up to 16 oversized bodies are tested against every gridded body; beyond that the gridded
+bodies are sorted by their lower x bound and each oversized body only sweeps the x-window it can reach
+(oversized bodies among themselves are swept and pruned along x).
 
 Each box is entered into every cell it covers; the entries are bucketed by a hash of their cell with a
 counting sort (O(entries)).  Inside a bucket, two entries of the same cell are a candidate pair, and the
@@ -136,14 +138,69 @@ def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
                         and pair_allowed(i, j, flags, groups, masks):
                     count = add_pair(keys, count, i, j, n_bodies)
         begin = end
-    for a in range(m):
-        i = live[a]
-        if not oversized[i]:
-            continue
-        for b in range(m):
-            j = live[b]
-            if j == i or (oversized[j] and j < i):
-                continue
+    return _oversized_pairs(aabbs, flags, groups, masks, n_bodies, live, oversized,
+                            (max_cells + 1) * h, keys, count)
+
+
+@njit
+def _oversized_pairs(aabbs, flags, groups, masks, n_bodies, live, oversized, reach, keys, count):
+    """Pairs with at least one oversized body.  Oversized bodies among themselves: sweep and prune
+    along x.  Against the gridded bodies: with few oversized bodies, a scan of all of them; with
+    more, the gridded bodies are sorted by their lower x bound once, and each oversized body ``i``
+    only tests those whose lower x bound lies in ``[min_x_i - reach, max_x_i]`` (a gridded box spans
+    fewer than ``max_cells`` cells, so it is shorter than ``reach = (max_cells + 1) h``)."""
+    big = np.empty(live.shape[0], np.int64)
+    small = np.empty(live.shape[0], np.int64)
+    n_big = 0
+    n_small = 0
+    for i in live:
+        if oversized[i]:
+            big[n_big] = i
+            n_big += 1
+        else:
+            small[n_small] = i
+            n_small += 1
+    if n_big == 0:
+        return count
+    # oversized against oversized: sweep and prune along x
+    big = big[:n_big]
+    big_low_x = np.empty(n_big)
+    for a in range(n_big):
+        big_low_x[a] = aabbs[big[a], 0]
+    big = big[np.argsort(big_low_x, kind="mergesort")]
+    for a in range(n_big):
+        i = big[a]
+        for b in range(a + 1, n_big):
+            j = big[b]
+            if aabbs[j, 0] > aabbs[i, 3]:
+                break
             if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
                 count = add_pair(keys, count, i, j, n_bodies)
+    small = small[:n_small]
+    if n_big <= 16:
+        for a in range(n_big):
+            i = big[a]
+            for j in small:
+                if rows_overlap(aabbs, i, aabbs, j) and pair_allowed(i, j, flags, groups, masks):
+                    count = add_pair(keys, count, i, j, n_bodies)
+        return count
+    low_x = np.empty(n_small)
+    for b in range(n_small):
+        low_x[b] = aabbs[small[b], 0]
+    by_x = np.argsort(low_x, kind="mergesort")
+    sorted_x = low_x[by_x]
+    # the sorted boxes copied side by side, so each window is swept through contiguous memory
+    sorted_boxes = np.empty((n_small, 6))
+    for b in range(n_small):
+        sorted_boxes[b] = aabbs[small[by_x[b]]]
+    for a in range(n_big):
+        i = big[a]
+        first = np.searchsorted(sorted_x, aabbs[i, 0] - reach, side="left")
+        for b in range(first, n_small):
+            if sorted_x[b] > aabbs[i, 3]:
+                break
+            if rows_overlap(aabbs, i, sorted_boxes, b):
+                j = small[by_x[b]]
+                if pair_allowed(i, j, flags, groups, masks):
+                    count = add_pair(keys, count, i, j, n_bodies)
     return count
