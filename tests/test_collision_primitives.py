@@ -237,8 +237,11 @@ def size_of(s):
 @settings(max_examples=250, deadline=None)
 @given(data=hst.data())
 def test_random_poses_against_reference(kinds, data):
-    a = data.draw(shapes(kinds[0]))
-    b = data.draw(shapes(kinds[1]))
+    verify_against_reference(kinds, data.draw(shapes(kinds[0])), data.draw(shapes(kinds[1])))
+
+
+def verify_against_reference(kinds, a, b):
+    """The manifold of a and b checked against the reference penetration depth."""
     pd = reference_depth(a, b)
     n, rows, ids = run(a, b)
     check_manifold(a, b, rows)
@@ -268,8 +271,38 @@ def test_random_poses_against_reference(kinds, data):
     else:
         # capsule-box and box-box: the normal's overlap is the least overlap up to the face bias
         assert normal_overlap(a, b, normal) <= pd + bias + 1e-9
+    if kinds == (st.BOX, st.BOX):
+        # and the deepest clipped point reaches that overlap
+        assert pd - 1e-9 <= deepest[6] <= pd + bias + 1e-9
     # every manifold point is a real point of both shapes when they overlap
     assert len(set(ids.tolist())) == n
+
+
+QUARTER_TURNS = [(1.0, 0.0, 0.0, 0.0), (math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0),
+                 (math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)), (0.5, 0.5, 0.5, 0.5)]
+
+
+@pytest.mark.parametrize("kinds", [(st.CAPSULE, st.CAPSULE), (st.CAPSULE, st.BOX), (st.BOX, st.BOX),
+                                   (st.CAPSULE, st.PLANE), (st.BOX, st.PLANE)],
+                         ids=lambda k: f"{st.NAMES[k[0]]}-{st.NAMES[k[1]]}")
+@settings(max_examples=300, deadline=None)
+@given(data=hst.data(), turn=hst.sampled_from(QUARTER_TURNS), axis=hst.tuples(coord, coord, coord),
+       angle=hst.sampled_from([0.0, 1e-9, 1e-4, 0.01, 0.03, 0.05]), offset=hst.tuples(coord, coord, coord))
+def test_nearly_parallel_features(kinds, data, turn, axis, angle, offset):
+    """Parallel and nearly parallel faces and axes (stacks, lying capsules): the clipping and
+    two-point paths, against the same reference."""
+    a = data.draw(shapes(kinds[0]))
+    b = data.draw(shapes(kinds[1]))
+    axis = np.array(axis) if np.linalg.norm(axis) > 0.1 else np.array([0.0, 1.0, 0.0])
+    tilt = quat_matrix(axis_angle(axis, angle)) @ quat_matrix(turn)
+    if b.kind == st.PLANE:
+        a.rot = tilt @ quat_matrix(QUARTER_TURNS[1])     # a capsule lying in x-z, a box's face down
+        b.params[:4] = (0.0, 1.0, 0.0, 0.0)
+        b.rot = np.eye(3)
+    else:
+        b.rot = a.rot @ tilt
+        b.pos = a.pos + 0.5 * a.rot @ np.array(offset)
+    verify_against_reference(kinds, a, b)
 
 
 @pytest.mark.parametrize("kinds", PAIRS, ids=lambda k: f"{st.NAMES[k[0]]}-{st.NAMES[k[1]]}")
