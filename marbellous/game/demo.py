@@ -21,7 +21,8 @@ FINISH_SECONDS = 1.5
 @dataclass
 class DemoResult:
     """What a demo run did.  Times in seconds; ``physics_step_seconds`` is the mean wall-clock time of
-    one physics step, ``render_frame_seconds`` of rendering and reading back one frame."""
+    one physics step (``World.step``), ``render_frame_seconds`` of rendering and reading back one
+    frame; ``steps_per_60hz_frame`` physics steps make one 60 Hz frame."""
 
     level: str
     reached: bool
@@ -32,6 +33,7 @@ class DemoResult:
     physics_step_seconds: float
     render_frame_seconds: float
     out: str
+    steps_per_60hz_frame: float
     frame_files: list = field(default_factory=list)
 
     def summary(self):
@@ -39,7 +41,8 @@ class DemoResult:
         lines = [
             f"level: {self.level}",
             f"simulated: {self.simulated:.2f} s, {self.frames} frames, {self.respawns} falls",
-            f"physics: {self.physics_step_seconds * 1e6:.1f} us per step",
+            f"physics: {self.physics_step_seconds * 1e6:.1f} us per step, "
+            f"{100 * self.physics_step_seconds * self.steps_per_60hz_frame * 60:.1f}% of a 60 Hz frame",
         ]
         if self.frames:
             lines.append(f"render: {self.render_frame_seconds * 1e3:.1f} ms per frame")
@@ -114,8 +117,9 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
     return DemoResult(
         level=lvl.name, reached=game.finished, finish_time=game.finish_time if game.finished else 0.0,
         simulated=game.physics_steps * game.dt, frames=frames if render else 0, respawns=game.respawns,
-        physics_step_seconds=game.physics_seconds / max(game.physics_steps, 1),
+        physics_step_seconds=game.physics_seconds / max(game.timed_steps, 1),
         render_frame_seconds=render_seconds / max(frames, 1), out=str(out) if (render and out) else "",
+        steps_per_60hz_frame=1.0 / (60.0 * game.dt),
         frame_files=kept)
 
 
