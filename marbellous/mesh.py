@@ -114,9 +114,9 @@ class TriangleMesh(Shape):
     # -- construction -------------------------------------------------------------------------
     def _build_accel(self, cell_size):
         v, t, adj = self.vertices, self.triangles, self._adj
-        empty_i, empty_f = np.zeros(0, np.int64), np.zeros(0)
-        cell_start = cell_tris = nodes = order = empty_i
-        boxes = empty_f
+        empty_i = np.zeros(0, np.int64)
+        cell_start = cell_tris = order = empty_i
+        nodes = np.zeros((0, ml.NODE_RECORD))
         if self.accel == "grid2d":
             ex = max(self._hi[0] - self._lo[0], 0.0)
             ez = max(self._hi[2] - self._lo[2], 0.0)
@@ -132,20 +132,19 @@ class TriangleMesh(Shape):
             cell_start, cell_tris = build_grid(v, t, adj.degenerate, x0, z0, cell, nx, nz)
             self._grid = (x0, z0, cell, nx, nz)
         elif self.accel == "bvh":
-            nodes, boxes, order = build_bvh(v, t, adj.degenerate)
-        n_nodes = nodes.shape[0]
-        sections_i = [t.reshape(-1), adj.weld, adj.ring_start, adj.ring,
-                      adj.degenerate.astype(np.int64), cell_start, cell_tris, nodes.reshape(-1), order]
-        sections_f = [v.reshape(-1), adj.normals.reshape(-1), adj.m2.reshape(-1), boxes.reshape(-1)]
+            nodes, order = build_bvh(v, t, adj.degenerate)
+        records = np.concatenate([v[t[:, 0]], v[t[:, 1]], v[t[:, 2]], adj.normals], axis=1)
+        sections_i = [t.reshape(-1), adj.weld, adj.ring_start, adj.ring, cell_start, cell_tris, order]
+        sections_f = [v.reshape(-1), records.reshape(-1), adj.m2.reshape(-1), nodes.reshape(-1)]
         header = np.zeros(ml.HEADER, np.int64)
         pos = ml.HEADER
-        for slot, arr in zip((ml.I_TRIS, ml.I_WELD, ml.I_RING_START, ml.I_RING, ml.I_FLAGS,
-                              ml.I_CELL_START, ml.I_CELL_TRIS, ml.I_NODES, ml.I_ORDER), sections_i):
+        for slot, arr in zip((ml.I_TRIS, ml.I_WELD, ml.I_RING_START, ml.I_RING, ml.I_CELL_START,
+                              ml.I_CELL_TRIS, ml.I_ORDER), sections_i):
             header[slot] = pos
             pos += arr.shape[0]
-        header[ml.I_N_NODES] = n_nodes
+        header[ml.I_N_NODES] = nodes.shape[0]
         fpos = 0
-        for slot, arr in zip((ml.F_VERTS, ml.F_NORMALS, ml.F_M2, ml.F_BOXES), sections_f):
+        for slot, arr in zip((ml.F_VERTS, ml.F_TRIS, ml.F_M2, ml.F_NODES), sections_f):
             header[slot] = fpos
             fpos += arr.shape[0]
         self._geom_i = np.concatenate([header] + [np.asarray(a, np.int64) for a in sections_i])

@@ -73,8 +73,7 @@ def test_capsule_depth_is_radius_minus_distance(a, b, c, p0, p1, r, prediction):
     p0 = p0 + 2.0 * max(0.0, -np.dot(p0 - a, n)) * n + 1e-6 * n
     p1 = p1 + 2.0 * max(0.0, -np.dot(p1 - a, n)) * n + 1e-6 * n
     scratch = np.zeros((MAX_ROWS, N_COLS))
-    k = capsule_triangle(tup(p0), tup(p1), r, tup(a), tup(b), tup(c), tup(n), ZERO, ZERO, ZERO, prediction,
-                         scratch)
+    k = capsule_triangle(tup(p0), tup(p1), r, tup(a), tup(b), tup(c), tup(n), prediction, scratch)
     dist = segment_triangle_distance(p0, p1, a, b, c)
     if dist > r + prediction + 1e-9:
         assert k == 0
@@ -99,7 +98,7 @@ def test_capsule_lying_on_a_face_gives_two_points():
     a, b, c = np.array([-5.0, 0, -5]), np.array([0.0, 0, 5]), np.array([5.0, 0, -5])
     scratch = np.zeros((MAX_ROWS, N_COLS))
     k = capsule_triangle((-1.0, 0.28, 0.0), (1.0, 0.28, 0.0), 0.3, tup(a), tup(b), tup(c), (0.0, 1.0, 0.0),
-                         ZERO, ZERO, ZERO, 0.0, scratch)
+                         0.0, scratch)
     assert k == 2
     assert np.allclose(scratch[:2, 6], 0.02) and np.allclose(scratch[:2, 3:6], [0, -1, 0])
     assert np.allclose(sorted(scratch[:2, 0]), [-1.0, 1.0])

@@ -2,9 +2,10 @@
 
 A flat array of nodes, built top-down: a node's triangles are split at the median of their
 centroids along the longest axis of the centroids' box, until at most ``LEAF_SIZE`` remain.
-Children are stored next to each other, so a node is ``[left, 0]`` (right = left + 1) or a leaf
-``[first, count]`` over ``order`` (triangle indices in leaf order); each node has an axis-aligned
-box ``[min xyz, max xyz]``.  Queries walk it with an explicit stack, no recursion.
+A node is one record of 8 floats (one cache line), ``[min xyz, max xyz, first, count]``: a leaf
+(``count > 0``) holds ``order[first:first + count]`` (triangle indices in leaf order), an inner
+node (``count = 0``) has its two children next to each other at ``first`` and ``first + 1``.
+Queries walk it with an explicit stack, no recursion.
 """
 import math
 
@@ -23,7 +24,7 @@ STACK_SIZE = 128
 
 @njit
 def build_bvh(verts, tris, degenerate):
-    """``(nodes (N, 2) int64, boxes (N, 6) float64, order (T,) int64)`` over the live triangles."""
+    """``(nodes (N, 8) float64, order (T,) int64)`` over the live triangles."""
     live = np.nonzero(~degenerate)[0]
     n = live.shape[0]
     tri_lo = np.empty((tris.shape[0], 3))
@@ -37,10 +38,8 @@ def build_bvh(verts, tris, degenerate):
             centroid[t, ax] = (a + b + c) / 3.0
     order = live.copy()
     if n == 0:
-        return np.zeros((0, 2), np.int64), np.zeros((0, 6)), order
-    cap = 2 * n
-    nodes = np.zeros((cap, 2), np.int64)
-    boxes = np.zeros((cap, 6))
+        return np.zeros((0, 8)), order
+    nodes = np.zeros((2 * n, 8))
     stack = np.empty((STACK_SIZE, 3), np.int64)    # node, first, count
     stack[0, 0], stack[0, 1], stack[0, 2] = 0, 0, n
     top = 1
@@ -51,18 +50,18 @@ def build_bvh(verts, tris, degenerate):
         clo = np.full(3, math.inf)
         chi = np.full(3, -math.inf)
         for ax in range(3):
-            boxes[node, ax] = math.inf
-            boxes[node, 3 + ax] = -math.inf
+            nodes[node, ax] = math.inf
+            nodes[node, 3 + ax] = -math.inf
         for i in range(first, first + count):
             t = order[i]
             for ax in range(3):
-                boxes[node, ax] = min(boxes[node, ax], tri_lo[t, ax])
-                boxes[node, 3 + ax] = max(boxes[node, 3 + ax], tri_hi[t, ax])
+                nodes[node, ax] = min(nodes[node, ax], tri_lo[t, ax])
+                nodes[node, 3 + ax] = max(nodes[node, 3 + ax], tri_hi[t, ax])
                 clo[ax] = min(clo[ax], centroid[t, ax])
                 chi[ax] = max(chi[ax], centroid[t, ax])
         if count <= LEAF_SIZE or top + 2 > STACK_SIZE:
-            nodes[node, 0] = first
-            nodes[node, 1] = count
+            nodes[node, 6] = first
+            nodes[node, 7] = count
             continue
         axis = int(np.argmax(chi - clo))
         seg = order[first:first + count]
@@ -72,17 +71,17 @@ def build_bvh(verts, tris, degenerate):
         half = count // 2
         left = used
         used += 2
-        nodes[node, 0] = left
-        nodes[node, 1] = 0
+        nodes[node, 6] = left
+        nodes[node, 7] = 0
         stack[top, 0], stack[top, 1], stack[top, 2] = left, first, half
         stack[top + 1, 0], stack[top + 1, 1], stack[top + 1, 2] = left + 1, first + half, count - half
         top += 2
-    return nodes[:used].copy(), boxes[:used].copy(), order
+    return nodes[:used].copy(), order
 
 
 @njit
 def _box_overlaps(geom_f, base, node, lo, hi):
-    o = base + 6 * node
+    o = base + ml.NODE_RECORD * node
     return not (lo[0] > geom_f[o + 3] or hi[0] < geom_f[o] or lo[1] > geom_f[o + 4] or
                 hi[1] < geom_f[o + 1] or lo[2] > geom_f[o + 5] or hi[2] < geom_f[o + 2])
 
@@ -96,9 +95,8 @@ def bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi):
     n_nodes = geom_i[off_i + ml.I_N_NODES]
     if n_nodes == 0:
         return np.empty(0, np.int64), 0
-    nodes = off_i + geom_i[off_i + ml.I_NODES]
     order = off_i + geom_i[off_i + ml.I_ORDER]
-    base = off_f + geom_i[off_i + ml.F_BOXES]
+    base = off_f + geom_i[off_i + ml.F_NODES]
     stack = np.empty(STACK_SIZE, np.int64)
     buf = np.empty(64, np.int64)
     m = 0
@@ -109,7 +107,8 @@ def bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi):
         node = stack[top]
         if not _box_overlaps(geom_f, base, node, lo, hi):
             continue
-        first, count = geom_i[nodes + 2 * node], geom_i[nodes + 2 * node + 1]
+        first = int(geom_f[base + ml.NODE_RECORD * node + 6])
+        count = int(geom_f[base + ml.NODE_RECORD * node + 7])
         if count == 0:
             stack[top] = first + 1
             stack[top + 1] = first
@@ -128,7 +127,7 @@ def bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi):
 @njit
 def _slab(geom_f, base, node, o, inv, t_max):
     """Entry distance of the ray into node's box, or inf if it misses within ``t_max``."""
-    b = base + 6 * node
+    b = base + ml.NODE_RECORD * node
     t0, t1 = 0.0, t_max
     for ax in range(3):
         if inv[ax] == math.inf or inv[ax] == -math.inf:
@@ -150,9 +149,8 @@ def bvh_raycast(geom_f, geom_i, off_f, off_i, o, d, t_max):
     n_nodes = geom_i[off_i + ml.I_N_NODES]
     if n_nodes == 0:
         return best_t, best_tri
-    nodes = off_i + geom_i[off_i + ml.I_NODES]
     order = off_i + geom_i[off_i + ml.I_ORDER]
-    base = off_f + geom_i[off_i + ml.F_BOXES]
+    base = off_f + geom_i[off_i + ml.F_NODES]
     inv = (1.0 / d[0] if d[0] != 0.0 else math.inf, 1.0 / d[1] if d[1] != 0.0 else math.inf,
            1.0 / d[2] if d[2] != 0.0 else math.inf)
     stack = np.empty(STACK_SIZE, np.int64)
@@ -163,7 +161,8 @@ def bvh_raycast(geom_f, geom_i, off_f, off_i, o, d, t_max):
         node = stack[top]
         if _slab(geom_f, base, node, o, inv, min(t_max, best_t)) == math.inf:
             continue
-        first, count = geom_i[nodes + 2 * node], geom_i[nodes + 2 * node + 1]
+        first = int(geom_f[base + ml.NODE_RECORD * node + 6])
+        count = int(geom_f[base + ml.NODE_RECORD * node + 7])
         if count == 0:
             stack[top] = first + 1
             stack[top + 1] = first
@@ -171,10 +170,8 @@ def bvh_raycast(geom_f, geom_i, off_f, off_i, o, d, t_max):
             continue
         for i in range(first, first + count):
             t = geom_i[order + i]
-            ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
-            h = ray_triangle(o, d, ml.vertex(geom_f, geom_i, off_f, off_i, ia),
-                             ml.vertex(geom_f, geom_i, off_f, off_i, ib),
-                             ml.vertex(geom_f, geom_i, off_f, off_i, ic), t_max)
+            a, b, c, n = ml.triangle(geom_f, geom_i, off_f, off_i, t)
+            h = ray_triangle(o, d, a, b, c, t_max)
             if h < best_t or (h == best_t and h < math.inf and t < best_tri):
                 best_t = h
                 best_tri = t

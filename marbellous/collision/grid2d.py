@@ -22,6 +22,8 @@ from .._jit import njit
 from . import mesh_layout as ml
 from .triangle_ray import ray_triangle
 
+#: Query rectangles of up to this many cells merge their sorted lists; larger ones gather and sort.
+MERGE_CELLS = 16
 #: Widening of every rasterised extent, as a fraction of a cell (rounding allowance).
 PAD = 1e-9
 
@@ -136,16 +138,43 @@ def grid_candidates(params, geom_i, off_i, lo, hi):
     r1 = _cell_range(hi[2], z0, cell, nz)
     starts = off_i + geom_i[off_i + ml.I_CELL_START]
     tris = off_i + geom_i[off_i + ml.I_CELL_TRIS]
+    rows = r1 - r0 + 1
+    cols = c1 - c0 + 1
     total = 0
     for r in range(r0, r1 + 1):
         total += geom_i[starts + r * nx + c1 + 1] - geom_i[starts + r * nx + c0]
     buf = np.empty(total, np.int64)
-    m = 0
+    if rows * cols > MERGE_CELLS:
+        m = 0
+        for r in range(r0, r1 + 1):
+            for k in range(geom_i[starts + r * nx + c0], geom_i[starts + r * nx + c1 + 1]):
+                buf[m] = geom_i[tris + k]
+                m += 1
+        return buf, sorted_unique(buf, m)
+    # k-way merge of the (ascending) cell lists, dropping repeats
+    head = np.empty(MERGE_CELLS, np.int64)
+    end = np.empty(MERGE_CELLS, np.int64)
+    k = 0
     for r in range(r0, r1 + 1):
-        for k in range(geom_i[starts + r * nx + c0], geom_i[starts + r * nx + c1 + 1]):
-            buf[m] = geom_i[tris + k]
+        for col in range(c0, c1 + 1):
+            head[k] = geom_i[starts + r * nx + col]
+            end[k] = geom_i[starts + r * nx + col + 1]
+            k += 1
+    m = 0
+    while True:
+        best = -1
+        low = 0
+        for q in range(k):
+            if head[q] < end[q]:
+                t = geom_i[tris + head[q]]
+                if best < 0 or t < low:
+                    best, low = q, t
+        if best < 0:
+            return buf, m
+        if m == 0 or buf[m - 1] != low:
+            buf[m] = low
             m += 1
-    return buf, sorted_unique(buf, m)
+        head[best] += 1
 
 
 @njit
@@ -155,10 +184,8 @@ def _test_cell(geom_f, geom_i, off_f, off_i, k, o, d, t_max, best_t, best_tri):
     tris = off_i + geom_i[off_i + ml.I_CELL_TRIS]
     for j in range(geom_i[starts + k], geom_i[starts + k + 1]):
         t = geom_i[tris + j]
-        ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
-        h = ray_triangle(o, d, ml.vertex(geom_f, geom_i, off_f, off_i, ia),
-                         ml.vertex(geom_f, geom_i, off_f, off_i, ib),
-                         ml.vertex(geom_f, geom_i, off_f, off_i, ic), t_max)
+        a, b, c, n = ml.triangle(geom_f, geom_i, off_f, off_i, t)
+        h = ray_triangle(o, d, a, b, c, t_max)
         if h < best_t or (h == best_t and h < math.inf and t < best_tri):
             best_t = h
             best_tri = t

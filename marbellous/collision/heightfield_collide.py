@@ -24,10 +24,11 @@ import math
 import numpy as np
 
 from .._jit import njit
-from .triangle_contact import MAX_ROWS, N_COLS, vertex_ring_passes
+from . import shape_types as st
+from .triangle_contact import MAX_ROWS, N_COLS, edge_is_true, vertex_ring_passes
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_row, to_static_frame
 from .triangle_ray import ray_triangle
-from .triangle_sphere import VERTEX_A, VERTEX_C
+from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C
 from .vec3 import cross, dot, sub
 
 #: Grid offsets of the corners of triangle k of a cell: ``CORNERS[k][c] = (di, dj)``.
@@ -87,13 +88,10 @@ def _away(u, w, o):
 
 
 @njit
-def neighbour_directions(params, geom_f, off_f, i, j, k, a, b, c):
-    """``m2`` of the three edges ``ab``, ``bc``, ``ca`` of triangle ``k`` of cell ``(i, j)``."""
-    op = OPPOSITE[k]
-    o0 = grid_point(params, geom_f, off_f, i + op[0][0], j + op[0][1])
-    o1 = grid_point(params, geom_f, off_f, i + op[1][0], j + op[1][1])
-    o2 = grid_point(params, geom_f, off_f, i + op[2][0], j + op[2][1])
-    return _away(a, b, o0), _away(b, c, o1), _away(c, a, o2)
+def neighbour_direction(params, geom_f, off_f, i, j, k, e, u, w):
+    """``m2`` of edge ``e`` (from corner ``u`` to ``w``) of triangle ``k`` of cell ``(i, j)``."""
+    op = OPPOSITE[k][e]
+    return _away(u, w, grid_point(params, geom_f, off_f, i + op[0], j + op[1]))
 
 
 @njit
@@ -141,17 +139,27 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                 continue
             for k in range(2):
                 a, b, cc, nrm = cell_triangle(params_b, geom_f, off_f_b, i, j, k)
-                m0, m1, m2 = neighbour_directions(params_b, geom_f, off_f_b, i, j, k, a, b, cc)
+                m0 = m1 = m2 = (0.0, 0.0, 0.0)
+                if type_a == st.BOX:
+                    m0 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 0, a, b)
+                    m1 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 1, b, cc)
+                    m2 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 2, cc, a)
                 rows = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction,
                                        scratch)
                 t = 2 * (i * (nz - 1) + j) + k
                 for r in range(rows):
                     f = int(scratch[r, 7])
-                    if VERTEX_A <= f <= VERTEX_C:
+                    p = (scratch[r, 8], scratch[r, 9], scratch[r, 10])
+                    if EDGE_AB <= f <= EDGE_CA:
+                        e = f - EDGE_AB
+                        u, w = (a, b) if e == 0 else ((b, cc) if e == 1 else (cc, a))
+                        if not edge_is_true(p, (scratch[r, 0], scratch[r, 1], scratch[r, 2]),
+                                            neighbour_direction(params_b, geom_f, off_f_b, i, j, k, e, u, w)):
+                            continue
+                    elif VERTEX_A <= f <= VERTEX_C:
                         corner = CORNERS[k][f - VERTEX_A]
                         if not heightfield_vertex_is_true(params_b, geom_f, off_f_b, i + corner[0],
-                                                          j + corner[1],
-                                                          (scratch[r, 8], scratch[r, 9], scratch[r, 10])):
+                                                          j + corner[1], p):
                             continue
                     n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
     return n

@@ -16,6 +16,7 @@ Uses the welded adjacency of ``triangle_adjacency``:
 import numpy as np
 
 from .._jit import njit
+from .triangle_adjacency import unique_rows
 
 
 class MeshReport:
@@ -104,9 +105,10 @@ def check_mesh(vertices, triangles, adj):
     wt = adj.weld[triangles]
     srt = np.sort(wt, axis=1)
     live_idx = np.nonzero(live)[0]
-    _, first = np.unique(srt[live_idx], axis=0, return_index=True)
     is_first = np.zeros(n_tri, bool)
-    is_first[live_idx[first]] = True
+    if live_idx.shape[0]:
+        first, _ = unique_rows(srt[live_idx])
+        is_first[live_idx[first]] = True
     duplicate = np.nonzero(live & ~is_first)[0]
 
     edge_live = np.repeat(live[:, None], 3, axis=1)

@@ -6,9 +6,9 @@
    (``"grid2d"``) or the BVH's overlapping leaves (``"bvh"``).  Every structure yields the
    candidates in ascending triangle order without repeats, and the exact test below decides, so
    all three give the same contacts in the same order, bit for bit.
-3. Each live candidate triangle: the pair test (``triangle_convex``), edge contacts filtered by the
-   neighbour directions and vertex contacts by the vertex's ring (``triangle_contact``), so there
-   are no ghost contacts on internal edges anywhere in the mesh.
+3. Each live candidate triangle whose box overlaps: the pair test (``triangle_convex``), then edge
+   contacts filtered by the neighbour directions and vertex contacts by the vertex's ring
+   (``triangle_contact``), so there are no ghost contacts on internal edges anywhere in the mesh.
 4. Contacts go back to world coordinates with feature id ``triangle * 16 + code``.
 """
 
@@ -18,9 +18,10 @@ from .._jit import njit
 from . import mesh_layout as ml
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
-from .triangle_contact import MAX_ROWS, N_COLS, vertex_ring_passes
+from . import shape_types as st
+from .triangle_contact import MAX_ROWS, N_COLS, edge_is_true, vertex_ring_passes
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_row, to_static_frame
-from .triangle_sphere import VERTEX_A, VERTEX_C
+from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C
 
 
 @njit
@@ -38,11 +39,8 @@ def vertex_is_true(geom_f, geom_i, off_f, off_i, v, p):
 
 
 @njit
-def _triangle_box_overlaps(geom_f, geom_i, off_f, off_i, t, lo, hi):
-    ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
-    a = ml.vertex(geom_f, geom_i, off_f, off_i, ia)
-    b = ml.vertex(geom_f, geom_i, off_f, off_i, ib)
-    c = ml.vertex(geom_f, geom_i, off_f, off_i, ic)
+def boxes_overlap(a, b, c, lo, hi):
+    """True if the bounding box of triangle ``abc`` overlaps the box ``lo..hi``."""
     for ax in range(3):
         if min(a[ax], min(b[ax], c[ax])) > hi[ax] or max(a[ax], max(b[ax], c[ax])) < lo[ax]:
             return False
@@ -61,10 +59,27 @@ def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
     buf = np.empty(n_tri, np.int64)
     m = 0
     for t in range(n_tri):
-        if _triangle_box_overlaps(geom_f, geom_i, off_f, off_i, t, lo, hi):
+        a, b, c, nrm = ml.triangle(geom_f, geom_i, off_f, off_i, t)
+        if boxes_overlap(a, b, c, lo, hi):
             buf[m] = t
             m += 1
     return buf, m
+
+
+@njit
+def keep_row(geom_f, geom_i, off_f, off_i, t, scratch, r):
+    """Voronoi test on the whole mesh of scratch row ``r`` (a contact with triangle ``t``): edge rows
+    against the neighbour's direction, vertex rows against the vertex's ring; others pass."""
+    f = int(scratch[r, 7])
+    p = (scratch[r, 8], scratch[r, 9], scratch[r, 10])
+    if EDGE_AB <= f <= EDGE_CA:
+        return edge_is_true(p, (scratch[r, 0], scratch[r, 1], scratch[r, 2]),
+                            ml.neighbour_direction(geom_f, geom_i, off_f, off_i, t, f - EDGE_AB))
+    if VERTEX_A <= f <= VERTEX_C:
+        ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
+        v = ia if f == VERTEX_A else (ib if f == VERTEX_B else ic)
+        return vertex_is_true(geom_f, geom_i, off_f, off_i, v, p)
+    return True
 
 
 @njit
@@ -81,26 +96,19 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
     cand, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
     scratch = np.empty((MAX_ROWS, N_COLS))
+    zero = (0.0, 0.0, 0.0)
     for j in range(count):
         t = cand[j]
-        if ml.is_degenerate(geom_i, off_i_b, t):
-            continue
-        ia, ib, ic = ml.corners(geom_f, geom_i, off_f_b, off_i_b, t)
-        k = convex_triangle(type_a, c, rot, params_a,
-                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ia),
-                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ib),
-                            ml.vertex(geom_f, geom_i, off_f_b, off_i_b, ic),
-                            ml.face_normal(geom_f, geom_i, off_f_b, off_i_b, t),
-                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0),
-                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1),
-                            ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2),
-                            prediction, scratch)
+        a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
+        if (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0) or not boxes_overlap(a, b, cc, lo, hi):
+            continue                                  # degenerate, or too far
+        m0 = m1 = m2 = zero
+        if type_a == st.BOX:
+            m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
+            m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
+            m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
+        k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
         for r in range(k):
-            f = int(scratch[r, 7])
-            if VERTEX_A <= f <= VERTEX_C:
-                v = (ia, ib, ic)[f - VERTEX_A]
-                if not vertex_is_true(geom_f, geom_i, off_f_b, off_i_b, v,
-                                      (scratch[r, 8], scratch[r, 9], scratch[r, 10])):
-                    continue
-            n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
+            if keep_row(geom_f, geom_i, off_f_b, off_i_b, t, scratch, r):
+                n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
     return n

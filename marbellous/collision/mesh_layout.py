@@ -17,17 +17,18 @@ section            blob   content
 ``I_WELD``         int    (V,) welded id of each vertex
 ``I_RING_START``   int    (W + 1,) CSR start of each welded vertex's ring
 ``I_RING``         int    ring members (vertex indices)
-``I_FLAGS``        int    (T,) 1 for a degenerate triangle (skipped by every query)
 ``I_CELL_START``   int    (nx * nz + 1,) CSR start of each grid cell (cell ``iz * nx + ix``)
 ``I_CELL_TRIS``    int    triangle indices of each cell, ascending
-``I_NODES``        int    (N, 2) BVH nodes: ``[first, count]`` for a leaf (count > 0), else
-                          ``[left child, 0]`` with the right child at ``left + 1``
 ``I_ORDER``        int    (T,) triangle indices in BVH leaf order
-``I_N_NODES``      int    the value N (not an offset)
+``I_N_NODES``      int    the number N of BVH nodes (not an offset)
 ``F_VERTS``        float  (V, 3) vertex positions in the mesh's frame, m
-``F_NORMALS``      float  (T, 3) unit face normals
+``F_TRIS``         float  (T, 12) per triangle ``[a, b, c, n]``: corners (m) and unit normal,
+                          together so one query touches few cache lines; a degenerate
+                          triangle has ``n = 0`` (and is in neither grid nor BVH)
 ``F_M2``           float  (T, 3, 3) neighbour's in-plane direction away from each edge
-``F_BOXES``        float  (N, 6) BVH node boxes ``[min xyz, max xyz]``
+``F_NODES``        float  (N, 8) BVH nodes ``[min xyz, max xyz, first, count]``: a leaf has
+                          ``count > 0`` triangles at ``order[first:]``; an inner node has
+                          ``count = 0`` and children ``first`` and ``first + 1``
 =================  =====  ==================================================================
 """
 from .._jit import njit
@@ -41,17 +42,18 @@ I_TRIS = 0
 I_WELD = 1
 I_RING_START = 2
 I_RING = 3
-I_FLAGS = 4
-I_CELL_START = 5
-I_CELL_TRIS = 6
-I_NODES = 7
-I_ORDER = 8
-I_N_NODES = 9
-F_VERTS = 10
-F_NORMALS = 11
-F_M2 = 12
-F_BOXES = 13
-HEADER = 16
+I_CELL_START = 4
+I_CELL_TRIS = 5
+I_ORDER = 6
+I_N_NODES = 7
+F_VERTS = 8
+F_TRIS = 9
+F_M2 = 10
+F_NODES = 11
+HEADER = 12
+#: Floats per triangle record and per BVH node record.
+TRI_RECORD = 12
+NODE_RECORD = 8
 
 
 @njit
@@ -69,10 +71,11 @@ def corners(geom_f, geom_i, off_f, off_i, t):
 
 
 @njit
-def face_normal(geom_f, geom_i, off_f, off_i, t):
-    """Unit normal (3-tuple) of triangle ``t``."""
-    o = off_f + geom_i[off_i + F_NORMALS] + 3 * t
-    return (geom_f[o], geom_f[o + 1], geom_f[o + 2])
+def triangle(geom_f, geom_i, off_f, off_i, t):
+    """Corners ``a, b, c`` and unit normal ``n`` (3-tuples) of triangle ``t`` (``n = 0``: degenerate)."""
+    o = off_f + geom_i[off_i + F_TRIS] + TRI_RECORD * t
+    return ((geom_f[o], geom_f[o + 1], geom_f[o + 2]), (geom_f[o + 3], geom_f[o + 4], geom_f[o + 5]),
+            (geom_f[o + 6], geom_f[o + 7], geom_f[o + 8]), (geom_f[o + 9], geom_f[o + 10], geom_f[o + 11]))
 
 
 @njit
@@ -80,9 +83,3 @@ def neighbour_direction(geom_f, geom_i, off_f, off_i, t, k):
     """``m2`` of edge ``k`` of triangle ``t`` (see ``triangle_contact``)."""
     o = off_f + geom_i[off_i + F_M2] + 9 * t + 3 * k
     return (geom_f[o], geom_f[o + 1], geom_f[o + 2])
-
-
-@njit
-def is_degenerate(geom_i, off_i, t):
-    """True if triangle ``t`` has no area (it never collides)."""
-    return geom_i[off_i + geom_i[off_i + I_FLAGS] + t] != 0

@@ -23,12 +23,10 @@ from .vec3 import dot, to_local, to_world
 def _mesh_brute(geom_f, geom_i, off_f, off_i, n_tri, o, d, t_max):
     best_t, best_tri = math.inf, -1
     for t in range(n_tri):
-        if ml.is_degenerate(geom_i, off_i, t):
+        a, b, c, n = ml.triangle(geom_f, geom_i, off_f, off_i, t)
+        if n[0] == 0.0 and n[1] == 0.0 and n[2] == 0.0:      # degenerate
             continue
-        ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
-        h = ray_triangle(o, d, ml.vertex(geom_f, geom_i, off_f, off_i, ia),
-                         ml.vertex(geom_f, geom_i, off_f, off_i, ib),
-                         ml.vertex(geom_f, geom_i, off_f, off_i, ic), t_max)
+        h = ray_triangle(o, d, a, b, c, t_max)
         if h < best_t:
             best_t, best_tri = h, t
     return best_t, best_tri
@@ -63,7 +61,7 @@ def raycast_static(type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f, off_i,
             t, tri = _mesh_brute(geom_f, geom_i, off_f, off_i, int(params_b[1]), o, d, max_distance)
         if tri < 0:
             return False
-        n = ml.face_normal(geom_f, geom_i, off_f, off_i, tri)
+        a, b, c, n = ml.triangle(geom_f, geom_i, off_f, off_i, tri)
     if dot(n, d) > 0.0:
         n = (-n[0], -n[1], -n[2])
     nw = to_world(rot_b, n)

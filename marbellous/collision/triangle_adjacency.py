@@ -54,12 +54,28 @@ def face_normals(vertices, triangles):
     return normals, degenerate
 
 
+def unique_rows(keys):
+    """Group equal rows of the int64 array ``keys`` (n, k): ``(first, inverse)`` with ``first`` the
+    smallest row index of each group (groups in lexicographic order) and ``inverse`` each row's
+    group.  (A lexicographic sort: much faster than ``np.unique(axis=0)``.)"""
+    order = np.lexsort(keys.T[::-1])
+    sk = keys[order]
+    new = np.ones(len(order), bool)
+    new[1:] = np.any(sk[1:] != sk[:-1], axis=1)
+    group = np.cumsum(new) - 1
+    inverse = np.empty(len(order), np.int64)
+    inverse[order] = group
+    first = np.full(int(group[-1]) + 1 if len(order) else 0, len(order), np.int64)
+    np.minimum.at(first, group, order)
+    return first, inverse
+
+
 def weld_vertices(vertices, tolerance):
     """Welded id of every vertex (quantised to ``tolerance`` metres) and a representative of each."""
     lo = vertices.min(axis=0)
     keys = np.floor((vertices - lo) / tolerance + 0.5).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    return inverse.reshape(-1).astype(np.int64), first.astype(np.int64)
+    first, inverse = unique_rows(keys)
+    return inverse, first
 
 
 @njit
@@ -140,8 +156,7 @@ def build_adjacency(vertices, triangles, weld_tolerance):
         foot = u - s_u[:, None] * d
         line = np.concatenate([np.floor(d * 1e6 + 0.5), np.floor((foot - vertices.min(axis=0)) /
                                                                  (1e3 * weld_tolerance) + 0.5)], axis=1)
-        _, group = np.unique(line.astype(np.int64), axis=0, return_inverse=True)
-        group = group.reshape(-1).astype(np.int64)
+        _, group = unique_rows(line.astype(np.int64))
         lo = np.minimum(s_u, s_w)
         hi = np.maximum(s_u, s_w)
         srt = np.lexsort((lo, group)).astype(np.int64)
@@ -167,11 +182,13 @@ def build_adjacency(vertices, triangles, weld_tolerance):
     m2[has] = v
 
     # Vertex rings over welded ids (both directions of every live edge, without repeats).
-    pairs = np.unique(np.stack([np.r_[wi, wj], np.r_[wj, wi]], axis=1), axis=0)
+    pair_key = np.sort(np.r_[wi * n_weld + wj, wj * n_weld + wi])
+    pair_key = pair_key[np.r_[True, pair_key[1:] != pair_key[:-1]]]
+    owner, member = pair_key // n_weld, pair_key % n_weld
     ring_start = np.zeros(n_weld + 1, np.int64)
-    np.add.at(ring_start, pairs[:, 0] + 1, 1)
+    np.add.at(ring_start, owner + 1, 1)
     ring_start = np.cumsum(ring_start)
-    ring = representative[pairs[:, 1]]
+    ring = representative[member]
     return Adjacency(normals=normals, degenerate=degenerate, weld=weld, representative=representative,
                      partner=partner, partner_edge=partner_edge, exact=exact, group_size=group_size,
                      m2=m2, ring_start=ring_start, ring=ring.astype(np.int64))

@@ -10,14 +10,14 @@ sphere test (``triangle_sphere``) applied to points of the segment:
 - edge and vertex axes: where the segment leaves the triangle's prism (or passes outside it), its
   closest point ``X`` to the triangle's boundary lies on one of the three edges' closest point pairs
   (``closest_segment_params``), and the sphere of radius ``r`` at ``X`` gives the contact on that
-  edge or vertex (dropped when its Voronoi test on the whole surface fails, see ``triangle_contact``),
-  reported when it is nearer than the face points.
+  edge or vertex, reported when it is nearer than the face points (and kept by the caller only if
+  its Voronoi test on the whole surface passes, see ``triangle_contact``).
 """
 import math
 
 from .._jit import njit
 from .segment import closest_segment_params
-from .triangle_contact import edge_is_true, write_row
+from .triangle_contact import write_row
 from .triangle_sphere import EDGE_AB, FACE, VERTEX_A
 from .vec3 import cross, dot, madd, sub
 
@@ -41,10 +41,10 @@ def _clip_side(u0, u1, p0, d, v, m):
 
 
 @njit
-def capsule_triangle(p0, p1, r, a, b, c, n, m2ab, m2bc, m2ca, prediction, scratch):
+def capsule_triangle(p0, p1, r, a, b, c, n, prediction, scratch):
     """Contacts of the capsule ``P0 P1`` (radius ``r``, m) with triangle ``abc`` (unit normal ``n``).
 
-    ``m2*`` are the neighbours' unit in-plane directions away from each edge (0 if open).  Writes
+    Writes
     rows of ``scratch`` (layout in ``triangle_contact``) and returns their number (0 to 3).
     """
     d = sub(p1, p0)
@@ -90,12 +90,6 @@ def capsule_triangle(p0, p1, r, a, b, c, n, m2ab, m2bc, m2ca, prediction, scratc
                 best_feature = EDGE_AB + i
     dist = math.sqrt(best)
     if dist > r + prediction or dist >= nearest_face - 1e-12 * r:
-        return k
-    if best_feature == EDGE_AB and not edge_is_true(best_x, best_q, m2ab):
-        return k
-    if best_feature == EDGE_AB + 1 and not edge_is_true(best_x, best_q, m2bc):
-        return k
-    if best_feature == EDGE_AB + 2 and not edge_is_true(best_x, best_q, m2ca):
         return k
     if dist <= 1e-12 * r:
         return write_row(scratch, k, best_q, nn, r, best_feature, best_x)

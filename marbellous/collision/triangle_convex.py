@@ -1,8 +1,9 @@
 """One convex shape (sphere, capsule or box) against one triangle: picks the pair test by type code.
 
 Everything is in the static shape's local frame.  Candidate contacts go to ``scratch`` rows (layout
-in ``triangle_contact``); edge contacts that fail their Voronoi test on the whole surface are
-already dropped, vertex contacts are left to the caller, which knows the vertex's ring.
+in ``triangle_contact``).  The Voronoi tests of edge and vertex rows on the whole surface are left
+to the caller (``keep_row``), which fetches the neighbour data only for those rows; the box uses the
+neighbour directions in its axis test and needs them up front.
 """
 import numpy as np
 
@@ -11,32 +12,27 @@ from . import shape_types as st
 from .contact_output import add_contact
 from .triangle_box import box_triangle
 from .triangle_capsule import capsule_triangle
-from .triangle_contact import FEATURE_STRIDE, edge_is_true, write_row
-from .triangle_sphere import EDGE_AB, EDGE_BC, EDGE_CA, sphere_triangle
+from .triangle_contact import FEATURE_STRIDE, write_row
+from .triangle_sphere import sphere_triangle
 from .vec3 import column, madd, to_local, to_world
 
 
 @njit
 def convex_triangle(type_a, c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
     """Candidate contacts of shape ``type_a`` (centre ``c``, rotation ``rot``, ``params_a``) with
-    the triangle ``a b cc`` (unit normal ``n``, neighbour directions ``m2*``); returns their number.
+    the triangle ``a b cc`` (unit normal ``n``; neighbour directions ``m2*``, read by boxes only);
+    returns their number.
     """
     if type_a == st.SPHERE:
         feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, n, prediction)
         if feature < 0:
             return 0
-        if feature == EDGE_AB and not edge_is_true(c, q, m2ab):
-            return 0
-        if feature == EDGE_BC and not edge_is_true(c, q, m2bc):
-            return 0
-        if feature == EDGE_CA and not edge_is_true(c, q, m2ca):
-            return 0
         return write_row(scratch, 0, q, normal, depth, feature, c)
     if type_a == st.CAPSULE:
         axis = column(rot, 1)
         hh = params_a[1]
-        return capsule_triangle(madd(c, -hh, axis), madd(c, hh, axis), params_a[0], a, b, cc, n,
-                                m2ab, m2bc, m2ca, prediction, scratch)
+        return capsule_triangle(madd(c, -hh, axis), madd(c, hh, axis), params_a[0], a, b, cc, n, prediction,
+                                scratch)
     return box_triangle(c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
 
 
