@@ -306,8 +306,8 @@ class Renderer:
         nrm = np.asarray(debug.normals, np.float64).reshape(-1, 3)
         if len(pts):
             seg = np.empty((2 * len(pts), 6))
-            seg[0::2, :3], seg[1::2, :3] = pts, pts + 0.8 * nrm
-            seg[:, 3:] = (1.0, 0.1, 0.1)
+            seg[0::2, :3], seg[1::2, :3] = pts, pts + 1.0 * nrm
+            seg[:, 3:] = (1.0, 0.9, 0.1)
             rows.append(seg)
         if not rows:
             return
