@@ -198,7 +198,48 @@ def report(rows, elapsed, quick):
     with open(path, "w") as fh:
         json.dump(result, fh, indent=1)
     print(f"wrote {path}")
+    print(markdown_tables(rows))
     plot(rows)
+
+
+def _ms(v):
+    """Milliseconds with three significant digits or so."""
+    return f"{v:.3f}" if v < 1 else f"{v:.2f}" if v < 10 else f"{v:.1f}" if v < 100 else f"{v:.0f}"
+
+
+def markdown_tables(rows):
+    """One Markdown table per scene: ms per update (structure upkeep in parentheses), the fastest
+    in bold, then pairs per update, pairs per second of the fastest and the dense grid's cells."""
+    lines = []
+    for kind in SCENES:
+        group = [r for r in rows if r["scene"] == kind]
+        sizes = sorted({r["n"] for r in group})
+        lines += ["", f"**{kind}**: ms per update (structure upkeep alone)", "",
+                  "| method | " + " | ".join(f"{n:,}" for n in sizes) + " |",
+                  "|---|" + "---:|" * len(sizes)]
+        for name in METHODS:
+            cells = []
+            for n in sizes:
+                hit = [r for r in group if r["n"] == n and r["method"] == name]
+                if not hit:
+                    cells.append("skipped")
+                    continue
+                r = hit[0]
+                cell = _ms(r["update_ms"])
+                if name not in ("brute", "grid"):
+                    cell += f" ({_ms(r['maintain_ms'])})"
+                if r["update_ms"] == min(q["update_ms"] for q in group if q["n"] == n):
+                    cell = f"**{cell}**"
+                cells.append(cell)
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
+        first = {n: next(r for r in group if r["n"] == n) for n in sizes}
+        best = {n: max(r["pairs_per_s"] for r in group if r["n"] == n) for n in sizes}
+        lines.append("| pairs per update | " + " | ".join(f"{first[n]['pairs']:.0f}" for n in sizes)
+                     + " |")
+        lines.append("| pairs/s, fastest | " + " | ".join(f"{best[n]:.2e}" for n in sizes) + " |")
+        lines.append("| dense grid cells | "
+                     + " | ".join(f"{first[n]['dense_grid_cells']:.1e}" for n in sizes) + " |")
+    return "\n".join(lines)
 
 
 def plot(rows):
@@ -219,7 +260,7 @@ def plot(rows):
         ax.set_yscale("log")
         ax.set_xlabel("moving boxes")
         ax.set_ylabel("time per update (ms)")
-        ax.set_title(f"Broad phase, {kind} scene ({STEPS} updates with small motion)")
+        ax.set_title(f"Broad phase, {kind} scene (best of {STEPS} updates)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend()
         fig.tight_layout()
