@@ -110,6 +110,8 @@ class TriangleMesh(Shape):
                           stacklevel=2)
         self._grid = (0.0, 0.0, 0.0, 0, 0)
         self._build_accel(cell_size)
+        self.vertices.flags.writeable = False       # the kernels' copies would not follow edits
+        self.triangles.flags.writeable = False
 
     # -- construction -------------------------------------------------------------------------
     def _build_accel(self, cell_size):
