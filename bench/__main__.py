@@ -1,0 +1,231 @@
+"""``python -m bench``: Marbellous side by side with PyBullet and MuJoCo on the standard scenes.
+
+Every scene is built once in Marbellous (``marbellous.scenes``) and translated body by body into each
+peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (best of the scene's
+repeats), and checked by a sanity measure (``bench/scenes.py``).  Prints a table, writes
+``bench/results/<date>-<host>.json`` and the bar plot ``docs/bench/latest.png``.
+
+    python -m bench                         all scenes, all engines (about 10-15 minutes on 2 cores)
+    python -m bench --quick                 small scenes, few steps: a check of the harness
+    python -m bench --scenes tower_20 pile_1k --engines marbellous pybullet
+    python -m bench --profile               add the per-stage profile of Marbellous' step per scene
+"""
+import argparse
+import json
+import math
+import os
+import sys
+import time
+import traceback
+
+from .machine import describe
+from .peers import Unsupported, make_peer, version
+from .runs import MarbellousRun, timed_run
+from .scenes import DT, SCENES
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+ENGINES = ("marbellous", "pybullet", "mujoco")
+
+
+def warm_up():
+    """Compile the step kernel once (every scene shares its signature); returns the seconds it took."""
+    import marbellous as mb
+    from marbellous.scenes.terrain import terrain_mesh
+
+    t = time.perf_counter()
+    w = mb.World()
+    w.add_static(mb.Plane())
+    w.add_static(terrain_mesh(4))
+    w.add_static(mb.Box((1.0, 1.0, 1.0)), position=(5.0, 0.0, 0.0))
+    w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 0.5, 0.0))
+    w.add_body(mb.Sphere(0.5), position=(0.0, 1.5, 0.0))
+    for _ in range(3):
+        w.step(DT)
+    return time.perf_counter() - t
+
+
+def run_world_scene(name, engine, quick, cap):
+    """One engine on one stepped scene: the best of the scene's repeats."""
+    spec = SCENES[name]
+    steps = spec.n_steps(quick)
+    best = None
+    for _ in range(spec.repeats):
+        world, meta = spec.build(quick)
+        run = MarbellousRun(world, DT) if engine == "marbellous" else make_peer(engine, world, DT)
+        try:
+            res = timed_run(run, steps, time_cap=cap)
+        finally:
+            run.close()
+        if engine == "marbellous":
+            from marbellous.pipeline import step as S
+            res["contacts"] = int(world._stats[S.S_CONTACTS])
+            res["iterations"] = int(world._stats[S.S_ITERATIONS])
+        if best is None or res["seconds"] / res["steps"] < best["seconds"] / best["steps"]:
+            best = res
+    out = {"status": "ok" if best["steps"] == steps else f"partial: stopped after {best['steps']} of {steps} steps "
+           f"(time cap {cap:.0f} s)", "steps": best["steps"], "seconds": best["seconds"],
+           "ms_per_step": 1e3 * best["seconds"] / best["steps"], "steps_per_s": best["steps"] / best["seconds"],
+           "sanity": spec.sanity(best["positions"], meta, best["max_penetration"])}
+    for k in ("contacts", "iterations"):
+        if k in best:
+            out[k + "_last_step"] = best[k]
+    return out
+
+
+def run_query_scene(engine, quick):
+    """Sphere-vs-mesh queries (``bench/bench_mesh_query.py``) on the terrain mesh: microseconds per query
+    called from Python (Marbellous' kernel in a compiled loop is reported in the sanity column)."""
+    from marbellous.scenes.terrain import terrain_arrays
+
+    from . import bench_mesh_query as q
+    from .scenes import _terrain
+
+    _, meta = SCENES["mesh_queries"].build(quick)
+    mesh = _terrain(meta["cells"])
+    centres = q.marble_positions(mesh, meta["queries"])
+    if engine == "marbellous":
+        kernel_us, per = q.time_kernel(mesh, centres)
+        us = q.time_python(mesh, centres)
+        sanity = {"kernel_us_per_query": kernel_us, "contacts_per_query": per, "ok": per >= 1.0}
+    elif engine == "pybullet":
+        v, t = terrain_arrays(meta["cells"])
+        r = q.time_pybullet(v, t, {"random": centres})
+        if r is None:
+            raise ImportError("pybullet")
+        us = r["random_us"]
+        sanity = {"contacts_per_query": r["random_contacts"], "ok": r["random_contacts"] >= 1.0}
+    else:
+        raise Unsupported("MuJoCo collides meshes as convex hulls")
+    return {"status": "ok", "steps": meta["queries"], "seconds": us * 1e-6 * meta["queries"], "ms_per_step": us * 1e-3,
+            "steps_per_s": 1e6 / us, "sanity": sanity, "unit": "query (from Python)"}
+
+
+def run_one(name, engine, quick, cap):
+    """A result dict; a missing or unsupported peer, or a failure, becomes a status, never a crash."""
+    try:
+        if engine != "marbellous" and version(engine) is None:
+            return {"status": "not installed"}
+        if SCENES[name].world:
+            return run_world_scene(name, engine, quick, cap)
+        return run_query_scene(engine, quick)
+    except Unsupported as e:
+        return {"status": f"unsupported: {e}"}
+    except Exception as e:        # a peer's failure is reported in the table, the run goes on
+        traceback.print_exc()
+        return {"status": f"error: {type(e).__name__}: {e}"}
+
+
+def _sanity_text(s):
+    keys = [k for k in s if k != "ok"]
+    return ", ".join(f"{k}={s[k]:.3g}" if isinstance(s[k], float) else f"{k}={s[k]}" for k in keys)
+
+
+def table(results, engines):
+    """The results as a text table: ms/step, steps/s, ratio to PyBullet's steps/s, sanity."""
+    lines = [f"{'scene':24s} {'engine':10s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    sanity"]
+    for name, per in results.items():
+        ref = per.get("pybullet", {}).get("steps_per_s")
+        for engine in engines:
+            r = per.get(engine)
+            if r is None:
+                continue
+            if "steps_per_s" not in r:
+                lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['status']}")
+                continue
+            ratio = f"{r['steps_per_s'] / ref:.2f}x" if ref else "-"
+            ok = "yes" if r["sanity"].get("ok") else "NO"
+            note = "" if r["status"] == "ok" else f"  [{r['status']}]"
+            lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['ms_per_step']:10.4f} {r['steps_per_s']:10.1f} "
+                         f"{ratio:>11s}  {ok:5s} {_sanity_text(r['sanity'])}{note}")
+    return "\n".join(lines)
+
+
+def plot(results, engines, machine, path):
+    """Grouped bars of steps per second (log scale) per scene and engine."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(results)
+    fig, ax = plt.subplots(figsize=(max(6.0, 1.6 * len(names)), 4.5))
+    width = 0.8 / len(engines)
+    colours = {"marbellous": "#c0392b", "pybullet": "#2c3e50", "mujoco": "#7f8c8d"}
+    for k, engine in enumerate(engines):
+        xs, ys = [], []
+        for i, name in enumerate(names):
+            r = results[name].get(engine, {})
+            if "steps_per_s" in r:
+                xs.append(i + (k - (len(engines) - 1) / 2) * width)
+                ys.append(r["steps_per_s"])
+        ax.bar(xs, ys, width, label=engine, color=colours.get(engine))
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(names)))
+    ax.set_xticklabels([SCENES[n].label for n in names], rotation=20, ha="right", fontsize=8)
+    ax.set_ylabel("steps per second (queries per second for queries), log scale")
+    ax.set_title(f"Marbellous vs peers, 60 Hz, {machine['cpu']} ({machine['cores']} cores), {machine['date']}",
+                 fontsize=9)
+    ax.legend()
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m bench", description=__doc__.splitlines()[0])
+    ap.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES), help="scenes to run")
+    ap.add_argument("--engines", nargs="+", choices=ENGINES, default=list(ENGINES), help="engines to run")
+    ap.add_argument("--quick", action="store_true", help="small scenes, few steps (a check, not numbers)")
+    ap.add_argument("--cap", type=float, default=150.0, help="most seconds of stepping per engine and scene")
+    ap.add_argument("--profile", action="store_true", help="add Marbellous' per-stage profile of each scene")
+    ap.add_argument("--out", default=None, help="results file (default bench/results/<date>-<host>.json)")
+    ap.add_argument("--no-plot", action="store_true", help="skip the plot")
+    args = ap.parse_args(argv)
+
+    machine = describe(ROOT, {e: version(e) for e in ENGINES if e != "marbellous"})
+    print(f"{machine['cpu']}, {machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, "
+          f"Numba {machine['numba']}, peers {machine['peers']}")
+    compile_s = warm_up()
+    print(f"warm-up (compile or load the step kernel): {compile_s:.1f} s")
+    results = {}
+    for name in args.scenes:
+        results[name] = {}
+        for engine in args.engines:
+            t = time.perf_counter()
+            results[name][engine] = r = run_one(name, engine, args.quick, args.cap)
+            print(f"  {name:16s} {engine:10s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
+                  f"({time.perf_counter() - t:.0f} s)", flush=True)
+    profiles = {}
+    if args.profile:
+        from .profile_stages import profile
+        for name in args.scenes:
+            if SCENES[name].world:
+                spec = SCENES[name]
+                world, _ = spec.build(args.quick)
+                for _ in range(spec.warmup_steps(args.quick)):
+                    world.step(DT)
+                profile(world, DT, 2)
+                profiles[name] = profile(world, DT, spec.profile_steps(args.quick))
+    text = table(results, args.engines)
+    print()
+    print(text)
+    for name, row in profiles.items():
+        print(f"profile {name:16s} " + "  ".join(f"{k} {v:.3f}" for k, v in row.items()) + "  (ms/step)")
+    record = {"machine": machine, "quick": args.quick, "dt": DT, "warm_up_s": compile_s, "results": results,
+              "profile_ms_per_step": profiles}
+    path = args.out or os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}"
+                                    f"{'-quick' if args.quick else ''}.json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(record, f, indent=1)
+    print("written", os.path.relpath(path, ROOT))
+    if not args.no_plot:
+        png = os.path.join(ROOT, "docs", "bench", "latest-quick.png" if args.quick else "latest.png")
+        plot(results, args.engines, machine, png)
+        print("written", os.path.relpath(png, ROOT))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

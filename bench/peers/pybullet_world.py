@@ -1,0 +1,129 @@
+"""A Marbellous world in PyBullet (DIRECT mode): spheres, boxes, planes and triangle meshes.
+
+Settings, chosen to be PyBullet at its documented defaults and its fastest equivalent bodies:
+- time step ``dt``, no sub-steps, 10 solver iterations (PyBullet's default), gravity along -z;
+- free bodies as maximal-coordinate rigid bodies (``useMaximalCoordinates=True``, btRigidBody);
+- no linear or angular damping (PyBullet's default is 0.04; Marbellous has none);
+- Bullet multiplies the two bodies' friction (and restitution, rolling friction) coefficients where
+  Marbellous takes the geometric mean, so each body gets ``sqrt(mu)``: the product then equals
+  Marbellous' ``sqrt(mu_a mu_b)`` exactly;
+- a ``TriangleMesh`` becomes a static concave ``GEOM_MESH`` (Bullet's BVH triangle mesh);
+- shapes keep their local (body-frame) geometry; each body's orientation gets the quarter turn;
+- sleeping (deactivation) left at Bullet's default, like Marbellous' own.
+"""
+import math
+import os
+import tempfile
+
+import numpy as np
+
+from marbellous.mesh import TriangleMesh
+from marbellous.shapes import Box, Plane, Sphere
+
+from . import Unsupported, bodies_of
+from .axes import from_peer, quat_to_peer, to_peer
+
+
+def _xyzw(q):
+    return [float(q[1]), float(q[2]), float(q[3]), float(q[0])]
+
+
+def _mesh_shape(p, mesh, kw):
+    """A static concave mesh shape; through an OBJ file when PyBullet refuses that many vertices in memory."""
+    v = mesh.vertices        # in the body's frame, which the quarter turn of its orientation maps to z-up
+    try:
+        sid = p.createCollisionShape(p.GEOM_MESH, vertices=v.tolist(), indices=mesh.triangles.ravel().tolist(),
+                                     flags=p.GEOM_FORCE_CONCAVE_TRIMESH, **kw)
+    except p.error:
+        sid = -1
+    if sid >= 0:
+        return sid
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "mesh.obj")
+        with open(path, "w") as fh:
+            np.savetxt(fh, v, fmt="v %.17g %.17g %.17g")
+            np.savetxt(fh, mesh.triangles + 1, fmt="f %d %d %d")
+        return p.createCollisionShape(p.GEOM_MESH, fileName=path, flags=p.GEOM_FORCE_CONCAVE_TRIMESH, **kw)
+
+
+class PyBulletRun:
+    """``world`` built in a new PyBullet DIRECT client, stepped ``dt`` s at a time."""
+
+    def __init__(self, world, dt):
+        import pybullet as p
+
+        self.p = p
+        self.cid = p.connect(p.DIRECT)
+        kw = {"physicsClientId": self.cid}
+        g = to_peer(world.gravity)
+        p.setGravity(*g, **kw)
+        p.setPhysicsEngineParameter(fixedTimeStep=dt, numSolverIterations=10, numSubSteps=0, **kw)
+        self.ids = []
+        shape_cache = {}
+        records = bodies_of(world)
+        batches = {}
+        for rec in records:
+            if len(rec["shapes"]) != 1:
+                raise Unsupported("compound bodies")
+            shape, lp, lq = rec["shapes"][0]
+            if np.any(lp != 0.0) or np.any(lq != np.array([1.0, 0.0, 0.0, 0.0])):
+                raise Unsupported("shapes offset from their body's origin")
+            if isinstance(shape, Sphere):
+                key = ("sphere", shape.radius)
+                make = lambda s=shape: p.createCollisionShape(p.GEOM_SPHERE, radius=s.radius, **kw)
+            elif isinstance(shape, Box):
+                key = ("box", tuple(shape.half_extents))
+                make = lambda s=shape: p.createCollisionShape(p.GEOM_BOX, halfExtents=list(s.half_extents), **kw)
+            elif isinstance(shape, Plane):
+                key = ("plane", tuple(shape.normal))
+                make = lambda s=shape: p.createCollisionShape(p.GEOM_PLANE, planeNormal=list(s.normal), **kw)
+            elif isinstance(shape, TriangleMesh):
+                key = ("mesh", id(shape))
+                make = lambda s=shape: _mesh_shape(p, s, kw)
+            else:
+                raise Unsupported(type(shape).__name__)
+            if key not in shape_cache:
+                shape_cache[key] = make()
+            pos = to_peer(rec["position"])
+            orn = quat_to_peer(rec["orientation"])
+            if isinstance(shape, Plane):
+                if np.any(rec["orientation"] != np.array([1.0, 0.0, 0.0, 0.0])):
+                    raise Unsupported("turned planes")
+                pos = to_peer(rec["position"] + shape.normal * shape.offset)
+            mass = 0.0 if rec["static"] else rec["mass"]
+            # Bodies sharing a shape, mass and material are created in one batch call.
+            batch_key = (shape_cache[key], mass, rec["friction"], rec["restitution"], rec["rolling_friction"])
+            batches.setdefault(batch_key, []).append((len(self.ids), rec, pos, orn))
+            self.ids.append(None)
+        for (sid, mass, mu, e, roll), members in batches.items():
+            positions = [list(m[2]) for m in members]
+            if len(members) == 1:
+                ids = [p.createMultiBody(mass, sid, basePosition=positions[0], useMaximalCoordinates=True, **kw)]
+            else:
+                ids = p.createMultiBody(mass, sid, batchPositions=positions, useMaximalCoordinates=True, **kw)
+            for (slot, rec, pos, orn), bid in zip(members, ids):
+                self.ids[slot] = bid
+                p.resetBasePositionAndOrientation(bid, list(pos), _xyzw(orn), **kw)
+                p.changeDynamics(bid, -1, lateralFriction=math.sqrt(mu), restitution=math.sqrt(e),
+                                 rollingFriction=math.sqrt(roll), linearDamping=0.0, angularDamping=0.0, **kw)
+                if mass > 0.0:
+                    p.resetBaseVelocity(bid, list(to_peer(rec["velocity"])), list(to_peer(rec["angular_velocity"])),
+                                        **kw)
+        self.dynamic = [bid for bid, rec in zip(self.ids, records) if not rec["static"]]
+        self.kw = kw
+
+    def step(self):
+        self.p.stepSimulation(physicsClientId=self.cid)
+
+    def positions(self):
+        """Positions (m) of the dynamic bodies, in Marbellous axes, shape (n, 3)."""
+        get = self.p.getBasePositionAndOrientation
+        return from_peer(np.array([get(b, **self.kw)[0] for b in self.dynamic]).reshape(-1, 3))
+
+    def max_penetration(self):
+        """Deepest overlap (m) among the current contact points (0 if none overlap)."""
+        pts = self.p.getContactPoints(**self.kw)
+        return max([0.0] + [-c[8] for c in pts])
+
+    def close(self):
+        self.p.disconnect(self.cid)
