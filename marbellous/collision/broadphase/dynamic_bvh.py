@@ -43,9 +43,16 @@ HEIGHT = 3
 BODY = 4
 
 
+@njit
+def bvh_max_nodes(capacity):
+    """Nodes a tree over ``capacity`` leaves can need: the leaves and at most ``capacity - 1``
+    internal nodes."""
+    return 2 * capacity
+
+
 def bvh_state_sizes(capacity):
     """Lengths ``(len(state_f), len(state_i))`` of the dynamic tree state for ``capacity`` slots."""
-    m = 2 * capacity
+    m = bvh_max_nodes(capacity)
     return HEADER_F + 6 * m, HEADER_I + 5 * m + capacity
 
 
@@ -62,7 +69,7 @@ def bvh_init_params(state_f, margin=0.1, looseness=4.0, rebuild_fraction=0.25):
 def bvh_views(state_f, state_i):
     """Views ``(node, fat, leaf_of_body)`` into the dynamic tree state."""
     cap = state_i[I_CAPACITY]
-    m = 2 * cap
+    m = bvh_max_nodes(cap)
     node = state_i[HEADER_I:HEADER_I + 5 * m].reshape((m, 5))
     leaf_of = state_i[HEADER_I + 5 * m:HEADER_I + 5 * m + cap]
     fat = state_f[HEADER_F:HEADER_F + 6 * m].reshape((m, 6))

@@ -27,6 +27,7 @@ from marbellous.collision.broadphase._common import (
     row_overlaps_box, rows_overlap)
 
 
+@njit
 def tree_max_nodes(capacity):
     """Node capacity of a rebuilt tree for ``capacity`` body slots (every tree here has at most
     2 m - 1 nodes for m bodies; the octree stops splitting when it would exceed this)."""
@@ -53,7 +54,7 @@ def tree_state_sizes(capacity):
 def tree_views(state_f, state_i):
     """Views ``(node_i, bounds, items, keys, planes)`` into a rebuilt tree's state arrays."""
     cap = state_i[I_CAPACITY]
-    m = 2 * cap + 16
+    m = tree_max_nodes(cap)
     node_i = state_i[HEADER_I:HEADER_I + 4 * m].reshape((m, 4))
     items = state_i[HEADER_I + 4 * m:HEADER_I + 4 * m + cap]
     bounds = state_f[HEADER_F:HEADER_F + 6 * m].reshape((m, 6))
