@@ -18,7 +18,7 @@ max_distance, out)``
     (m) enters, sorted by entry distance, ties by index.
 
 Queries answer over the structure of the last ``find_pairs``/``update`` with the same ``n_bodies``
-(the boxes are those of the last step); after changing boxes call ``update`` first.
+(the boxes are those of the last step); after changing boxes or flags call ``update`` first.
 
 Inputs: ``aabbs`` (capacity, 6) float64 rows ``[minx, miny, minz, maxx, maxy, maxz]``; ``flags``
 (capacity,) int64, bit 0 alive, bit 1 static; ``groups``, ``masks`` (capacity,) int64 filter bits,

@@ -1,23 +1,21 @@
 """The node layout shared by the rebuilt trees (loose octree, KD-tree, BSP tree) and the traversals
 that answer pair, box and ray queries over it.
 
-A tree over ``m`` live bodies is stored in three arrays:
+A tree over ``m`` live bodies is stored in four arrays:
 
 ``node_i`` (max_nodes, 4) int64 rows ``[child_start, child_count, item_start, item_count]``: a node's
 children are the consecutive nodes ``child_start .. child_start + child_count - 1`` (always numbered
 after their parent), and the bodies stored *at* the node are ``items[item_start : item_start +
-item_count]`` (leaves hold their bodies; a BSP node keeps the boxes its plane cuts; an octree node the
-boxes too big for its children);
+item_count]`` (leaves hold their bodies; an octree node also the boxes too big for its children);
 ``bounds`` (max_nodes, 6) float64: the tight box around every body in the node's subtree;
-``items`` (capacity,) int64: the live body indices, permuted by the build.
-
+``items`` (capacity,) int64: the live body indices, permuted by the build;
 ``planes`` (max_nodes, 5) float64 rows ``[nx, ny, nz, d, side]``: for BSP children, the parent's plane and
 which side of it the node's boxes lie on (side 0: no plane test; kd-tree and octree leave it 0).
 
 Pruning uses the tight bounds, which are unions (min/max, no arithmetic) of the bodies' own boxes, and
 for BSP nodes the parent's plane with a rounding allowance; so pruning never drops an overlap and every
-method reports exactly the brute-force pairs.  Node 0 is
-the root.  Traversals use an explicit stack (no recursion).
+method reports exactly the brute-force pairs.  Node 0 is the root.  Traversals use an explicit stack
+(no recursion).
 """
 import numpy as np
 
