@@ -45,10 +45,10 @@ def warm_up():
     return time.perf_counter() - t
 
 
-def run_world_scene(name, engine, quick, cap):
-    """One engine on one stepped scene: the best of the scene's repeats."""
+def run_world_scene(name, engine, quick, cap, steps=None):
+    """One engine on one stepped scene (``steps``: None for the scene's own): the best of its repeats."""
     spec = SCENES[name]
-    steps = spec.n_steps(quick)
+    steps = spec.n_steps(quick) if steps is None else steps
     best = None
     for _ in range(spec.repeats):
         world, meta = spec.build(quick)
@@ -101,13 +101,13 @@ def run_query_scene(engine, quick):
             "steps_per_s": 1e6 / us, "sanity": sanity, "unit": "query (from Python)"}
 
 
-def run_one(name, engine, quick, cap):
+def run_one(name, engine, quick, cap, steps=None):
     """A result dict; a missing or unsupported peer, or a failure, becomes a status, never a crash."""
     try:
         if engine != "marbellous" and version(engine) is None:
             return {"status": "not installed"}
         if SCENES[name].world:
-            return run_world_scene(name, engine, quick, cap)
+            return run_world_scene(name, engine, quick, cap, steps)
         return run_query_scene(engine, quick)
     except Unsupported as e:
         return {"status": f"unsupported: {e}"}
@@ -191,9 +191,12 @@ def main(argv=None):
     results = {}
     for name in args.scenes:
         results[name] = {}
+        steps = None        # once an engine hits the time cap, the others run as many steps as it did
         for engine in args.engines:
             t = time.perf_counter()
-            results[name][engine] = r = run_one(name, engine, args.quick, args.cap)
+            results[name][engine] = r = run_one(name, engine, args.quick, args.cap, steps)
+            if r["status"].startswith("partial"):
+                steps = r["steps"]
             print(f"  {name:16s} {engine:10s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
                   f"({time.perf_counter() - t:.0f} s)", flush=True)
     profiles = {}
