@@ -8,8 +8,9 @@ and ``state_i`` (int64).  Their first entries are a common header:
 ``state_i[I_CAPACITY]`` largest number of body slots the state can hold,
 ``state_i[I_N_PREV]``   ``n_bodies`` of the last update, or -1 for a freshly made state (rebuild),
 ``state_i[3:HEADER_I]`` method-specific counters;
-``state_f[:HEADER_F]``  the method's tunables (cell factor, margins, leaf sizes), written by
-``make_state`` so that kernels never read tunables from globals.
+``state_f[:4]``         the method's tunables (cell factor, margins, leaf sizes), written by
+``make_state`` so that kernels never read tunables from globals;
+``state_f[4:HEADER_F]`` values a build computes for later updates (plane tolerance, tree area).
 """
 import numpy as np
 
@@ -21,7 +22,7 @@ ALIVE = 1
 STATIC = 2
 
 HEADER_I = 8
-HEADER_F = 4
+HEADER_F = 8
 I_METHOD = 0
 I_CAPACITY = 1
 I_N_PREV = 2

@@ -35,7 +35,8 @@ def scan_query_aabb(aabbs, flags, n_bodies, box_min, box_max, buf):
 @njit
 def scan_query_ray(aabbs, flags, n_bodies, origin, direction, max_distance, buf):
     """Live bodies whose box the ray (unit ``direction``, length ``max_distance`` m) enters, by a
-    linear scan.  Returns the number found (written while ``buf`` has room)."""
+    linear scan.
+    Returns the number found (written while ``buf`` has room)."""
     count = 0
     for i in range(n_bodies):
         if is_alive(flags, i) and ray_entry(aabbs, i, origin, direction, max_distance) >= 0.0:

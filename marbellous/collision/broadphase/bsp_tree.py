@@ -1,4 +1,5 @@
-"""Binary space partition with arbitrary splitting planes, rebuilt at every update.
+"""Binary space partition with arbitrary splitting planes, rebuilt at every update (not refitted: the
+plane tests rely on every box lying on its side of its parent's plane, which motion breaks).
 
 The lecture's generalisation of the KD-tree: space is cut into half-spaces by planes of any
 orientation.  A node holding more than ``leaf_size`` bodies is cut by the plane ``n . x = d`` whose
@@ -24,9 +25,9 @@ State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]`` and ``state_f
 import numpy as np
 
 from marbellous._jit import njit
-from marbellous.collision.broadphase._common import I_N_PREV, alive_indices, select_nth
+from marbellous.collision.broadphase._common import alive_indices, select_nth
 from marbellous.collision.broadphase.static_tree import (
-    F_PLANE_TOLERANCE, I_N_NODES, SIDE, plane_key_radius, refit_bounds, tree_views)
+    F_PLANE_TOLERANCE, SIDE, finish_build, plane_key_radius, tree_views)
 
 F_LEAF_SIZE = 0
 F_POWER_ITERATIONS = 1
@@ -152,6 +153,4 @@ def bsp_build(aabbs, flags, n_bodies, state_f, state_i):
                 top += 1
                 n_nodes += 1
             node_i[node, 1] = n_nodes - c
-    refit_bounds(node_i, bounds, items, aabbs, n_nodes)
-    state_i[I_N_NODES] = n_nodes
-    state_i[I_N_PREV] = n_bodies
+    finish_build(node_i, bounds, items, aabbs, n_nodes, m, n_bodies, state_f, state_i)

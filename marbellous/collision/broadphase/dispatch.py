@@ -40,7 +40,8 @@ from marbellous.collision.broadphase.dynamic_bvh import (
 from marbellous.collision.broadphase.kd_tree import kd_build, kd_init_params
 from marbellous.collision.broadphase.loose_octree import octree_build, octree_init_params
 from marbellous.collision.broadphase.static_tree import (
-    F_PLANE_TOLERANCE, I_N_NODES, tree_pairs, tree_query_aabb, tree_query_ray, tree_state_sizes, tree_views)
+    F_PLANE_TOLERANCE, I_N_NODES, tree_pairs, tree_query_aabb, tree_query_ray, tree_state_sizes,
+    tree_views)
 from marbellous.collision.broadphase.sweep_and_prune import (
     sap_init_params, sap_pairs, sap_query_aabb, sap_state_sizes, sap_update)
 from marbellous.collision.broadphase.uniform_grid import (
@@ -62,8 +63,8 @@ METHODS = {"brute": BRUTE, "sap": SAP, "grid": GRID, "bvh": BVH, "octree": OCTRE
 def state_sizes(method, capacity):
     """Lengths ``(len(state_f), len(state_i))`` of the state of ``method`` for ``capacity`` slots:
 
-    brute ``(4, 8)``; sap ``(4 + c, 8 + c)``; grid ``(4, 8)`` (the grid is rebuilt each update);
-    bvh ``(4 + 12 c, 8 + 11 c)``; octree, kdtree, bsp ``(4 + 11 M + c, 8 + 4 M + c)`` with
+    brute ``(8, 8)``; sap ``(8 + c, 8 + c)``; grid ``(8, 8)`` (the grid is rebuilt each update);
+    bvh ``(8 + 12 c, 8 + 11 c)``; octree, kdtree, bsp ``(8 + 11 M + c, 8 + 4 M + c)`` with
     ``M = 2 c + 16`` nodes.
     """
     if method in (BRUTE, GRID):

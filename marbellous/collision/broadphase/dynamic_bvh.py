@@ -522,7 +522,8 @@ def bvh_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
 
 @njit
 def bvh_query_aabb(aabbs, state_f, state_i, box_min, box_max, buf):
-    """Bodies in the tree whose own box overlaps ``[box_min, box_max]``.  Returns the number found (written while ``buf`` has room)."""
+    """Bodies in the tree whose own box overlaps ``[box_min, box_max]``.
+    Returns the number found (written while ``buf`` has room)."""
     node, fat, _ = bvh_views(state_f, state_i)
     root = state_i[I_ROOT]
     count = 0

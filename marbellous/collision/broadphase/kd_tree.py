@@ -1,4 +1,4 @@
-"""KD-tree over the box centres, rebuilt at every update.
+"""KD-tree over the box centres, refitted or rebuilt at every update.
 
 A node holding more than ``leaf_size`` bodies is split at the median of its bodies' centres along one
 axis, the axes alternating x, y, z, x, ... with depth (the lecture: "choose the subdividing line, e.g.
@@ -7,25 +7,35 @@ the side of its centre, so the tree has at most 2 m - 1 nodes and depth ``ceil(l
 The median is found by quickselect, O(m) per level, O(m log m) per build.  Each node keeps the tight
 box around its subtree, which the traversals in ``static_tree`` prune with.
 
-State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]``.
+Between updates the partition is kept and only the node boxes are refitted to the moved bodies, until
+their summed surface area exceeds ``refit_growth`` (1.5) times its value after the last build, or a body
+is added or removed; then the tree is rebuilt.
+
+State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]`` and ``state_f[F_REFIT_GROWTH]``.
 """
 import numpy as np
 
 from marbellous._jit import njit
-from marbellous.collision.broadphase._common import I_N_PREV, alive_indices, select_nth
-from marbellous.collision.broadphase.static_tree import I_N_NODES, refit_bounds, tree_views
+from marbellous.collision.broadphase._common import alive_indices, select_nth
+from marbellous.collision.broadphase.static_tree import (
+    F_REFIT_GROWTH, finish_build, tree_views, try_refit)
 
 F_LEAF_SIZE = 0
 
 
-def kd_init_params(state_f, leaf_size=4):
-    """Write the tunable: most bodies in a leaf."""
+def kd_init_params(state_f, leaf_size=4, refit_growth=1.5):
+    """Write the tunables: most bodies in a leaf, and how much the summed node area may grow by
+    refitting before the tree is rebuilt (``static_tree.try_refit``)."""
     state_f[F_LEAF_SIZE] = leaf_size
+    state_f[F_REFIT_GROWTH] = refit_growth
 
 
 @njit
 def kd_build(aabbs, flags, n_bodies, state_f, state_i):
-    """Rebuild the KD-tree over the live bodies among the first ``n_bodies`` slots."""
+    """Refit the KD-tree to the moved boxes, or rebuild it over the live bodies among the first
+    ``n_bodies`` slots if refitting is not enough."""
+    if try_refit(aabbs, flags, n_bodies, state_f, state_i):
+        return
     node_i, bounds, items, keys, _ = tree_views(state_f, state_i)
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
@@ -73,6 +83,4 @@ def kd_build(aabbs, flags, n_bodies, state_f, state_i):
                 work[top, 0] = child
                 work[top, 1] = depth + 1
                 top += 1
-    refit_bounds(node_i, bounds, items, aabbs, n_nodes)
-    state_i[I_N_NODES] = n_nodes
-    state_i[I_N_PREV] = n_bodies
+    finish_build(node_i, bounds, items, aabbs, n_nodes, m, n_bodies, state_f, state_i)

@@ -1,4 +1,4 @@
-"""Loose octree, rebuilt at every update.
+"""Loose octree, refitted or rebuilt at every update.
 
 The root is the cube around all live box centres.  A node holding more than ``leaf_size`` bodies is
 subdivided into its eight octants (the lecture: "subdivide into 8 subdivisions of equal size if the
@@ -11,27 +11,38 @@ array is full (``static_tree.tree_max_nodes``); those nodes simply keep their bo
 The placement follows the loose cells; pruning uses each node's tight subtree box (``static_tree``),
 which is never larger than its loose cell and keeps the pair set exact.
 
-State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]`` and ``state_f[F_MAX_DEPTH]``.
+Moving bodies stay in their nodes and only the node boxes are refitted, until the summed node area
+exceeds ``refit_growth`` (1.5) times its value after the last build (bodies have wandered out of their
+cells) or a body is added or removed; then the octree is rebuilt.
+
+State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]``, ``state_f[F_MAX_DEPTH]`` and
+``state_f[F_REFIT_GROWTH]``.
 """
 import numpy as np
 
 from marbellous._jit import njit
-from marbellous.collision.broadphase._common import I_N_PREV, alive_indices
-from marbellous.collision.broadphase.static_tree import I_N_NODES, refit_bounds, tree_views
+from marbellous.collision.broadphase._common import alive_indices
+from marbellous.collision.broadphase.static_tree import (
+    F_REFIT_GROWTH, finish_build, tree_views, try_refit)
 
 F_LEAF_SIZE = 0
 F_MAX_DEPTH = 1
 
 
-def octree_init_params(state_f, leaf_size=8, max_depth=20):
-    """Write the tunables: bodies a node may hold before it is subdivided, and the deepest level."""
+def octree_init_params(state_f, leaf_size=8, max_depth=20, refit_growth=1.5):
+    """Write the tunables: bodies a node may hold before it is subdivided, the deepest level, and
+    how much the summed node area may grow by refitting before the tree is rebuilt."""
     state_f[F_LEAF_SIZE] = leaf_size
     state_f[F_MAX_DEPTH] = max_depth
+    state_f[F_REFIT_GROWTH] = refit_growth
 
 
 @njit
 def octree_build(aabbs, flags, n_bodies, state_f, state_i):
-    """Rebuild the loose octree over the live bodies among the first ``n_bodies`` slots."""
+    """Refit the loose octree to the moved boxes, or rebuild it over the live bodies among the first
+    ``n_bodies`` slots if refitting is not enough."""
+    if try_refit(aabbs, flags, n_bodies, state_f, state_i):
+        return
     node_i, bounds, items, _, _ = tree_views(state_f, state_i)
     live = alive_indices(flags, n_bodies)
     m = live.shape[0]
@@ -121,6 +132,4 @@ def octree_build(aabbs, flags, n_bodies, state_f, state_i):
                 top += 1
                 n_nodes += 1
             node_i[node, 1] = n_nodes - c
-    refit_bounds(node_i, bounds, items, aabbs, n_nodes)
-    state_i[I_N_NODES] = n_nodes
-    state_i[I_N_PREV] = n_bodies
+    finish_build(node_i, bounds, items, aabbs, n_nodes, m, n_bodies, state_f, state_i)

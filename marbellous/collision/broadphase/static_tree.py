@@ -21,8 +21,8 @@ import numpy as np
 
 from marbellous._jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, STATIC, add_index, add_pair, pair_allowed, ray_entry,
-    row_overlaps_box, rows_overlap)
+    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, add_index, add_pair, is_alive, pair_allowed,
+    ray_entry, row_overlaps_box, rows_overlap)
 
 
 @njit
@@ -34,8 +34,15 @@ def tree_max_nodes(capacity):
 
 #: ``state_i[I_N_NODES]``: number of nodes of the tree built by the last update.
 I_N_NODES = 3
+#: ``state_i[I_N_ITEMS]``: number of bodies in the tree built by the last full build.
+I_N_ITEMS = 4
+#: ``state_f[F_REFIT_GROWTH]``: tunable of the trees that may refit instead of rebuilding (see
+#: ``try_refit``); 0 means rebuild at every update.
+F_REFIT_GROWTH = 2
 #: ``state_f[F_PLANE_TOLERANCE]``: rounding allowance of the plane tests (m), written by the build.
-F_PLANE_TOLERANCE = 3
+F_PLANE_TOLERANCE = 4
+#: ``state_f[F_BUILT_AREA]``: summed surface area of the node bounds right after the last full build.
+F_BUILT_AREA = 5
 #: ``planes[node, SIDE]``: 0 no plane test, 1 the node holds only boxes behind its parent's plane
 #: ``planes[node, :4] = (n, d)``, 2 only boxes in front of it.
 SIDE = 4
@@ -79,6 +86,54 @@ def refit_bounds(node_i, bounds, items, aabbs, n_nodes):
             for k in range(3):
                 bounds[node, k] = min(bounds[node, k], bounds[child, k])
                 bounds[node, k + 3] = max(bounds[node, k + 3], bounds[child, k + 3])
+
+
+@njit
+def _total_area(bounds, n_nodes):
+    """Sum of the surface areas of the node bounds (m^2): the expected cost of a query is
+    proportional to it (the surface-area heuristic)."""
+    total = 0.0
+    for node in range(n_nodes):
+        dx = bounds[node, 3] - bounds[node, 0]
+        dy = bounds[node, 4] - bounds[node, 1]
+        dz = bounds[node, 5] - bounds[node, 2]
+        total += 2.0 * (dx * dy + dy * dz + dz * dx)
+    return total
+
+
+@njit
+def finish_build(node_i, bounds, items, aabbs, n_nodes, n_items, n_bodies, state_f, state_i):
+    """Fit the node bounds of a fresh build and record what ``try_refit`` compares against."""
+    refit_bounds(node_i, bounds, items, aabbs, n_nodes)
+    state_i[I_N_NODES] = n_nodes
+    state_i[I_N_ITEMS] = n_items
+    state_f[F_BUILT_AREA] = _total_area(bounds, n_nodes)
+    state_i[I_N_PREV] = n_bodies
+
+
+@njit
+def try_refit(aabbs, flags, n_bodies, state_f, state_i):
+    """Keep the last build's partition and only refit the node bounds to the moved boxes, if the same
+    bodies are alive in the same slots and the summed node area has not grown beyond
+    ``refit_growth`` times its value after the build (motion has not spoiled the partition).
+    Returns True if the refitted tree was kept; False means the caller must rebuild.  The bounds are
+    tight either way, so a refitted tree answers exactly like a fresh one, only more slowly."""
+    if state_f[F_REFIT_GROWTH] <= 0.0 or state_i[I_N_PREV] != n_bodies:
+        return False
+    node_i, bounds, items, _, _ = tree_views(state_f, state_i)
+    m = state_i[I_N_ITEMS]
+    for p in range(m):
+        if not is_alive(flags, items[p]):
+            return False
+    live = 0
+    for i in range(n_bodies):
+        if is_alive(flags, i):
+            live += 1
+    if live != m:
+        return False
+    n_nodes = state_i[I_N_NODES]
+    refit_bounds(node_i, bounds, items, aabbs, n_nodes)
+    return _total_area(bounds, n_nodes) <= state_f[F_REFIT_GROWTH] * state_f[F_BUILT_AREA]
 
 
 @njit
@@ -159,7 +214,8 @@ def tree_pairs(node_i, bounds, planes, tolerance, items, n_nodes, aabbs, flags, 
 @njit
 def tree_query_aabb(node_i, bounds, planes, tolerance, items, n_nodes, aabbs, box_min, box_max,
                     buf):
-    """Bodies in the tree whose box overlaps ``[box_min, box_max]``.  Returns the number found (written while ``buf`` has room)."""
+    """Bodies in the tree whose box overlaps ``[box_min, box_max]``.
+    Returns the number found (written while ``buf`` has room)."""
     count = 0
     if n_nodes == 0:
         return count
@@ -189,7 +245,8 @@ def tree_query_aabb(node_i, bounds, planes, tolerance, items, n_nodes, aabbs, bo
 
 @njit
 def tree_query_ray(node_i, bounds, items, n_nodes, aabbs, origin, direction, max_distance, buf):
-    """Bodies in the tree whose box the ray enters within ``max_distance``.  Returns the number found (written while ``buf`` has room)."""
+    """Bodies in the tree whose box the ray enters within ``max_distance``.
+    Returns the number found (written while ``buf`` has room)."""
     count = 0
     if n_nodes == 0:
         return count

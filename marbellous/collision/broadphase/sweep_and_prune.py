@@ -137,7 +137,8 @@ def sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
 @njit
 def sap_query_aabb(aabbs, flags, n_bodies, state_f, state_i, box_min, box_max, buf):
     """Live bodies overlapping ``[box_min, box_max]``: only the prefix of the sorted list whose lower
-    bound is ``<= box_max`` on the sweep axis is tested.  Returns the number found (written while ``buf`` has room)."""
+    bound is ``<= box_max`` on the sweep axis is tested.
+    Returns the number found (written while ``buf`` has room)."""
     order = state_i[HEADER_I:HEADER_I + n_bodies]
     lows = state_f[HEADER_F:HEADER_F + n_bodies]
     axis = state_i[I_AXIS]
