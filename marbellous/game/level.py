@@ -46,8 +46,12 @@ Every problem raises :class:`LevelError` (a ``ValueError``) naming the file and 
 import math
 import numbers
 import pathlib
-import tomllib
 from dataclasses import dataclass, field
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    import tomli as tomllib
 
 import numpy as np
 
