@@ -59,7 +59,7 @@ def course_samples():
             pos = pos + np.array([math.cos(psi) * ds, rise / n, math.sin(psi) * ds])
             s_total += ds
             # bank ramps in and out over the first and last fifth of a turning piece
-            ramp = min(1.0, f / 0.2, (1.0 - f) / 0.2 + 0.0) if turn else 0.0
+            ramp = min(1.0, f / 0.2, (1.0 - f) / 0.2) if turn else 0.0
             bnk = b0 + (b1 - b0) * f if not turn else b1 * max(0.0, ramp)
             bump_h = bump * math.sin(math.pi * s_total / 1.25) ** 2 if bump else 0.0
             rows.append((pos.copy(), psi, w0 + (w_end - w0) * f, bnk, bump_h,
