@@ -18,5 +18,9 @@ from .world import Contact, RayHit, Snapshot, World
 
 __version__ = "0.1.0"
 
+from .envs import register_envs  # noqa: E402  (after the API: the environment builds worlds)
+
+register_envs()
+
 __all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
            "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "__version__"]
