@@ -357,3 +357,21 @@ def test_boxes_touching_at_corners_along_a_diagonal(method, scale):
     lo = a[:, :3].min(axis=0) + 50 * scale
     np.testing.assert_array_equal(BroadPhase(method).query_aabb(a, lo, lo),
                                   reference_box_query(a, flags, lo, lo))
+
+
+@pytest.mark.parametrize("method", ["octree", "kdtree"])
+def test_trees_refit_for_small_motion_and_rebuild_when_it_spoils_them(method):
+    from marbellous.collision.broadphase.static_tree import F_BUILT_AREA
+
+    a, flags, groups, masks = scene("uniform", 500, seed=4)
+    bp = BroadPhase(method, capacity=500)
+    bp.pairs(a, flags, groups, masks)
+    built = bp.state_f[F_BUILT_AREA]
+    nudged = a + np.array([0.02, -0.01, 0.015, 0.02, -0.01, 0.015])
+    np.testing.assert_array_equal(bp.pairs(nudged, flags, groups, masks),
+                                  reference_pairs(nudged, flags, groups, masks))
+    assert bp.state_f[F_BUILT_AREA] == built                 # refitted, partition kept
+    shuffled = a[np.random.default_rng(5).permutation(500)]  # every body jumps elsewhere
+    np.testing.assert_array_equal(bp.pairs(shuffled, flags, groups, masks),
+                                  reference_pairs(shuffled, flags, groups, masks))
+    assert bp.state_f[F_BUILT_AREA] != built                 # rebuilt
