@@ -359,19 +359,34 @@ def test_boxes_touching_at_corners_along_a_diagonal(method, scale):
                                   reference_box_query(a, flags, lo, lo))
 
 
+def node_area_sum(bp):
+    """Summed surface area of the current node boxes of a rebuilt-tree state (m^2)."""
+    from marbellous.collision.broadphase._common import HEADER_F
+    from marbellous.collision.broadphase.static_tree import I_N_NODES, tree_max_nodes
+
+    m = tree_max_nodes(bp.capacity)
+    bounds = bp.state_f[HEADER_F:HEADER_F + 6 * m].reshape(m, 6)[:bp.state_i[I_N_NODES]]
+    d = bounds[:, 3:] - bounds[:, :3]
+    return float(np.sum(2 * (d[:, 0] * d[:, 1] + d[:, 1] * d[:, 2] + d[:, 2] * d[:, 0])))
+
+
 @pytest.mark.parametrize("method", ["octree", "kdtree"])
 def test_trees_refit_for_small_motion_and_rebuild_when_it_spoils_them(method):
     from marbellous.collision.broadphase.static_tree import F_BUILT_AREA
 
     a, flags, groups, masks = scene("uniform", 500, seed=4)
+    rng = np.random.default_rng(5)
     bp = BroadPhase(method, capacity=500)
     bp.pairs(a, flags, groups, masks)
     built = bp.state_f[F_BUILT_AREA]
-    nudged = a + np.array([0.02, -0.01, 0.015, 0.02, -0.01, 0.015])
+    assert node_area_sum(bp) == pytest.approx(built)
+    step = rng.normal(0, 0.02, (500, 3))
+    nudged = a + np.hstack([step, step])
     np.testing.assert_array_equal(bp.pairs(nudged, flags, groups, masks),
                                   reference_pairs(nudged, flags, groups, masks))
-    assert bp.state_f[F_BUILT_AREA] == built                 # refitted, partition kept
-    shuffled = a[np.random.default_rng(5).permutation(500)]  # every body jumps elsewhere
+    assert bp.state_f[F_BUILT_AREA] == built                 # partition kept,
+    assert node_area_sum(bp) != pytest.approx(built)         # boxes refitted
+    shuffled = a[rng.permutation(500)]                       # every body jumps elsewhere
     np.testing.assert_array_equal(bp.pairs(shuffled, flags, groups, masks),
                                   reference_pairs(shuffled, flags, groups, masks))
-    assert bp.state_f[F_BUILT_AREA] != built                 # rebuilt
+    assert node_area_sum(bp) == pytest.approx(bp.state_f[F_BUILT_AREA])   # rebuilt
