@@ -109,22 +109,29 @@ def _reduce_to_four(pts, keep, m, chosen):
     for q in range(1, m):
         if pts[keep[q], 2] < pts[i1, 2]:
             i1 = keep[q]
-    i2 = -1
-    best = -1.0
+    i2 = i1
+    best = 0.0
     for q in range(m):
         v = keep[q]
         d2 = (pts[v, 0] - pts[i1, 0]) ** 2 + (pts[v, 1] - pts[i1, 1]) ** 2
         if d2 > best:
             best = d2
             i2 = v
-    i3 = -1
-    best = -1.0
+    chosen[0] = i1
+    if i2 == i1:
+        return 1
+    chosen[1] = i2
+    i3 = i1
+    best = 0.0
     for q in range(m):
         v = keep[q]
         a = abs(_area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[v, 0], pts[v, 1]))
         if a > best:
             best = a
             i3 = v
+    if i3 == i1:
+        return 2
+    chosen[2] = i3
     sigma = 1.0 if _area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[i3, 0], pts[i3, 1]) >= 0.0 else -1.0
     i4 = -1
     best = 0.0
@@ -136,9 +143,6 @@ def _reduce_to_four(pts, keep, m, chosen):
         if a < best:
             best = a
             i4 = v
-    chosen[0] = i1
-    chosen[1] = i2
-    chosen[2] = i3
     if i4 < 0:
         return 3
     chosen[3] = i4
@@ -290,12 +294,13 @@ def collide_box_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, 
                 edge_axis = axis if tl >= 0.0 else scale(axis, -1.0)
     size = min(min(ha[0], ha[1]), min(ha[2], min(min(hb[0], hb[1]), hb[2])))
     bias = FACE_BIAS * size
-    best_face = max(best_a, best_b)
+    use_b = best_b > best_a + bias or best_a <= 0.0 < best_b
+    best_face = best_b if use_b else best_a
     if edge_i >= 0 and (best_e > best_face + bias or best_face <= 0.0 < best_e):
         return _edge_contact(pos_a, rot_a, ha, edge_i, pos_b, rot_b, hb, edge_j, edge_axis, best_e,
                              out_f, out_i, n)
     slop = CLIP_SLOP * size
-    if best_b > best_a + bias or best_a <= 0.0 < best_b:
+    if use_b:
         return _face_contact(pos_b, rot_b, hb, face_b, pos_a, rot_a, ha, 1, slop, prediction,
                              out_f, out_i, n)
     return _face_contact(pos_a, rot_a, ha, face_a, pos_b, rot_b, hb, 0, slop, prediction,
