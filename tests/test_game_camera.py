@@ -161,7 +161,7 @@ def test_eye_is_pulled_in_front_of_geometry():
     assert view.eye[0] > wall_x
     assert np.linalg.norm(d) == pytest.approx(2.0 / (6.0 / math.hypot(6.0, 3.0)) - 0.25)
     # the eye stays on the line from the focus to where it wanted to be
-    want = cam.desired_eye() - view.target
+    want = cam.desired_eye() - view.target      # (the marble is at the focus here)
     assert np.linalg.norm(np.cross(d, want)) < 1e-9
     free = cam.update(1 / 60, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), lambda o, d, m: None)
     assert np.allclose(free.eye, cam.desired_eye())

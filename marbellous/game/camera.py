@@ -15,8 +15,8 @@ Three parts, each from a closed form:
   so the camera never overshoots from rest and the step is exact for any frame time.
 * **Look-ahead and no clipping.**  The target leads the marble by its horizontal velocity times
   ``lookahead`` seconds (at most ``max_lookahead`` metres); the yaw turns, with the same smoothing, to
-  the direction of travel; and a ray cast from the focus to the eye pulls the eye in front of any
-  level geometry in between.
+  the direction of travel; and a ray cast from the marble to the eye pulls the eye in front of any
+  level geometry in between (the marble is never inside the level, the smoothed focus may be).
 """
 import math
 from dataclasses import dataclass
@@ -98,7 +98,8 @@ class FollowCamera:
         """Follow the marble at ``position`` (m) moving with ``velocity`` (m/s) for ``h`` seconds.
 
         ``raycast(origin, direction, max_distance)`` returns the distance (m) to the nearest level
-        geometry along the unit ``direction``, or None; the eye is kept ``margin`` in front of it.
+        geometry along the unit ``direction``, or None; a ray from the marble to the eye keeps the eye
+        ``margin`` in front of any geometry in between.
         Returns the :class:`CameraView`.
         """
         if self.anchor is None:
@@ -120,7 +121,7 @@ class FollowCamera:
             self.heading_rate = 0.0
         eye = self.desired_eye()
         if raycast is not None:
-            eye = self.unblocked_eye(eye, raycast)
+            eye = self.unblocked_eye(eye, raycast, position)
         self.eye = eye
         return self.view()
 
@@ -128,14 +129,16 @@ class FollowCamera:
         """The current :class:`CameraView` (copies)."""
         return CameraView(eye=self.eye.copy(), target=self.focus.copy(), fov=self.fov)
 
-    def unblocked_eye(self, eye, raycast):
-        """``eye`` pulled towards the focus so no geometry lies between them (``margin`` m clearance)."""
-        d = eye - self.focus
+    def unblocked_eye(self, eye, raycast, origin):
+        """``eye`` pulled towards ``origin`` (the marble, m) so that no geometry lies between them,
+        with ``margin`` metres of clearance: the marble stays visible and the eye outside the level."""
+        origin = np.asarray(origin, np.float64)
+        d = eye - origin
         length = float(np.linalg.norm(d))
         if length < 1e-9:
             return eye
         d /= length
-        hit = raycast(self.focus, d, length + self.margin)
+        hit = raycast(origin, d, length + self.margin)
         if hit is None:
             return eye
-        return self.focus + d * max(min(hit - self.margin, length), 0.0)
+        return origin + d * max(min(hit - self.margin, length), 0.0)
