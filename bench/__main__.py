@@ -3,7 +3,8 @@
 Every scene is built once in Marbellous (``marbellous.scenes``) and translated body by body into each
 peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (best of the scene's
 repeats), and checked by a sanity measure (``bench/scenes.py``).  Prints a table, writes
-``bench/results/<date>-<host>.json`` and the bar plot ``docs/bench/latest.png``.
+``bench/results/<date>-<host>.json``, the bar plot ``docs/bench/latest.png`` and the table in
+``docs/bench/latest.md``.
 
     python -m bench                         all scenes, all engines (about 10-15 minutes on 2 cores)
     python -m bench --quick                 small scenes, few steps: a check of the harness
@@ -123,7 +124,8 @@ def _sanity_text(s):
 
 def table(results, engines):
     """The results as a text table: ms/step, steps/s, ratio to PyBullet's steps/s, sanity."""
-    lines = [f"{'scene':24s} {'engine':10s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    sanity"]
+    lines = [f"{'scene':24s} {'engine':10s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    "
+             f"sanity"]
     for name, per in results.items():
         ref = per.get("pybullet", {}).get("steps_per_s")
         for engine in engines:
@@ -136,7 +138,8 @@ def table(results, engines):
             ratio = f"{r['steps_per_s'] / ref:.2f}x" if ref else "-"
             ok = "yes" if r["sanity"].get("ok") else "NO"
             note = "" if r["status"] == "ok" else f"  [{r['status']}]"
-            lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['ms_per_step']:10.4f} {r['steps_per_s']:10.1f} "
+            lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
+                         f"{r['steps_per_s']:10.1f} "
                          f"{ratio:>11s}  {ok:5s} {_sanity_text(r['sanity'])}{note}")
     return "\n".join(lines)
 
@@ -223,6 +226,17 @@ def main(argv=None):
     with open(path, "w") as f:
         json.dump(record, f, indent=1)
     print("written", os.path.relpath(path, ROOT))
+    if not args.quick:
+        md = os.path.join(ROOT, "docs", "bench", "latest.md")
+        os.makedirs(os.path.dirname(md), exist_ok=True)
+        with open(md, "w") as f:
+            f.write(f"# Latest benchmark ({machine['date']})\n\n`python -m bench` on {machine['cpu']}, "
+                    f"{machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, Numba "
+                    f"{machine['numba']}, peers {machine['peers']}, commit {machine['git_commit']}"
+                    f"{' (with local changes)' if machine['git_dirty'] else ''}.  60 Hz; ms per step of the "
+                    f"`step()` calls only, best of the scene's repeats; sphere-mesh queries in ms per query "
+                    f"from Python.\n\n```\n{text}\n```\n\n![steps per second](latest.png)\n")
+        print("written", os.path.relpath(md, ROOT))
     if not args.no_plot:
         png = os.path.join(ROOT, "docs", "bench", "latest-quick.png" if args.quick else "latest.png")
         plot(results, args.engines, machine, png)

@@ -36,22 +36,24 @@ def timed_run(run, steps, samples=10, time_cap=None):
     step and the one before), and ``max_penetration`` (m, the deepest over the samples).
     With ``time_cap`` (s) the run stops early once the steps alone have taken that long."""
     chunk = max(1, steps // samples)
-    done = 0
     seconds = 0.0
     trace = [(0, run.positions())]
     pen = run.max_penetration()
     clock = time.perf_counter
-    while done < steps - 1:
-        n = min(chunk, steps - 1 - done)
-        t = clock()
-        for _ in range(n):
+    done = 0
+    capped = False
+    while done < steps - 1 and not capped:
+        for _ in range(min(chunk, steps - 1 - done)):
+            t = clock()
             run.step()
-        seconds += clock() - t
-        done += n
+            seconds += clock() - t
+            done += 1
+            capped = time_cap is not None and seconds > time_cap
+            if capped:
+                break
         trace.append((done, run.positions()))
         pen = max(pen, run.max_penetration())
-        if time_cap is not None and seconds > time_cap:
-            break
+    # the final step, one step after the last sample (speeds at the end)
     t = clock()
     run.step()
     seconds += clock() - t
