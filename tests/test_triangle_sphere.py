@@ -30,7 +30,7 @@ def tup(v):
     return tuple(float(x) for x in v)
 
 
-coord = hst.floats(-2.0, 2.0, allow_nan=False, allow_infinity=False)
+coord = hst.floats(-2.0, 2.0, allow_nan=False, allow_infinity=False, allow_subnormal=False)
 point = hst.tuples(coord, coord, coord).map(np.array)
 
 
@@ -55,21 +55,36 @@ def test_sphere_triangle_matches_reference(a, b, c, p, r, prediction):
         assert feature == FACE or abs(np.linalg.norm(p - np.array(q)) - dist) < 1e-9
     feature, q, normal, depth = sphere_triangle(tup(p), r, tup(a), tup(b), tup(c), tup(n), prediction)
     s = float(np.dot(p - a, n))
-    if kind == "face":
-        expected = None if (s > r + prediction or s < -r) else (r - s, -n)
-    elif dist > r + prediction:
-        expected = None
+    got = None if feature == -1 else (depth, np.array(normal))
+    assert got is None or abs(np.linalg.norm(normal) - 1.0) < 1e-12
+    face = None if (s > r + prediction or s < -r) else (r - s, -n)
+    if dist > r + prediction:
+        edge = None
     elif dist <= 1e-12 * r:      # centre on the triangle: the face normal
-        expected = (r, -n)
+        edge = (r, -n)
     else:
-        expected = (r - dist, (q_ref - p) / dist)
-    if expected is None:
-        assert feature == -1
-        return
-    assert feature >= 0
-    assert abs(depth - expected[0]) < 1e-6
-    assert np.allclose(normal, expected[1], atol=1e-6)
-    assert abs(np.linalg.norm(normal) - 1.0) < 1e-12
+        edge = (r - dist, (q_ref - p) / dist)
+    expected = face if kind == "face" else edge
+    # Behind the one-sided face, depth jumps where the projection crosses the triangle's rim
+    # (face: r - s; outside: r - |P - Q|); within rounding of the rim either answer is right.
+    on_rim = s < 0.0 and rim_distance(p - s * n, a, b, c) < 1e-9
+    assert matches(got, expected) or (on_rim and matches(got, face if kind != "face" else edge))
+
+
+def rim_distance(x, a, b, c):
+    """Distance from a point x in the triangle's plane to the triangle's boundary."""
+    best = np.inf
+    for u, w in ((a, b), (b, c), (c, a)):
+        e = w - u
+        t = np.clip(np.dot(x - u, e) / np.dot(e, e), 0.0, 1.0)
+        best = min(best, np.linalg.norm(x - u - t * e))
+    return best
+
+
+def matches(got, expected):
+    if got is None or expected is None:
+        return got is None and expected is None
+    return abs(got[0] - expected[0]) < 1e-6 and np.allclose(got[1], expected[1], atol=1e-6)
 
 
 A = np.array([0.0, 0.0, 0.0])
