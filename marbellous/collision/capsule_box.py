@@ -157,6 +157,7 @@ def collide_capsule_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, predicti
             normal = to_world(rot_b, nl)
             p_on_a = madd(_box_point_to_world(pos_b, rot_b, xs), r, normal)
             return add_contact(out_f, out_i, n, p_on_a, normal, r - dist, feature)
+        # dist == 0: the segment grazes the box (a rounding-level miss); measure it as meeting
     # the segment meets the box: least overlap over the face axes and the axes u x e_k
     best_face = math.inf
     face_k = 0
