@@ -95,3 +95,5 @@ def test_rgb_render():
     env.reset(seed=0)
     img = env.render()
     assert img.shape == (90, 160, 3) and img.dtype == np.uint8 and img.std() > 5
+    env.close()
+    assert env._renderer is None

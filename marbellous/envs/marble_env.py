@@ -105,3 +105,7 @@ class MarbellousEnv(gym.Env):
         g = self._game
         return self._renderer.render_to_array(g.camera.view(), g.marble.position, g.marble_rotation(), g.hud_lines())
 
+    def close(self):
+        if self._renderer is not None:
+            self._renderer.ctx.release()
+            self._renderer = None
