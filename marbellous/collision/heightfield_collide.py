@@ -25,8 +25,8 @@ import numpy as np
 
 from .._jit import njit
 from . import shape_types as st
-from .triangle_contact import MAX_ROWS, N_COLS, edge_is_true, vertex_ring_passes
-from .triangle_convex import convex_local_bounds, convex_triangle, emit_row, to_static_frame
+from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_ray import ray_triangle
 from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C
 from .vec3 import cross, dot, sub
@@ -116,7 +116,7 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
     """Contacts of convex shape a (SPHERE, CAPSULE or BOX) with the static height field b.
 
     Arguments and buffer convention as ``mesh_collide.collide_convex_mesh``; contacts are in
-    ascending triangle order with feature id ``triangle * 16 + code``.
+    ascending triangle order with feature id ``triangle * 16 + code``, bit-for-bit repeats once.
     """
     dx, dz, x0, y0, z0 = params_b[0], params_b[1], params_b[2], params_b[3], params_b[4]
     nx, nz = int(params_b[5]), int(params_b[6])
@@ -129,6 +129,8 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
     j0 = _cell_index(lo[2], z0, dz, nz - 1)
     j1 = _cell_index(hi[2], z0, dz, nz - 1)
     scratch = np.empty((MAX_ROWS, N_COLS))
+    seen = np.empty((SEEN_ROWS, 7))
+    n_seen = 0
     for i in range(i0, i1 + 1):
         for j in range(j0, j1 + 1):
             h00 = geom_f[off_f_b + i * nz + j]
@@ -161,7 +163,7 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                         if not heightfield_vertex_is_true(params_b, geom_f, off_f_b, i + corner[0],
                                                           j + corner[1], p):
                             continue
-                    n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
+                    n, n_seen = emit_unique(scratch, r, pos_b, rot_b, t, seen, n_seen, out_f, out_i, n)
     return n
 
 

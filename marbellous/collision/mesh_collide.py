@@ -9,7 +9,9 @@
 3. Each live candidate triangle whose box overlaps: the pair test (``triangle_convex``), then edge
    contacts filtered by the neighbour directions and vertex contacts by the vertex's ring
    (``triangle_contact``), so there are no ghost contacts on internal edges anywhere in the mesh.
-4. Contacts go back to world coordinates with feature id ``triangle * 16 + code``.
+4. Contacts go back to world coordinates with feature id ``triangle * 16 + code``; a contact that
+   repeats an earlier one bit for bit (a sphere right over a vertex of a flat grid touches six
+   coplanar faces at the same point) is reported once.
 """
 
 import numpy as np
@@ -19,8 +21,8 @@ from . import mesh_layout as ml
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
 from . import shape_types as st
-from .triangle_contact import MAX_ROWS, N_COLS, edge_is_true, vertex_ring_passes
-from .triangle_convex import convex_local_bounds, convex_triangle, emit_row, to_static_frame
+from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C
 
 
@@ -96,6 +98,8 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
     cand, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
     scratch = np.empty((MAX_ROWS, N_COLS))
+    seen = np.empty((SEEN_ROWS, 7))
+    n_seen = 0
     zero = (0.0, 0.0, 0.0)
     for j in range(count):
         t = cand[j]
@@ -110,5 +114,5 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
         k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
         for r in range(k):
             if keep_row(geom_f, geom_i, off_f_b, off_i_b, t, scratch, r):
-                n = emit_row(scratch, r, pos_b, rot_b, t, out_f, out_i, n)
+                n, n_seen = emit_unique(scratch, r, pos_b, rot_b, t, seen, n_seen, out_f, out_i, n)
     return n

@@ -38,6 +38,8 @@ COL_CENTRE = 8
 N_COLS = 11
 #: Rows of the scratch array: the most contacts one convex shape makes with one triangle.
 MAX_ROWS = 8
+#: Emitted contacts a query remembers to drop exact repeats.
+SEEN_ROWS = 16
 #: A contact's feature id is ``triangle * FEATURE_STRIDE + feature code`` (codes 0..15).
 FEATURE_STRIDE = 16
 #: Relative rounding allowance of the Voronoi tests: ``(P - Q).m2 <= GHOST_ROUNDING |P - Q|``.

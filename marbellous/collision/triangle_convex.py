@@ -78,3 +78,24 @@ def emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n):
               q[2] + pos_b[2] + normal[2] * depth)
     return add_contact(out_f, out_i, n, p_on_a, normal, depth,
                        triangle * FEATURE_STRIDE + int(scratch[k, 7]))
+
+
+@njit
+def emit_unique(scratch, k, pos_b, rot_b, triangle, seen, n_seen, out_f, out_i, n):
+    """``emit_row``, unless row ``k`` repeats (bit for bit: point, normal, depth) a contact already
+    emitted in this query, as happens where triangles of one plane meet right under a sphere.
+
+    ``seen`` (m, 7) remembers the first ``m`` emitted rows; returns ``(n, n_seen)``.
+    """
+    for s in range(min(n_seen, seen.shape[0])):
+        same = True
+        for col in range(7):
+            if seen[s, col] != scratch[k, col]:
+                same = False
+                break
+        if same:
+            return n, n_seen
+    if n_seen < seen.shape[0]:
+        for col in range(7):
+            seen[n_seen, col] = scratch[k, col]
+    return emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n), n_seen + 1
