@@ -10,7 +10,7 @@ from ..shapes import Sphere
 from ..world import World
 
 
-def free_bodies_start(count=10000, *, radius=0.25, spacing=2.0, speed=0.5, seed=0):
+def free_bodies_start(count=10000, *, radius=0.25, spacing=2.0, speed=0.25, seed=0):
     """Start positions (m) and velocities (m/s), each ``(count, 3)``: a lattice ``ceil(count^(1/3))`` wide,
     lifted 1000 m up, velocities uniform in ``[-speed, speed]`` per axis."""
     side = int(np.ceil(count ** (1.0 / 3.0)))
@@ -21,9 +21,9 @@ def free_bodies_start(count=10000, *, radius=0.25, spacing=2.0, speed=0.5, seed=
     return positions, velocities
 
 
-def free_bodies(world=None, *, count=10000, radius=0.25, spacing=2.0, speed=0.5, seed=0):
+def free_bodies(world=None, *, count=10000, radius=0.25, spacing=2.0, speed=0.25, seed=0):
     """``count`` spheres of ``radius`` (m) at ``free_bodies_start``; they never meet while
-    ``2 speed t < spacing - 2 radius``.  Returns ``(world, spheres)``."""
+    ``2 sqrt(3) speed t < spacing - 2 radius`` (1.7 s by default).  Returns ``(world, spheres)``."""
     w = World() if world is None else world
     positions, velocities = free_bodies_start(count, radius=radius, spacing=spacing, speed=speed, seed=seed)
     spheres = [w.add_body(Sphere(radius), position=p, velocity=v) for p, v in zip(positions, velocities)]
