@@ -27,14 +27,9 @@ import math
 from .._jit import njit
 from .vec3 import dot, sub
 
-#: Columns of a scratch row: point on the triangle (3), unit normal from the convex shape to the
-#: triangle (3), depth (m, > 0 overlap), feature code, query point ``P`` of an edge/vertex
-#: contact (3).
-COL_Q = 0
-COL_NORMAL = 3
-COL_DEPTH = 6
-COL_FEATURE = 7
-COL_CENTRE = 8
+#: Columns of a scratch row (see ``write_row``): 0-2 point on the triangle, 3-5 unit normal from
+#: the convex shape to the triangle, 6 depth (m, > 0 overlap), 7 feature code, 8-10 the query
+#: point ``P`` (the sphere's centre, the capsule axis point) whose Voronoi region is tested.
 N_COLS = 11
 #: Rows of the scratch array: the most contacts one convex shape makes with one triangle.
 MAX_ROWS = 8
