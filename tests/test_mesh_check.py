@@ -159,6 +159,12 @@ def test_load_rejects_bad_files(tmp_path, monkeypatch):
     nan.write_text("v 0 0 0\nv 1 nan 0\nv 0 0 1\nf 1 2 3\n")
     with pytest.raises(ValueError, match="path"):
         TriangleMesh.load(nan)
+    hostile = tmp_path / "hostile.ply"      # a header that promises a trillion vertices
+    hostile.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\n"
+                        b"property float x\nproperty float y\nproperty float z\nelement face 999999999\n"
+                        b"property list uchar int vertex_indices\nend_header\n\x00\x00\x00\x00")
+    with pytest.raises(ValueError, match="path"):
+        TriangleMesh.load(hostile)
     v, t = terrain_mesh()
     big = tmp_path / "big.stl"
     trimesh.Trimesh(v, t, process=False).export(big)
