@@ -164,3 +164,19 @@ def test_heightfield_tiles_have_no_seam():
         assert len(f) >= 1
         assert np.all(np.abs(f[:, 3:6] - normal) <= 1e-9)
         assert np.all(np.abs(f[:, 6] - 0.01) <= 1e-9)
+
+
+def test_marble_rolls_across_seams_without_hopping():
+    """Through the public World: a marble rolling diagonally over the patchwork floor (split
+    vertices, T-junctions, a fan) keeps a vertical velocity of zero (no hop at any seam)."""
+    import marbellous as mb
+
+    v, t = patchwork_floor()
+    w = mb.World()
+    w.add_static(mb.TriangleMesh(v, t))
+    marble = w.add_body(mb.Sphere(0.3), position=(0.5, 0.3, 0.5), velocity=(3.0, 0.0, 2.6))
+    for _ in range(240):
+        w.step(1.0 / 120.0)
+        assert abs(marble.velocity[1]) < 1e-9
+        assert abs(marble.position[1] - 0.3) < 1e-3
+    assert marble.position[0] > 4.0 and marble.position[2] > 4.0     # it crossed x = 4 and z = 4
