@@ -9,7 +9,9 @@ Find impulses ``lambda`` with ``lo <= lambda <= hi`` such that, for ``w = (A + d
 (the mixed LCP of contacts and joints; ``lo = 0, hi = inf`` is the plain LCP ``lambda >= 0, w >= 0,
 lambda . w = 0``).  A friction row ``i`` has bounds that follow the normal impulse of its contact,
 ``hi_i = mu_i lambda_{link_i} = -lo_i``; when two friction rows are ``partner`` rows, their pair is
-projected onto the disc ``|(lambda_i, lambda_partner)| <= mu_i lambda_link`` (the friction cone).
+stepped together and projected onto the disc ``|(lambda_i, lambda_partner)| <= mu_i lambda_link`` (the
+friction cone; the projection is radial, exact for the isotropic tangent block of a sphere or a
+centred contact and an approximation otherwise, as in the sequential-impulse solver).
 
 ``A = J M^-1 J^T`` is symmetric positive semi-definite, stored in compressed sparse rows
 (``ptr``, ``col``, ``val``).  One sweep visits every row in order:
@@ -30,42 +32,54 @@ from .._jit import njit
 def solve_bounded_lcp(ptr, col, val, shift, b, lo, hi, link, mu, partner, lam, m, sweeps, omega, tolerance):
     """Solve the bounded LCP of the first ``m`` rows in place in ``lam`` (warm start: its contents).
 
-    ``lo``, ``hi`` are the fixed bounds of rows without a ``link`` (-1); ``tolerance`` stops the sweeps
-    once no row's ``|delta lambda_i| (A_ii + shift_i)`` (a velocity, m/s) exceeds it.  Returns the
-    number of sweeps made (at most ``sweeps``).
+    ``lo``, ``hi`` are the fixed bounds of rows without a ``link`` (-1).  A pair of ``partner`` rows
+    (i < j) is updated together when row i is visited: both steps, then the projection onto the disc.
+    ``tolerance`` stops the sweeps once no row's ``|delta lambda_i| (A_ii + shift_i)`` (a velocity,
+    m/s) exceeds it.  Rows with a zero diagonal move nothing and keep their value.  Returns the number
+    of sweeps made (at most ``sweeps``).
     """
     diag = _diagonal(ptr, col, val, shift, m)
     for sweep in range(sweeps):
         largest = 0.0
         for i in range(m):
-            d = diag[i]
-            if d <= 0.0:
-                lam[i] = 0.0
-                continue
-            w = b[i] + shift[i] * lam[i]
-            for p in range(ptr[i], ptr[i + 1]):
-                w += val[p] * lam[col[p]]
+            j = partner[i]
+            if diag[i] <= 0.0 or 0 <= j < i:
+                continue            # moves nothing, or updated with its partner
             old = lam[i]
-            new = old - omega * w / d
-            if link[i] >= 0:
+            new = old - omega * _residual(ptr, col, val, shift, b, lam, i) / diag[i]
+            if link[i] < 0:
+                new = min(max(new, lo[i]), hi[i])
+            elif j < 0:
                 bound = mu[i] * lam[link[i]]
                 new = min(max(new, -bound), bound)
-                j = partner[i]
-                if j >= 0:
-                    length = math.sqrt(new * new + lam[j] * lam[j])
-                    if length > bound:
-                        scale = bound / length
-                        change_j = lam[j] * (1.0 - scale)
-                        lam[j] *= scale
-                        largest = max(largest, abs(change_j) * diag[j])
-                        new *= scale
             else:
-                new = min(max(new, lo[i]), hi[i])
+                # The friction disc: step both tangents, then scale back onto |lambda_t| <= mu lambda_n.
+                old_j = lam[j]
+                new_j = old_j
+                if diag[j] > 0.0:
+                    new_j = old_j - omega * _residual(ptr, col, val, shift, b, lam, j) / diag[j]
+                bound = mu[i] * lam[link[i]]
+                length = math.sqrt(new * new + new_j * new_j)
+                if length > bound:
+                    scale = bound / length if length > 0.0 else 0.0
+                    new *= scale
+                    new_j *= scale
+                lam[j] = new_j
+                largest = max(largest, abs(new_j - old_j) * diag[j])
             lam[i] = new
-            largest = max(largest, abs(new - old) * d)
+            largest = max(largest, abs(new - old) * diag[i])
         if largest <= tolerance:
             return sweep + 1
     return sweeps
+
+
+@njit
+def _residual(ptr, col, val, shift, b, lam, i):
+    """``w_i = ((A + diag(shift)) lambda + b)_i``, the constrained velocity of row i."""
+    w = b[i] + shift[i] * lam[i]
+    for p in range(ptr[i], ptr[i + 1]):
+        w += val[p] * lam[col[p]]
+    return w
 
 
 @njit

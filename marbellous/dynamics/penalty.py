@@ -8,8 +8,8 @@ now, updated from the bodies' motion since detection) pushes b along the normal 
 
 where ``m_n`` is the contact's effective mass along the normal (``1 / (J M^-1 J^T)``), so every contact
 is a damped oscillator of frequency ``f`` whatever the masses.  The damping ratio follows from the
-coefficient of restitution ``e`` of the pair: a half-period of the damped oscillator returns the
-approach speed times ``e`` when ``zeta = -ln e / sqrt(pi^2 + ln^2 e)`` (capped at 1, critical, for e = 0).
+coefficient of restitution ``e`` of the pair: the spring lets go with ``e`` times the approach speed
+(see :func:`spring_restitution`); below ``e = exp(-2)`` it is critical, 1.
 
 Stability.  The semi-implicit Euler update of a damped oscillator is stable for
 ``(omega h)^2 + 4 zeta omega h < 4``; a column of contacts has modes up to twice the single-contact
@@ -17,12 +17,22 @@ frequency, so ``f`` is capped at ``STABLE_FRACTION / h`` (omega h <= 0.4, i.e. a
 a stack: 0.64 + 3.2 zeta < 4 for zeta <= 1).  A resting body sinks in by ``g / omega^2`` per contact
 layer (about 1 mm at h = 1/240 s), the price of the method; more sub-steps make the springs stiffer.
 
-Friction is a regularised Coulomb force on the tangent plane, the force that would stop the sliding
-within the sub-step, bounded by the cone:
+Friction is a tangential spring at the contact (Cundall and Strack 1979), stretched by the sliding of
+the contact points and limited by Coulomb's cone, with a critically damped dashpot beside it:
 
-    F_t = -(m_t1 v_t1, m_t2 v_t2) / h,   |F_t| <= mu F_n    (mu = mu_s while sticking, mu_d sliding)
+    S  <- S - m_t omega^2 v_t h          (the spring's force follows the tangential displacement)
+    F_t = S - 2 m_t omega v_t,   |F_t| <= mu F_n   (scaled back onto the cone, and then S = F_t)
 
-and rolling resistance a torque ``-I_r dw / h`` on the relative angular velocity ``dw = w_b - w_a``,
+per tangent of the contact basis (``m_t`` the effective mass along it), so a body held by static
+friction rests on a stretched spring instead of creeping, and a sliding one feels ``mu F_n`` against
+its motion.  The spring force ``S h`` is the contact's friction impulse (C_LAMBDA_T1, C_LAMBDA_T2),
+carried from sub-step to sub-step and, matched by feature, from step to step.  A contact sticks
+(``mu = mu_s``) until its friction reaches the cone, then slides (``mu = mu_d``) until the spring and
+dashpot ask for less than ``mu_d F_n`` again.  "Sliding" is read off the stored impulses (a spring on
+the dynamic cone, or on the static one while the contact moves faster than ``slide_speed``), not off
+the speed alone: a spring that builds up its force lets a landing contact slip for a moment.
+
+Rolling resistance is a torque ``-I_r dw / h`` on the relative angular velocity ``dw = w_b - w_a``,
 bounded by ``rho F_n`` (``I_r = 1 / (d . (I_a^-1 + I_b^-1) d)``, ``d = dw / |dw|``).
 
 The forces are added to the bodies' force and torque accumulators before the integrator runs, so
@@ -42,22 +52,55 @@ from .rigid import relative_velocity
 
 #: The contact frequency is at most this fraction of the sub-step rate (omega h <= 2 pi * 0.064 = 0.4).
 STABLE_FRACTION = 0.4 / (2.0 * math.pi)
+#: The friction springs' frequency relative to the normal springs'.
+TANGENT_FRACTION = 0.5
+
+
+@njit
+def spring_restitution(zeta):
+    """Coefficient of restitution of a contact spring with damping ratio ``zeta`` in [0, 1] that never pulls.
+
+    With overlap ``d`` (``d(0) = 0``, ``d'(0) = v0``), ``d'' + 2 zeta w0 d' + w0^2 d = 0`` and the contact
+    ends when the force ``w0^2 d + 2 zeta w0 d'`` (that is ``-d''``) reaches zero, before d does.  With
+    ``w = w0 sqrt(1 - zeta^2)`` and the phase ``phi = atan2(2 zeta w0 w, (zeta w0)^2 - w^2)`` at which
+    ``d'' = 0``:
+
+        e = -d'(phi / w) / v0 = exp(-zeta w0 phi / w) ((zeta w0 / w) sin phi - cos phi)
+
+    (``e = 1`` at zeta = 0, ``e = exp(-2)`` at critical damping; Schwager and Poeschel, Phys. Rev. E 2007).
+    """
+    if zeta >= 1.0:
+        return math.exp(-2.0)
+    w = math.sqrt(1.0 - zeta * zeta)
+    phi = math.atan2(2.0 * zeta * w, zeta * zeta - w * w)
+    return math.exp(-zeta * phi / w) * ((zeta / w) * math.sin(phi) - math.cos(phi))
 
 
 @njit
 def damping_ratio(e):
-    """Damping ratio of a contact spring that rebounds with restitution ``e`` in [0, 1] (1 for e = 0)."""
-    if e <= 0.0:
+    """Damping ratio in [0, 1] of the contact spring that rebounds with restitution ``e`` (bisection of
+    :func:`spring_restitution`); restitutions below ``exp(-2) = 0.135``, which would need an over-damped
+    spring (unstable at the sub-step), get critical damping."""
+    if e >= 1.0:
+        return 0.0
+    if e <= math.exp(-2.0):
         return 1.0
-    log_e = math.log(e)
-    return min(-log_e / math.sqrt(math.pi * math.pi + log_e * log_e), 1.0)
+    lo, hi = 0.0, 1.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        if spring_restitution(mid) > e:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 @njit
-def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, saved):
+def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
     """Stage "penalty forces": add every contact spring's force and torque to the accumulators.
 
-    ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step.
+    ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step;
+    a contact breaking loose from the static cone slides if its tangential speed exceeds ``slide_speed`` (m/s).
     The accumulators' previous contents (the user's forces) are kept in ``saved`` (nb, 6) for
     :func:`restore_user_forces`.
     """
@@ -65,6 +108,7 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, saved):
         for k in range(6):
             saved[i, k] = bf[i, FORCE + k]
     omega = 2.0 * math.pi * min(hertz, STABLE_FRACTION / h)
+    omega_t = TANGENT_FRACTION * omega
     F = bf[:, FORCE:FORCE + 3]
     T = bf[:, TORQUE:TORQUE + 3]
     dv = np.empty(3)
@@ -72,46 +116,67 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, saved):
     for c in range(nc):
         for k in range(3):
             cf[c, C_LAMBDA_R + k] = 0.0
+        last_n = cf[c, C_LAMBDA_N]
+        last_t = math.sqrt(cf[c, C_LAMBDA_T1] ** 2 + cf[c, C_LAMBDA_T2] ** 2)
         cf[c, C_LAMBDA_N] = 0.0
-        cf[c, C_LAMBDA_T1] = 0.0
-        cf[c, C_LAMBDA_T2] = 0.0
-        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
-            continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
         depth = -_separation(bf, cf, c, a, b)
         m_n = cf[c, C_MASS_N]
-        if depth <= 0.0 or m_n == 0.0:
+        if depth <= 0.0 or m_n == 0.0 or (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            cf[c, C_LAMBDA_T1] = 0.0      # out of touch: the friction spring lets go
+            cf[c, C_LAMBDA_T2] = 0.0
             continue
         n = cf[c, C_NORMAL:C_NORMAL + 3]
         relative_velocity(bf, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], dv)
         vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
+        # Sliding: the friction spring sat on the dynamic cone, or it broke loose from the static cone and
+        # the contact points are moving apart faster than slide_speed.
+        fast = dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2] - vn * vn > slide_speed * slide_speed
+        sliding = last_n > 0.0 and (_on_cone(last_t, cf[c, C_MU_D] * last_n)
+                                    or (fast and _on_cone(last_t, cf[c, C_MU_S] * last_n)))
+        mu = cf[c, C_MU_D] if sliding else cf[c, C_MU_S]
         zeta = damping_ratio(cf[c, C_E])
         fn = max(m_n * omega * (omega * depth - 2.0 * zeta * vn), 0.0)
         if fn == 0.0:
+            cf[c, C_LAMBDA_T1] = 0.0
+            cf[c, C_LAMBDA_T2] = 0.0
             continue
-        # Friction: the force that stops the sliding in one sub-step, within the Coulomb disc.
+        # Friction: tangential spring S (stored as the impulse S h) and dashpot, within the Coulomb disc.
         t1 = cf[c, C_T1:C_T1 + 3]
         t2 = cf[c, C_T2:C_T2 + 3]
-        f1 = -cf[c, C_MASS_T1] * (dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2]) / h
-        f2 = -cf[c, C_MASS_T2] * (dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2]) / h
-        mu = cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S]
+        v1 = dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2]
+        v2 = dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2]
+        s1 = cf[c, C_LAMBDA_T1] / h - cf[c, C_MASS_T1] * omega_t * omega_t * v1 * h
+        s2 = cf[c, C_LAMBDA_T2] / h - cf[c, C_MASS_T2] * omega_t * omega_t * v2 * h
+        f1 = s1 - 2.0 * cf[c, C_MASS_T1] * omega_t * v1
+        f2 = s2 - 2.0 * cf[c, C_MASS_T2] * omega_t * v2
         length = math.sqrt(f1 * f1 + f2 * f2)
         if length > mu * fn:
             scale = mu * fn / length
             f1 *= scale
             f2 *= scale
+            s1, s2 = f1, f2
+            ci[c, C_FLAGS] |= CP_SLIDING
+        else:
+            ci[c, C_FLAGS] &= ~CP_SLIDING
         for k in range(3):
             f[k] = fn * n[k] + f1 * t1[k] + f2 * t2[k]
         # f acts on b and -f on a, at the contact's offsets of the step's start (as the impulse solvers).
         _push(F, T, b, cf[c, C_RB:C_RB + 3], f, 1.0)
         _push(F, T, a, cf[c, C_RA:C_RA + 3], f, -1.0)
         cf[c, C_LAMBDA_N] = fn * h
-        cf[c, C_LAMBDA_T1] = f1 * h
-        cf[c, C_LAMBDA_T2] = f2 * h
+        cf[c, C_LAMBDA_T1] = s1 * h
+        cf[c, C_LAMBDA_T2] = s2 * h
         cf[c, C_MAX_N] = max(cf[c, C_MAX_N], fn * h)
         if cf[c, C_ROLL] > 0.0:
             _rolling_torque(bf, cf, c, sb, a, b, cf[c, C_ROLL] * fn, h, T)
+
+
+@njit
+def _on_cone(friction, bound):
+    """True if ``friction`` equals the cone's ``bound`` up to the round-off of storing and re-projecting it."""
+    return abs(friction - bound) <= 1e-6 * bound
 
 
 @njit
