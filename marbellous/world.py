@@ -181,6 +181,11 @@ class World:
         self.sleep_linear_speed = 0.05
         self.sleep_angular_speed = 0.05
         self.time_to_sleep = 0.5
+        #: solver "penalty": frequency (Hz) of the contact springs, capped at 0.064 times the sub-step rate.
+        self.penalty_hertz = 30.0
+        #: solver "lcp": most projected Gauss-Seidel sweeps per solve, and their over-relaxation in (0, 2).
+        self.lcp_sweeps = 100
+        self.lcp_relaxation = 1.0
 
     # --- properties -------------------------------------------------------------------------------
     @property
@@ -488,6 +493,10 @@ class World:
         pi[S.P_SUBSTEPS] = self.substeps
         pi[S.P_ITERATIONS] = self.iterations
         pi[S.P_BROADPHASE] = BROADPHASE_CODES[self.broadphase]
+        pi[S.P_SOLVER] = SOLVERS.index(self.solver)
+        pf[S.P_PENALTY_HERTZ] = self.penalty_hertz
+        pi[S.P_LCP_SWEEPS] = int(self.lcp_sweeps)
+        pf[S.P_LCP_SOR] = self.lcp_relaxation
         while True:
             status = S.step_world(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
                                   self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,

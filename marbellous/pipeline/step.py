@@ -8,6 +8,8 @@
         integrate velocities    forces (gravity, user, springs) -> velocities, by the chosen integrator
         warm start              apply last sub-step's impulses (joints, contacts)
         solve                   sequential impulses with soft position correction, adaptive iterations
+                                (solver "lcp": all rows as one assembled LCP; "penalty": contact springs
+                                added to the forces before integrating, joints by impulses)
         integrate positions     velocities -> poses, quaternions renormalised
         relax                   sequential impulses without position bias (removes correction velocity)
         store impulses          add the sub-step's impulses to the step's totals
@@ -27,6 +29,8 @@ from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, pr
                                        solve_contacts, store_friction_state, warm_start_contacts)
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
+from ..dynamics.lcp import solve_lcp
+from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.springs import clear_spring_forces
 from ..dynamics.soft import soft_coefficients
@@ -50,13 +54,20 @@ P_SLEEP_LINEAR = 12     # rest tolerance, linear (m/s)
 P_SLEEP_ANGULAR = 13    # rest tolerance, angular (rad/s)
 P_TIME_TO_SLEEP = 14    # seconds at rest before an island sleeps (<= 0: never)
 P_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s)
-PF_LEN = 16
+P_PENALTY_HERTZ = 16    # penalty scheme: frequency of the contact springs (Hz)
+P_LCP_SOR = 17          # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
+PF_LEN = 18
 # params_i layout
 P_INTEGRATOR = 0
 P_SUBSTEPS = 1
 P_ITERATIONS = 2        # most velocity iterations per sub-step
 P_BROADPHASE = 3
-PI_LEN = 4
+P_SOLVER = 4            # SEQUENTIAL_IMPULSE, PENALTY or LCP (the order of world.SOLVERS)
+P_LCP_SWEEPS = 5        # LCP scheme: most projected Gauss-Seidel sweeps per solve
+PI_LEN = 6
+SEQUENTIAL_IMPULSE = 0
+PENALTY = 1
+LCP = 2
 # stats (int64) written by the step
 S_PAIRS = 0             # candidate pairs found by the broad phase
 S_CONTACTS = 1          # contact points found by the narrow phase
@@ -117,25 +128,49 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     joint_totals = np.zeros(nk)
     clear_spring_forces(kf, ki, nk)
     iterations_used = 0
+    solver = params_i[P_SOLVER]
+    user_forces = np.empty((nb, 6))
     for _ in range(substeps):
+        if solver == PENALTY:
+            add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
+                               user_forces)
         integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
                              1.0 / substeps)
+        if solver == PENALTY:
+            restore_user_forces(bf, nb, user_forces)
         prepare_solver_bodies(bf, bi, nb, sb)
         warm_start_joints(bf, kf, ki, nk, sb)
-        warm_start_contacts(bf, cf, ci, nc, sb)
-        for _ in range(params_i[P_ITERATIONS]):
-            iterations_used += 1
-            change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft)
-            change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft, params_f[P_MAX_PUSH]))
-            if change < params_f[P_TOLERANCE]:
-                break
+        if solver == SEQUENTIAL_IMPULSE:
+            warm_start_contacts(bf, cf, ci, nc, sb)
+            for _ in range(params_i[P_ITERATIONS]):
+                iterations_used += 1
+                change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft)
+                change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft,
+                                                    params_f[P_MAX_PUSH]))
+                if change < params_f[P_TOLERANCE]:
+                    break
+        elif solver == PENALTY:
+            for _ in range(params_i[P_ITERATIONS]):
+                iterations_used += 1
+                if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft) < params_f[P_TOLERANCE]:
+                    break
+        else:
+            warm_start_contacts(bf, cf, ci, nc, sb)
+            iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft, joint_soft,
+                                         params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR],
+                                         params_f[P_TOLERANCE])
         integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
         for i in range(nb):
             for k in range(3):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
         prepare_solver_bodies(bf, bi, nb, sb)
-        solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft)
-        solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+        if solver == LCP:
+            solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
+                      params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR], params_f[P_TOLERANCE])
+        else:
+            solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft)
+            if solver == SEQUENTIAL_IMPULSE:
+                solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
         accumulate_applied(cf, ci, nc)
         for c in range(nk):
             joint_totals[c] += kf[c, K_IMPULSE]
@@ -143,7 +178,8 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     stats[S_ITERATIONS] = iterations_used
 
     # --- end of step ---------------------------------------------------------------------------------------
-    apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
+    if solver != PENALTY:     # the penalty springs' damping gives the restitution
+        apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
     store_friction_state(cf, ci, nc)
     record_joint_forces(bf, kf, ki, nk, dt, joint_totals)
     break_overloaded(kf, ki, nk)
