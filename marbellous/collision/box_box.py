@@ -177,7 +177,11 @@ def _face_contact(pos_r, rot_r, h_r, axis, pos_i, rot_i, h_i, ref_is_b, slop, pr
     hv = h_i[(inc + 1) % 3]
     hw = h_i[(inc + 2) % 3]
     poly = np.empty((2, 8, 3))
-    labels = np.empty((2, 8, 2), np.int64)
+    # one integer scratch array: polygon edge labels (2 x 8 x 2), kept points (8), chosen (4)
+    scratch = np.empty(44, np.int64)
+    labels = scratch[:32].reshape((2, 8, 2))
+    keep = scratch[32:40]
+    chosen = scratch[40:44]
     for v in range(4):
         sv = 1.0 if v == 0 or v == 3 else -1.0
         sw = 1.0 if v < 2 else -1.0
@@ -189,13 +193,11 @@ def _face_contact(pos_r, rot_r, h_r, axis, pos_i, rot_i, h_i, ref_is_b, slop, pr
         labels[0, v, 1] = v
     buf, count = _clip_incident_face(h_r, axis, slop, poly, labels)
     pts = poly[buf]
-    keep = np.empty(8, np.int64)
     m = 0
     for q in range(count):
         if -pts[q, 2] >= -prediction:
             keep[m] = q
             m += 1
-    chosen = np.empty(4, np.int64)
     m = _reduce_to_four(pts, keep, m, chosen)
     face_r = 2 * axis + (0 if s > 0.0 else 1)
     face_i = 2 * inc + (0 if si > 0.0 else 1)
