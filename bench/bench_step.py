@@ -33,7 +33,7 @@ def steps_per_second(n_bodies, steps):
 
     w = mb.World(gravity=(0.0, -9.81, 0.0))
     for i in range(n_bodies):
-        w.add_body(mb.Sphere(0.5), position=(i % 100, 1000.0, i // 100))
+        w.add_body(mb.Sphere(0.5), position=(2.0 * (i % 100), 1000.0, 2.0 * (i // 100)))  # 1 m apart
     w.step(1 / 60)
     t = time.perf_counter()
     for _ in range(steps):

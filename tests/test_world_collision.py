@@ -122,13 +122,14 @@ def test_raycast_finds_the_nearest_body_of_each_shape():
 
 
 def test_contacts_keep_features_across_steps():
-    # A box resting on a mesh keeps the same contact features, so impulses are warm-started.
+    # A box resting inside one triangle of a mesh keeps the same contact features, so impulses are
+    # warm-started.  (Over shared edges a corner can change triangle, and with it its feature id.)
     verts, tris = grid_mesh(8, 4.0)
     w = mb.World(sleeping=False)
     w.add_static(mb.TriangleMesh(verts, tris))
-    w.add_body(mb.Box((0.4, 0.2, 0.3)), position=(0.1, 0.2, 0.2))
+    w.add_body(mb.Box((0.1, 0.05, 0.1)), position=(0.7, 0.05, 0.25))
     for _ in range(60):
         w.step(DT)
     n = w._npc
-    assert n >= 4
+    assert n == 4
     assert np.all(w._pci[:n, L.C_FLAGS] & L.CP_MATCHED)
