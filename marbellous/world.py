@@ -74,6 +74,27 @@ class Snapshot:
         return h.hexdigest()
 
 
+class _Tunable:
+    """A physical tunable of the world (a float): validated on assignment, refreshes the kernel parameters."""
+
+    def __init__(self, default, doc, **rule):
+        self.default = default
+        self.rule = rule
+        self.__doc__ = doc
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        return obj.__dict__.get(self.name, self.default)
+
+    def __set__(self, obj, value):
+        obj.__dict__[self.name] = as_float(self.name, value, **self.rule)
+        obj._params_dt = None
+
+
 def _grow(arr, needed):
     """``arr`` with at least ``needed`` rows (capacity doubling); new rows are zero."""
     cap = arr.shape[0]
@@ -124,19 +145,41 @@ class World:
     ``"brute"``, ``"sap"``, ``"grid"``, ``"bvh"``, ``"octree"``, ``"kdtree"``, ``"bsp"``.
     """
 
+    # Physical tunables: validated on assignment; docs/architecture.md explains each in physical terms.
+    speculative_distance = _Tunable(0.02, "gap (m) below which a contact is made before bodies touch",
+                                    nonnegative=True)
+    contact_hertz = _Tunable(60.0, "stiffness of contact position correction, as a frequency (Hz); "
+                                   "capped at a quarter of the sub-step rate", positive=True)
+    contact_damping_ratio = _Tunable(10.0, "damping ratio of contact position correction", nonnegative=True)
+    joint_hertz = _Tunable(60.0, "stiffness of rod and cable correction (Hz); capped at half the sub-step rate",
+                           positive=True)
+    joint_damping_ratio = _Tunable(2.0, "damping ratio of rod and cable correction", nonnegative=True)
+    max_push_speed = _Tunable(3.0, "fastest speed (m/s) at which overlapping bodies are pushed apart",
+                              positive=True)
+    slide_speed = _Tunable(0.01, "tangential speed (m/s) above which a new contact slides (dynamic "
+                                 "friction) rather than sticks (static friction)", nonnegative=True)
+    velocity_tolerance = _Tunable(1e-5, "the solver stops iterating a sub-step once no velocity changes by "
+                                        "more than this (m/s)", nonnegative=True)
+    sleep_linear_speed = _Tunable(0.05, "a body slower than this (m/s) is at rest", nonnegative=True)
+    sleep_angular_speed = _Tunable(0.05, "a body turning slower than this (rad/s) is at rest", nonnegative=True)
+    time_to_sleep = _Tunable(0.5, "seconds an island must rest before it sleeps", positive=True)
+    penalty_hertz = _Tunable(30.0, "solver \"penalty\": frequency (Hz) of the contact springs, capped at "
+                                   "0.064 times the sub-step rate for stability", positive=True)
+    lcp_sweeps = _Tunable(100.0, "solver \"lcp\": most projected Gauss-Seidel sweeps per solve (a whole "
+                                 "number)", lo=1.0, hi=1e6)
+    lcp_relaxation = _Tunable(1.0, "solver \"lcp\": over-relaxation factor of projected Gauss-Seidel, in "
+                                   "(0, 2)", positive=True, hi=1.99)
+
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
-                 substeps=None, integrator="semi_implicit_euler", broadphase="sap", ccd=True, sleeping=True):
-        self._gravity = as_vec3("gravity", gravity)
-        self.solver = as_choice("solver", solver, SOLVERS)
-        self.integrator = as_choice("integrator", integrator, INTEGRATORS)
-        self.broadphase = as_choice("broadphase", broadphase, BROADPHASES)
-        self.iterations = DEFAULT_ITERATIONS if iterations is None else as_int("iterations", iterations, lo=1,
-                                                                               hi=10000)
-        self.substeps = DEFAULT_SUBSTEPS if substeps is None else as_int("substeps", substeps, lo=1, hi=1000)
-        if not isinstance(ccd, bool):
-            raise TypeError(f"ccd must be True or False, got {ccd!r}")
-        if not isinstance(sleeping, bool):
-            raise TypeError(f"sleeping must be True or False, got {sleeping!r}")
+                 substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True):
+        self._params_f = np.zeros(S.PF_LEN)
+        self._params_i = np.zeros(S.PI_LEN, dtype=np.int64)
+        self._params_dt = None  # dt the parameters were last computed for (None: recompute)
+        self.gravity = gravity
+        self.solver = solver
+        self.integrator = integrator
+        self.iterations = DEFAULT_ITERATIONS if iterations is None else iterations
+        self.substeps = DEFAULT_SUBSTEPS if substeps is None else substeps
         self.ccd = ccd
         self.sleeping = sleeping
         self._bf = np.zeros((8, L.BF_COLS))
@@ -154,13 +197,11 @@ class World:
         self._bodies = []        # Body handle per row (None once removed)
         self._constraints = []   # Constraint handle per row (None once removed)
         self._accumulator = 0.0
-        self._params_f = np.zeros(S.PF_LEN)
-        self._params_i = np.zeros(S.PI_LEN, dtype=np.int64)
         self._stats = np.zeros(S.STATS_LEN, dtype=np.int64)
         # Collision detection: body boxes, broad-phase state, candidate pairs, contact points (this
         # step's and last step's, swapped after each step: the last one is the warm-start cache).
         self._aabbs = np.zeros((8, 6))
-        self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], 8)
+        self.broadphase = broadphase
         self._pairs = np.zeros((64, 2), dtype=np.int64)
         self._raw_f = np.zeros((64, 7))
         self._raw_i = np.zeros(64, dtype=np.int64)
@@ -169,23 +210,6 @@ class World:
         self._pcf = np.zeros((64, L.CF_COLS))
         self._pci = np.zeros((64, L.CI_COLS), dtype=np.int64)
         self._npc = 0
-        #: Tunables in physical units (see docs/architecture.md); change them before stepping.
-        self.speculative_distance = 0.02
-        self.contact_hertz = 60.0
-        self.contact_damping_ratio = 10.0
-        self.joint_hertz = 60.0
-        self.joint_damping_ratio = 2.0
-        self.max_push_speed = 3.0
-        self.slide_speed = 0.01
-        self.velocity_tolerance = 1e-5
-        self.sleep_linear_speed = 0.05
-        self.sleep_angular_speed = 0.05
-        self.time_to_sleep = 0.5
-        #: solver "penalty": frequency (Hz) of the contact springs, capped at 0.064 times the sub-step rate.
-        self.penalty_hertz = 30.0
-        #: solver "lcp": most projected Gauss-Seidel sweeps per solve, and their over-relaxation in (0, 2).
-        self.lcp_sweeps = 100
-        self.lcp_relaxation = 1.0
 
     # --- properties -------------------------------------------------------------------------------
     @property
@@ -196,6 +220,78 @@ class World:
     @gravity.setter
     def gravity(self, value):
         self._gravity = as_vec3("gravity", value)
+        self._params_dt = None
+
+    @property
+    def solver(self):
+        """Collision handling: ``"sequential_impulse"``, ``"penalty"`` or ``"lcp"``."""
+        return self._solver
+
+    @solver.setter
+    def solver(self, value):
+        self._solver = as_choice("solver", value, SOLVERS)
+        self._params_dt = None
+
+    @property
+    def integrator(self):
+        """``"explicit_euler"``, ``"semi_implicit_euler"``, ``"verlet"`` or ``"rk4"``."""
+        return self._integrator
+
+    @integrator.setter
+    def integrator(self, value):
+        self._integrator = as_choice("integrator", value, INTEGRATORS)
+        self._params_dt = None
+
+    @property
+    def broadphase(self):
+        """Broad phase: one of ``BROADPHASES``; all find the same pairs in the same order, only speed differs."""
+        return self._broadphase
+
+    @broadphase.setter
+    def broadphase(self, value):
+        self._broadphase = as_choice("broadphase", value, BROADPHASES)
+        self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self._broadphase], self._aabbs.shape[0])
+        self._params_dt = None
+
+    @property
+    def iterations(self):
+        """Most velocity iterations per sub-step (the solver stops earlier once converged)."""
+        return self._iterations
+
+    @iterations.setter
+    def iterations(self, value):
+        self._iterations = as_int("iterations", value, lo=1, hi=10000)
+        self._params_dt = None
+
+    @property
+    def substeps(self):
+        """Sub-steps per step: each integrates, solves and relaxes over dt / substeps."""
+        return self._substeps
+
+    @substeps.setter
+    def substeps(self, value):
+        self._substeps = as_int("substeps", value, lo=1, hi=1000)
+        self._params_dt = None
+
+    @property
+    def ccd(self):
+        """Continuous collision: contacts are predicted along each body's motion in the step (speculative)."""
+        return self._ccd
+
+    @ccd.setter
+    def ccd(self, value):
+        self._ccd = self._check_flag("ccd", value)
+        self._params_dt = None
+
+    @property
+    def sleeping(self):
+        """Whether resting islands fall asleep."""
+        return self._sleeping
+
+    @sleeping.setter
+    def sleeping(self, value):
+        self._sleeping = self._check_flag("sleeping", value)
+        self._params_dt = None
 
     @property
     def time(self):
@@ -326,6 +422,8 @@ class World:
         flags = L.F_ALIVE | L.F_RESTART
         if static:
             flags |= L.F_STATIC
+        elif np.array_equal(inertia, np.eye(3) * inertia[0, 0]):
+            flags |= L.F_ISOTROPIC
         if sensor:
             flags |= L.F_SENSOR
         self._bi[i] = (flags, s0, len(parts), 1, -1, -1)
@@ -470,33 +568,11 @@ class World:
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt):
         """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps)."""
-        dt = as_float("dt", dt, positive=True)
+        if not (type(dt) is float and 0.0 < dt < math.inf):
+            dt = as_float("dt", dt, positive=True)
+        if dt != self._params_dt:
+            self._refresh_params(dt)
         pf, pi = self._params_f, self._params_i
-        pf[S.P_DT] = dt
-        pf[S.P_GRAVITY:S.P_GRAVITY + 3] = self._gravity
-        h = dt / self.substeps
-        pf[S.P_SPECULATIVE] = self.speculative_distance
-        # Contacts no stiffer than a quarter of the sub-step rate (stable for any dt).
-        pf[S.P_CONTACT_HERTZ] = min(self.contact_hertz, 0.25 / h)
-        pf[S.P_CONTACT_ZETA] = self.contact_damping_ratio
-        pf[S.P_JOINT_HERTZ] = min(self.joint_hertz, 0.5 / h)
-        pf[S.P_JOINT_ZETA] = self.joint_damping_ratio
-        pf[S.P_MAX_PUSH] = self.max_push_speed
-        pf[S.P_SLIDE_SPEED] = self.slide_speed
-        pf[S.P_TOLERANCE] = self.velocity_tolerance
-        pf[S.P_SLEEP_LINEAR] = self.sleep_linear_speed
-        pf[S.P_SLEEP_ANGULAR] = self.sleep_angular_speed
-        pf[S.P_TIME_TO_SLEEP] = self.time_to_sleep if self.sleeping else 0.0
-        # A contact closing no faster than gravity makes in one sub-step is resting, not bouncing.
-        pf[S.P_RESTITUTION_SPEED] = float(np.linalg.norm(self._gravity)) * h
-        pi[S.P_INTEGRATOR] = INTEGRATORS.index(self.integrator)
-        pi[S.P_SUBSTEPS] = self.substeps
-        pi[S.P_ITERATIONS] = self.iterations
-        pi[S.P_BROADPHASE] = BROADPHASE_CODES[self.broadphase]
-        pi[S.P_SOLVER] = SOLVERS.index(self.solver)
-        pf[S.P_PENALTY_HERTZ] = self.penalty_hertz
-        pi[S.P_LCP_SWEEPS] = int(self.lcp_sweeps)
-        pf[S.P_LCP_SOR] = self.lcp_relaxation
         while True:
             status = S.step_world(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
                                   self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
@@ -512,6 +588,37 @@ class World:
         self._cf, self._pcf = self._pcf, self._cf
         self._ci, self._pci = self._pci, self._ci
         self._npc = int(self._stats[S.S_CONTACTS])
+
+    def _refresh_params(self, dt):
+        """Fill the kernel parameter arrays for steps of ``dt`` seconds."""
+        pf, pi = self._params_f, self._params_i
+        pf[S.P_DT] = dt
+        pf[S.P_GRAVITY:S.P_GRAVITY + 3] = self._gravity
+        h = dt / self.substeps
+        pf[S.P_SPECULATIVE] = self.speculative_distance
+        # Contacts no stiffer than a quarter of the sub-step rate, joints half (stable for any dt).
+        pf[S.P_CONTACT_HERTZ] = min(self.contact_hertz, 0.25 / h)
+        pf[S.P_CONTACT_ZETA] = self.contact_damping_ratio
+        pf[S.P_JOINT_HERTZ] = min(self.joint_hertz, 0.5 / h)
+        pf[S.P_JOINT_ZETA] = self.joint_damping_ratio
+        pf[S.P_MAX_PUSH] = self.max_push_speed
+        pf[S.P_SLIDE_SPEED] = self.slide_speed
+        pf[S.P_TOLERANCE] = self.velocity_tolerance
+        pf[S.P_SLEEP_LINEAR] = self.sleep_linear_speed
+        pf[S.P_SLEEP_ANGULAR] = self.sleep_angular_speed
+        pf[S.P_TIME_TO_SLEEP] = self.time_to_sleep if self.sleeping else 0.0
+        # A contact closing no faster than gravity makes in one sub-step is resting, not bouncing.
+        pf[S.P_RESTITUTION_SPEED] = float(np.linalg.norm(self._gravity)) * h
+        pf[S.P_SWEEP] = 1.0 if self.ccd else 0.0
+        pi[S.P_INTEGRATOR] = INTEGRATORS.index(self.integrator)
+        pi[S.P_SUBSTEPS] = self.substeps
+        pi[S.P_ITERATIONS] = self.iterations
+        pi[S.P_BROADPHASE] = BROADPHASE_CODES[self.broadphase]
+        pi[S.P_SOLVER] = SOLVERS.index(self.solver)
+        pf[S.P_PENALTY_HERTZ] = self.penalty_hertz
+        pi[S.P_LCP_SWEEPS] = int(self.lcp_sweeps)
+        pf[S.P_LCP_SOR] = self.lcp_relaxation
+        self._params_dt = dt
 
     def _grow_contacts(self, n):
         """Room for ``n`` contact points in the narrow-phase buffer and both contact tables."""

@@ -54,9 +54,10 @@ P_SLEEP_LINEAR = 12     # rest tolerance, linear (m/s)
 P_SLEEP_ANGULAR = 13    # rest tolerance, angular (rad/s)
 P_TIME_TO_SLEEP = 14    # seconds at rest before an island sleeps (<= 0: never)
 P_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s)
-P_PENALTY_HERTZ = 16    # penalty scheme: frequency of the contact springs (Hz)
-P_LCP_SOR = 17          # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
-PF_LEN = 18
+P_SWEEP = 16            # 1: predict contacts along the step's motion (continuous collision), 0: only at rest
+P_PENALTY_HERTZ = 17    # penalty scheme: frequency of the contact springs (Hz)
+P_LCP_SOR = 18          # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
+PF_LEN = 19
 # params_i layout
 P_INTEGRATOR = 0
 P_SUBSTEPS = 1
@@ -92,7 +93,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
 
     # --- collide -----------------------------------------------------------------------------------
     sweep = np.empty(nb)
-    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, g_mag, params_f[P_SPECULATIVE])
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
     n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
                          bp_f, bp_i, pairs)
     stats[S_PAIRS] = n_pairs
