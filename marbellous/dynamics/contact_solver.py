@@ -107,7 +107,7 @@ def _apply_angular(bf, sb, a, b, l):
 
 
 @njit
-def _separation(bf, cf, c, a, b):
+def contact_separation(bf, cf, c, a, b):
     """Current separation (m): the one at detection plus the normal part of the contact points' motion,
 
         s = s0 + n . ((dx_b + dtheta_b x rb) - (dx_a + dtheta_a x ra))
@@ -150,7 +150,7 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
         iwa = sb[a, 1:10]
         iwb = sb[b, 1:10]
         # --- normal: non-penetration -------------------------------------------------------------
-        s = _separation(bf, cf, c, a, b)
+        s = contact_separation(bf, cf, c, a, b)
         if s > 0.0:
             bias, mass_scale, impulse_scale = s / h, 1.0, 0.0      # speculative: close the gap exactly
         elif use_bias:

@@ -21,14 +21,14 @@ from .rigid import apply_impulse_pair, effective_mass, relative_velocity
 
 
 @njit
-def _is_active_joint(ki, c):
+def is_active_joint(ki, c):
     t = ki[c, K_TYPE]
     f = ki[c, K_FLAGS]
     return (t == C_ROD or t == C_CABLE) and (f & KF_ALIVE) != 0 and (f & KF_BROKEN) == 0
 
 
 @njit
-def _anchors(bf, kf, ki, c, ra, rb, pa, pb):
+def joint_anchors(bf, kf, ki, c, ra, rb, pa, pb):
     """Offsets ``ra``, ``rb`` of the anchors from the centres of mass and the world anchors ``pa``, ``pb``."""
     a = ki[c, K_BODY_A]
     b = ki[c, K_BODY_B]
@@ -57,9 +57,9 @@ def warm_start_joints(bf, kf, ki, nk, sb):
     p = np.empty(3)
     zero9 = np.zeros(9)
     for c in range(nk):
-        if not _is_active_joint(ki, c) or kf[c, K_IMPULSE] == 0.0:
+        if not is_active_joint(ki, c) or kf[c, K_IMPULSE] == 0.0:
             continue
-        _anchors(bf, kf, ki, c, ra, rb, pa, pb)
+        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
         length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
         if length < 1e-12:
             continue
@@ -86,11 +86,11 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
     zero9 = np.zeros(9)
     largest = 0.0
     for c in range(nk):
-        if not _is_active_joint(ki, c):
+        if not is_active_joint(ki, c):
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
-        _anchors(bf, kf, ki, c, ra, rb, pa, pb)
+        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
         length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
         if length < 1e-12:
             continue
@@ -138,9 +138,9 @@ def record_joint_forces(bf, kf, ki, nk, dt, totals):
     pa = np.empty(3)
     pb = np.empty(3)
     for c in range(nk):
-        if not _is_active_joint(ki, c):
+        if not is_active_joint(ki, c):
             continue
-        _anchors(bf, kf, ki, c, ra, rb, pa, pb)
+        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
         length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
         for k in range(3):
             # a received -lambda u

@@ -38,8 +38,8 @@ from .._jit import njit
 from ..layout import (C_BODY_A, C_BODY_B, C_CABLE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
                       C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0, CP_MATCHED,
                       CP_SENSOR, CP_SLIDING, K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, VEL)
-from .contact_solver import _separation
-from .joints import _anchors, _is_active_joint
+from .contact_solver import contact_separation
+from .joints import joint_anchors, is_active_joint
 from .lcp_solve import solve_bounded_lcp
 
 # What a row constrains (row_kind)
@@ -220,7 +220,7 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
         n_row = m
         _linear_row(J, MJ, m, sb, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], cf[c, C_NORMAL:C_NORMAL + 3])
         a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
-        s = _separation(bf, cf, c, a, b)
+        s = contact_separation(bf, cf, c, a, b)
         if s > 0.0:
             bias[m] = s / h                     # speculative: close the gap exactly
         elif use_bias:
@@ -255,11 +255,11 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
             source[i] = c
     # --- rod and cable rows ---------------------------------------------------------------------------
     for c in range(nk):
-        if not _is_active_joint(ki, c):
+        if not is_active_joint(ki, c):
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
-        _anchors(bf, kf, ki, c, ra, rb, pa, pb)
+        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
         length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
         if length < 1e-12:
             continue

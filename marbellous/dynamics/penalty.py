@@ -47,7 +47,7 @@ from .._jit import njit
 from ..layout import (C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
                       C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1,
                       C_T2, CP_SENSOR, CP_SLIDING, FORCE, OMEGA, TORQUE)
-from .contact_solver import _separation
+from .contact_solver import contact_separation
 from .rigid import relative_velocity
 
 #: The contact frequency is at most this fraction of the sub-step rate (omega h <= 2 pi * 0.064 = 0.4).
@@ -121,7 +121,7 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
         cf[c, C_LAMBDA_N] = 0.0
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        depth = -_separation(bf, cf, c, a, b)
+        depth = -contact_separation(bf, cf, c, a, b)
         m_n = cf[c, C_MASS_N]
         if depth <= 0.0 or m_n == 0.0 or (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             cf[c, C_LAMBDA_T1] = 0.0      # out of touch: the friction spring lets go

@@ -64,8 +64,11 @@ def principal_direction(aabbs, items, s, e, iterations):
             best = k
     v = np.zeros(3)
     v[best] = 1.0
+    w = np.empty(3)
     for _ in range(iterations):
-        w = cov @ v
+        # w = cov v, written out: a matrix product in a kernel would need BLAS (SciPy) at run time
+        for a in range(3):
+            w[a] = cov[a, 0] * v[0] + cov[a, 1] * v[1] + cov[a, 2] * v[2]
         norm = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
         if not norm > 0.0:
             break
