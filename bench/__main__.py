@@ -145,7 +145,8 @@ def table(results, engines):
 
 
 def plot(results, engines, machine, path):
-    """Grouped bars of steps per second (log scale) per scene and engine."""
+    """Grouped bars of steps per second (log scale) per scene and engine; hatched where the sanity
+    measure failed (a stack that fell, a marble that sank)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -155,19 +156,22 @@ def plot(results, engines, machine, path):
     width = 0.8 / len(engines)
     colours = {"marbellous": "#c0392b", "pybullet": "#2c3e50", "mujoco": "#7f8c8d"}
     for k, engine in enumerate(engines):
-        xs, ys = [], []
+        xs, ys, hatches = [], [], []
         for i, name in enumerate(names):
             r = results[name].get(engine, {})
             if "steps_per_s" in r:
                 xs.append(i + (k - (len(engines) - 1) / 2) * width)
                 ys.append(r["steps_per_s"])
-        ax.bar(xs, ys, width, label=engine, color=colours.get(engine))
+                hatches.append("" if r["sanity"].get("ok") else "xx")
+        bars = ax.bar(xs, ys, width, label=engine, color=colours.get(engine), edgecolor="white")
+        for bar, hatch in zip(bars, hatches):
+            bar.set_hatch(hatch)
     ax.set_yscale("log")
     ax.set_xticks(range(len(names)))
     ax.set_xticklabels([SCENES[n].label for n in names], rotation=20, ha="right", fontsize=8)
-    ax.set_ylabel("steps per second (queries per second for queries), log scale")
-    ax.set_title(f"Marbellous vs peers, 60 Hz, {machine['cpu']} ({machine['cores']} cores), {machine['date']}",
-                 fontsize=9)
+    ax.set_ylabel("steps/s (queries/s), log")
+    ax.set_title(f"Marbellous vs peers, 60 Hz, {machine['cpu']} ({machine['cores']} cores), {machine['date']}; "
+                 f"hatched: sanity failed (e.g. the stack fell)", fontsize=9)
     ax.legend()
     fig.tight_layout()
     os.makedirs(os.path.dirname(path), exist_ok=True)
