@@ -46,6 +46,20 @@ def joint_anchors(bf, kf, ki, c, ra, rb, pa, pb):
 
 
 @njit
+def joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u):
+    """Anchors of constraint ``c`` (as ``joint_anchors``) and the unit axis ``u = (p_b - p_a) / l``.
+
+    Returns the distance ``l`` between the anchors (m); ``u`` is left alone when ``l < 1e-12``.
+    """
+    joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
+    length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
+    if length >= 1e-12:
+        for k in range(3):
+            u[k] = (pb[k] - pa[k]) / length
+    return length
+
+
+@njit
 def warm_start_joints(bf, kf, ki, nk, sb):
     """Apply each rod's and cable's impulse of the last sub-step along its current axis."""
     if nk == 0:
@@ -54,19 +68,18 @@ def warm_start_joints(bf, kf, ki, nk, sb):
     rb = np.empty(3)
     pa = np.empty(3)
     pb = np.empty(3)
+    u = np.empty(3)
     p = np.empty(3)
     zero9 = np.zeros(9)
     for c in range(nk):
         if not is_active_joint(ki, c) or kf[c, K_IMPULSE] == 0.0:
             continue
-        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
-        length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
-        if length < 1e-12:
+        if joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u) < 1e-12:
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
         for k in range(3):
-            p[k] = kf[c, K_IMPULSE] * (pb[k] - pa[k]) / length
+            p[k] = kf[c, K_IMPULSE] * u[k]
         apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, sb[b, 0] if b >= 0 else 0.0,
                            sb[b, 1:10] if b >= 0 else zero9, rb, p)
 
@@ -90,12 +103,9 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
-        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
-        length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
+        length = joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u)
         if length < 1e-12:
             continue
-        for k in range(3):
-            u[k] = (pb[k] - pa[k]) / length
         inv_mb = sb[b, 0] if b >= 0 else 0.0
         iwb = sb[b, 1:10] if b >= 0 else zero9
         mass = effective_mass(sb[a, 0], sb[a, 1:10], ra, inv_mb, iwb, rb, u)
@@ -137,11 +147,11 @@ def record_joint_forces(bf, kf, ki, nk, dt, totals):
     rb = np.empty(3)
     pa = np.empty(3)
     pb = np.empty(3)
+    u = np.empty(3)
     for c in range(nk):
         if not is_active_joint(ki, c):
             continue
-        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
-        length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
+        length = joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u)
         for k in range(3):
             # a received -lambda u
-            kf[c, K_FORCE + k] = -totals[c] * (pb[k] - pa[k]) / length / dt if length > 1e-12 else 0.0
+            kf[c, K_FORCE + k] = -totals[c] * u[k] / dt if length >= 1e-12 else 0.0

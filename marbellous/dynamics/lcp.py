@@ -30,7 +30,6 @@ sweep of the projected Gauss-Seidel solver costs that much (assembly likewise). 
 body touches a few others stays linear in the number of contacts; a body with hundreds of contacts
 (a floor is static, so it does not count) makes it quadratic in them.
 """
-import math
 
 import numpy as np
 
@@ -39,7 +38,7 @@ from ..layout import (C_BODY_A, C_BODY_B, C_CABLE, C_FLAGS, C_LAMBDA_N, C_LAMBDA
                       C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0, CP_MATCHED,
                       CP_SENSOR, CP_SLIDING, K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, VEL)
 from .contact_solver import contact_separation
-from .joints import joint_anchors, is_active_joint
+from .joints import is_active_joint, joint_axis
 from .lcp_solve import solve_bounded_lcp
 
 # What a row constrains (row_kind)
@@ -259,12 +258,9 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
-        joint_anchors(bf, kf, ki, c, ra, rb, pa, pb)
-        length = math.sqrt((pb[0] - pa[0]) ** 2 + (pb[1] - pa[1]) ** 2 + (pb[2] - pa[2]) ** 2)
+        length = joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u)
         if length < 1e-12:
             continue
-        for k in range(3):
-            u[k] = (pb[k] - pa[k]) / length
         _linear_row(J, MJ, m, sb, a, ra, b, rb, u)
         a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
         err = length - kf[c, K_LENGTH]
