@@ -84,6 +84,13 @@ def scene(kind, n, seed):
         a = boxes(rng.uniform(0, 30, (n, 3)), rng.uniform(0.1, 0.4, (n, 3)))
         big = rng.random(n) < 0.15
         a[big] = boxes(rng.uniform(0, 30, (int(big.sum()), 3)), rng.uniform(1.5, 5, (int(big.sum()), 3)))
+    elif kind == "infinite":
+        # a plane's (here finite but enormous) box and two long walls among small boxes (the pile layout)
+        a = boxes(rng.uniform(0, 10, (n, 3)), rng.uniform(0.1, 0.5, (n, 3)))
+        a[0] = [-1e12, -1e12, -1e12, 1e12, 1e12, 1e12]
+        a[1] = [-1, 0, -1, 0, 6, 11]
+        a[2] = [10, 0, -1, 11, 6, 11]
+        flags[:3] |= STATIC
     elif kind == "plane":
         c = rng.uniform(0, 10, (n, 3))
         c[:, 1] = 0.0
@@ -111,7 +118,7 @@ def scene(kind, n, seed):
     return a, flags, groups, masks
 
 
-SCENES = ["uniform", "clustered", "sparse", "huge", "many_big", "plane", "flat", "touching", "points",
+SCENES = ["uniform", "clustered", "sparse", "huge", "many_big", "infinite", "plane", "flat", "touching", "points",
           "coincident", "mixed"]
 
 

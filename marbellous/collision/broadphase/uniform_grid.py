@@ -1,9 +1,10 @@
 """Uniform grid (spatial hash), rebuilt from the boxes at every update.
 
 Cell size ``h = cell_factor * median(largest box edge)`` over the live bodies (``cell_factor = 2``
-by default), so a typical box covers one or two cells per axis.  The grid starts at the lowest box
-corner; cell coordinates along an axis are ``floor((x - origin) / h)``.  ``h`` is raised if needed so
-that no axis has more than 2^20 cells (the packed cell key then fits in 63 bits).
+by default), so a typical box covers one or two cells per axis.  The grid starts at the lowest
+corner of the boxes it holds (oversized ones, such as an infinite plane, are left out); cell
+coordinates along an axis are ``floor((x - origin) / h)``.  ``h`` is raised if needed so that no
+axis has more than 2^20 cells (the packed cell key then fits in 63 bits).
 
 A box that would cover more than ``max_cells_per_axis`` cells along some axis is *oversized*: it is
 not put in the grid, so one huge body among many small ones costs O(n) tests instead of filling
@@ -45,27 +46,40 @@ def grid_init_params(state_f, cell_factor=2.0, max_cells_per_axis=3):
 
 
 @njit
-def _cell_size(aabbs, live, cell_factor):
-    """Edge of a grid cell (m) and the grid origin (lowest corner of all live boxes)."""
+def _cell_size(aabbs, live, cell_factor, max_cells, oversized):
+    """Edge of a grid cell (m) and the grid origin (lowest corner of the boxes that go in the grid).
+
+    The cell edge comes from the median box edge; a box longer than ``max_cells`` cells along some
+    axis (an infinite plane, a long wall) is marked in ``oversized`` and left out of the origin and
+    span, so it can neither push the grid to infinity nor coarsen it for everyone else.
+    """
     m = live.shape[0]
     edge = np.empty(m)
-    origin = np.full(3, np.inf)
-    top = np.full(3, -np.inf)
     for a in range(m):
         i = live[a]
         e = 0.0
         for k in range(3):
             e = max(e, aabbs[i, k + 3] - aabbs[i, k])
-            origin[k] = min(origin[k], aabbs[i, k])
-            top[k] = max(top[k], aabbs[i, k + 3])
         edge[a] = e
-    h = cell_factor * np.median(edge)
-    span = 0.0
-    for k in range(3):
-        span = max(span, top[k] - origin[k])
-    h = max(h, span / _AXIS_CELLS)
+    finite = edge[np.isfinite(edge)]
+    h = cell_factor * np.median(finite) if finite.shape[0] > 0 else 1.0
     if not h > 0.0:
         h = 1.0
+    origin = np.full(3, np.inf)
+    top = np.full(3, -np.inf)
+    for a in range(m):
+        i = live[a]
+        # longer than max_cells cell edges: covers more than max_cells cells wherever it lies
+        oversized[i] = not (edge[a] <= max_cells * h)
+        if not oversized[i]:
+            for k in range(3):
+                origin[k] = min(origin[k], aabbs[i, k])
+                top[k] = max(top[k], aabbs[i, k + 3])
+    span = 0.0
+    for k in range(3):
+        if top[k] > origin[k]:
+            span = max(span, top[k] - origin[k])
+    h = max(h, span / _AXIS_CELLS)
     return h, origin
 
 
@@ -78,14 +92,16 @@ def grid_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
     count = 0
     if m < 2:
         return count
-    h, origin = _cell_size(aabbs, live, state_f[F_CELL_FACTOR])
     max_cells = int(state_f[F_MAX_CELLS])
+    oversized = np.zeros(n_bodies, np.bool_)
+    h, origin = _cell_size(aabbs, live, state_f[F_CELL_FACTOR], max_cells, oversized)
     lo = np.empty((n_bodies, 3), np.int64)
     hi = np.empty((n_bodies, 3), np.int64)
-    oversized = np.zeros(n_bodies, np.bool_)
     n_entries = 0
     for a in range(m):
         i = live[a]
+        if oversized[i]:
+            continue
         cells = 1
         for k in range(3):
             lo[i, k] = int(math.floor((aabbs[i, k] - origin[k]) / h))
