@@ -23,7 +23,7 @@ from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LA
                       C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S,
                       C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
                       CP_MATCHED, CP_SENSOR, CP_SLIDING, DTHETA, FRICTION, OMEGA, POS, POS0, RESTITUTION, ROLLING,
-                      STATIC_FRICTION)
+                      STATIC_FRICTION, VEL)
 from .contact_basis import contact_basis
 from .rigid import apply_impulse_pair, effective_mass, relative_velocity
 
@@ -78,32 +78,89 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
 
 
 @njit
+def _vec3(table, row, col):
+    """Columns ``col .. col + 2`` of ``table[row]`` as a tuple."""
+    return table[row, col], table[row, col + 1], table[row, col + 2]
+
+
+@njit
+def _body_velocity(bf, i):
+    """``(v, omega)`` of body row ``i`` as one 6-tuple (m/s, rad/s)."""
+    return (bf[i, VEL], bf[i, VEL + 1], bf[i, VEL + 2], bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2])
+
+
+@njit
+def _store_velocity(bf, i, u):
+    """Write the 6-tuple ``u = (v, omega)`` back to body row ``i``."""
+    for k in range(3):
+        bf[i, VEL + k] = u[k]
+        bf[i, OMEGA + k] = u[3 + k]
+
+
+@njit
+def _point_velocity(u, r):
+    """Velocity of the point at offset ``r`` of a body moving with ``u = (v, omega)``: ``v + omega x r``."""
+    return (u[0] + u[4] * r[2] - u[5] * r[1],
+            u[1] + u[5] * r[0] - u[3] * r[2],
+            u[2] + u[3] * r[1] - u[4] * r[0])
+
+
+@njit
+def _relative_velocity(ua, ra, ub, rb):
+    """``(v_b + w_b x rb) - (v_a + w_a x ra)`` (m/s)."""
+    pa = _point_velocity(ua, ra)
+    pb = _point_velocity(ub, rb)
+    return pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
+
+
+@njit
+def _dot(x, y):
+    return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
+
+
+@njit
+def _push(sb, i, u, r, px, py, pz, sign):
+    """``u`` of body ``i`` after the impulse ``sign p`` at offset ``r``:  v += sign p / m,
+    omega += sign I_w^-1 (r x p)."""
+    cx = r[1] * pz - r[2] * py
+    cy = r[2] * px - r[0] * pz
+    cz = r[0] * py - r[1] * px
+    im = sign * sb[i, 0]
+    return (u[0] + im * px, u[1] + im * py, u[2] + im * pz,
+            u[3] + sign * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz),
+            u[4] + sign * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz),
+            u[5] + sign * (sb[i, 7] * cx + sb[i, 8] * cy + sb[i, 9] * cz))
+
+
+@njit
+def _twist(sb, i, u, lx, ly, lz, sign):
+    """``u`` of body ``i`` after the angular impulse ``sign l``:  omega += sign I_w^-1 l."""
+    return (u[0], u[1], u[2],
+            u[3] + sign * (sb[i, 1] * lx + sb[i, 2] * ly + sb[i, 3] * lz),
+            u[4] + sign * (sb[i, 4] * lx + sb[i, 5] * ly + sb[i, 6] * lz),
+            u[5] + sign * (sb[i, 7] * lx + sb[i, 8] * ly + sb[i, 9] * lz))
+
+
+@njit
 def warm_start_contacts(bf, cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
-    if nc == 0:
-        return
-    p = np.empty(3)
     for c in range(nc):
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
         ln, l1, l2 = cf[c, C_LAMBDA_N], cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
-        for k in range(3):
-            p[k] = ln * cf[c, C_NORMAL + k] + l1 * cf[c, C_T1 + k] + l2 * cf[c, C_T2 + k]
-        apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], cf[c, C_RA:C_RA + 3],
-                           b, sb[b, 0], sb[b, 1:10], cf[c, C_RB:C_RB + 3], p)
-        _apply_angular(bf, sb, a, b, cf[c, C_LAMBDA_R:C_LAMBDA_R + 3])
-
-
-@njit
-def _apply_angular(bf, sb, a, b, l):
-    """Apply the angular impulse ``l`` (N m s) to b and ``-l`` to a."""
-    if l[0] == 0.0 and l[1] == 0.0 and l[2] == 0.0:
-        return
-    for k in range(3):
-        bf[a, OMEGA + k] -= sb[a, 1 + 3 * k] * l[0] + sb[a, 2 + 3 * k] * l[1] + sb[a, 3 + 3 * k] * l[2]
-        bf[b, OMEGA + k] += sb[b, 1 + 3 * k] * l[0] + sb[b, 2 + 3 * k] * l[1] + sb[b, 3 + 3 * k] * l[2]
+        px = ln * cf[c, C_NORMAL] + l1 * cf[c, C_T1] + l2 * cf[c, C_T2]
+        py = ln * cf[c, C_NORMAL + 1] + l1 * cf[c, C_T1 + 1] + l2 * cf[c, C_T2 + 1]
+        pz = ln * cf[c, C_NORMAL + 2] + l1 * cf[c, C_T1 + 2] + l2 * cf[c, C_T2 + 2]
+        ua = _push(sb, a, _body_velocity(bf, a), _vec3(cf, c, C_RA), px, py, pz, -1.0)
+        ub = _push(sb, b, _body_velocity(bf, b), _vec3(cf, c, C_RB), px, py, pz, 1.0)
+        lr = _vec3(cf, c, C_LAMBDA_R)
+        if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
+            ua = _twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
+            ub = _twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
+        _store_velocity(bf, a, ua)
+        _store_velocity(bf, b, ub)
 
 
 @njit
@@ -115,15 +172,15 @@ def contact_separation(bf, cf, c, a, b):
     with dx, dtheta the bodies' displacement and rotation since the step began (first order in the
     rotation, so a rolling ball's contact stays at its lowest point).
     """
-    s = cf[c, C_ADJ_SEP]
-    for sign, body, r0 in ((1.0, b, C_RB), (-1.0, a, C_RA)):
-        t0, t1, t2 = bf[body, DTHETA], bf[body, DTHETA + 1], bf[body, DTHETA + 2]
-        r = cf[c, r0:r0 + 3]
-        mx = bf[body, POS] - bf[body, POS0] + t1 * r[2] - t2 * r[1]
-        my = bf[body, POS + 1] - bf[body, POS0 + 1] + t2 * r[0] - t0 * r[2]
-        mz = bf[body, POS + 2] - bf[body, POS0 + 2] + t0 * r[1] - t1 * r[0]
-        s += sign * (cf[c, C_NORMAL] * mx + cf[c, C_NORMAL + 1] * my + cf[c, C_NORMAL + 2] * mz)
-    return s
+    motion_a = _point_velocity((bf[a, POS] - bf[a, POS0], bf[a, POS + 1] - bf[a, POS0 + 1],
+                                bf[a, POS + 2] - bf[a, POS0 + 2], bf[a, DTHETA], bf[a, DTHETA + 1],
+                                bf[a, DTHETA + 2]), _vec3(cf, c, C_RA))
+    motion_b = _point_velocity((bf[b, POS] - bf[b, POS0], bf[b, POS + 1] - bf[b, POS0 + 1],
+                                bf[b, POS + 2] - bf[b, POS0 + 2], bf[b, DTHETA], bf[b, DTHETA + 1],
+                                bf[b, DTHETA + 2]), _vec3(cf, c, C_RB))
+    return cf[c, C_ADJ_SEP] + (cf[c, C_NORMAL] * (motion_b[0] - motion_a[0])
+                               + cf[c, C_NORMAL + 1] * (motion_b[1] - motion_a[1])
+                               + cf[c, C_NORMAL + 2] * (motion_b[2] - motion_a[2]))
 
 
 @njit
@@ -132,23 +189,21 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
 
     ``soft`` = (bias_rate, mass_scale, impulse_scale) of the contact softness; ``max_push`` (m/s) caps
     the speed at which overlap is removed.  Returns the largest velocity change made (m/s), for the
-    adaptive iteration count.
+    adaptive iteration count.  Each contact's two bodies are read once, updated in registers through
+    the normal, friction and rolling impulses, and written back once.
     """
-    if nc == 0:
-        return 0.0
-    dv = np.empty(3)
-    p = np.empty(3)
     largest = 0.0
     for c in range(nc):
-        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+        flags = ci[c, C_FLAGS]
+        if (flags & CP_SENSOR) != 0:
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        ra = cf[c, C_RA:C_RA + 3]
-        rb = cf[c, C_RB:C_RB + 3]
-        n = cf[c, C_NORMAL:C_NORMAL + 3]
-        iwa = sb[a, 1:10]
-        iwb = sb[b, 1:10]
+        ra = _vec3(cf, c, C_RA)
+        rb = _vec3(cf, c, C_RB)
+        n = _vec3(cf, c, C_NORMAL)
+        ua = _body_velocity(bf, a)
+        ub = _body_velocity(bf, b)
         # --- normal: non-penetration -------------------------------------------------------------
         s = contact_separation(bf, cf, c, a, b)
         if s > 0.0:
@@ -158,34 +213,31 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
             mass_scale, impulse_scale = soft[1], soft[2]
         else:
             bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        relative_velocity(bf, a, ra, b, rb, dv)
-        vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
+        vn = _dot(_relative_velocity(ua, ra, ub, rb), n)
+        mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
-        new = max(old - cf[c, C_MASS_N] * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
+        new = max(old - mass_n * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
         cf[c, C_LAMBDA_N] = new
-        if new > 0.0 and cf[c, C_MAX_N] == 0.0 and (ci[c, C_FLAGS] & CP_MATCHED) == 0:
+        if new > 0.0 and cf[c, C_MAX_N] == 0.0 and (flags & CP_MATCHED) == 0:
             # A new contact engages: the approach speed at impact, gravity of earlier sub-steps included.
             cf[c, C_VN0] = min(vn, cf[c, C_VN0])
         if new > cf[c, C_MAX_N]:
             cf[c, C_MAX_N] = new
         d = new - old
         if d != 0.0:
-            for k in range(3):
-                p[k] = d * n[k]
-            apply_impulse_pair(bf, a, sb[a, 0], iwa, ra, b, sb[b, 0], iwb, rb, p)
-            change = abs(d) / cf[c, C_MASS_N] if cf[c, C_MASS_N] > 0.0 else 0.0
-            largest = max(largest, change)
+            ua = _push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0)
+            ub = _push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0)
+            if mass_n > 0.0:
+                largest = max(largest, abs(d) / mass_n)
         # --- friction: Coulomb disc on the tangent plane -------------------------------------------
-        mu = cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S]
+        mu = cf[c, C_MU_D] if (flags & CP_SLIDING) != 0 else cf[c, C_MU_S]
         bound = mu * new
-        relative_velocity(bf, a, ra, b, rb, dv)
-        t1 = cf[c, C_T1:C_T1 + 3]
-        t2 = cf[c, C_T2:C_T2 + 3]
-        vt1 = dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2]
-        vt2 = dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2]
+        t1 = _vec3(cf, c, C_T1)
+        t2 = _vec3(cf, c, C_T2)
+        dv = _relative_velocity(ua, ra, ub, rb)
         o1, o2 = cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
-        n1 = o1 - cf[c, C_MASS_T1] * vt1
-        n2 = o2 - cf[c, C_MASS_T2] * vt2
+        n1 = o1 - cf[c, C_MASS_T1] * _dot(dv, t1)
+        n2 = o2 - cf[c, C_MASS_T2] * _dot(dv, t2)
         length = math.sqrt(n1 * n1 + n2 * n2)
         if length > bound:
             scale = bound / length if length > 0.0 else 0.0
@@ -195,46 +247,55 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
         cf[c, C_LAMBDA_T2] = n2
         d1, d2 = n1 - o1, n2 - o2
         if d1 != 0.0 or d2 != 0.0:
-            for k in range(3):
-                p[k] = d1 * t1[k] + d2 * t2[k]
-            apply_impulse_pair(bf, a, sb[a, 0], iwa, ra, b, sb[b, 0], iwb, rb, p)
+            px = d1 * t1[0] + d2 * t2[0]
+            py = d1 * t1[1] + d2 * t2[1]
+            pz = d1 * t1[2] + d2 * t2[2]
+            ua = _push(sb, a, ua, ra, px, py, pz, -1.0)
+            ub = _push(sb, b, ub, rb, px, py, pz, 1.0)
         # --- rolling resistance: an angular impulse bounded by rho * lambda_n -------------------------
         rho = cf[c, C_ROLL]
         if rho > 0.0:
-            _solve_rolling(bf, cf, c, sb, a, b, rho * new)
+            ua, ub = _solve_rolling(cf, c, sb, a, b, ua, ub, rho * new)
+        _store_velocity(bf, a, ua)
+        _store_velocity(bf, b, ub)
     return largest
 
 
 @njit
-def _solve_rolling(bf, cf, c, sb, a, b, bound):
-    """Drive the relative angular velocity ``w_b - w_a`` to zero with ``|lambda_r| <= bound``."""
-    k = np.empty((3, 3))
-    for r in range(3):
-        for q in range(3):
-            k[r, q] = sb[a, 1 + 3 * r + q] + sb[b, 1 + 3 * r + q]
-    det = (k[0, 0] * (k[1, 1] * k[2, 2] - k[1, 2] * k[2, 1]) - k[0, 1] * (k[1, 0] * k[2, 2] - k[1, 2] * k[2, 0])
-           + k[0, 2] * (k[1, 0] * k[2, 1] - k[1, 1] * k[2, 0]))
+def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
+    """Drive the relative angular velocity ``w_b - w_a`` to zero with ``|lambda_r| <= bound``:
+
+        K = I_a^-1 + I_b^-1,   lambda_r := clamp(lambda_r - K^-1 (w_b - w_a)),   K^-1 = adj(K) / det K
+
+    Returns the bodies' updated ``(v, omega)``.
+    """
+    k0, k1, k2 = sb[a, 1] + sb[b, 1], sb[a, 2] + sb[b, 2], sb[a, 3] + sb[b, 3]
+    k3, k4, k5 = sb[a, 4] + sb[b, 4], sb[a, 5] + sb[b, 5], sb[a, 6] + sb[b, 6]
+    k6, k7, k8 = sb[a, 7] + sb[b, 7], sb[a, 8] + sb[b, 8], sb[a, 9] + sb[b, 9]
+    # cofactors of K (the adjugate is their transpose)
+    c0, c1, c2 = k4 * k8 - k5 * k7, k5 * k6 - k3 * k8, k3 * k7 - k4 * k6
+    det = k0 * c0 + k1 * c1 + k2 * c2
     if det <= 0.0:
-        return
-    dw = np.empty(3)
-    for q in range(3):
-        dw[q] = bf[b, OMEGA + q] - bf[a, OMEGA + q]
-    # K^-1 dw by Cramer's rule
-    x = np.empty(3)
-    for col in range(3):
-        m = k.copy()
-        for r in range(3):
-            m[r, col] = dw[r]
-        x[col] = (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
-                  + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0])) / det
-    old = cf[c, C_LAMBDA_R:C_LAMBDA_R + 3].copy()
-    new = old - x
-    length = math.sqrt(new[0] * new[0] + new[1] * new[1] + new[2] * new[2])
+        return ua, ub
+    c3, c4, c5 = k2 * k7 - k1 * k8, k0 * k8 - k2 * k6, k1 * k6 - k0 * k7
+    c6, c7, c8 = k1 * k5 - k2 * k4, k2 * k3 - k0 * k5, k0 * k4 - k1 * k3
+    w0, w1, w2 = ub[3] - ua[3], ub[4] - ua[4], ub[5] - ua[5]
+    x0 = (c0 * w0 + c3 * w1 + c6 * w2) / det
+    x1 = (c1 * w0 + c4 * w1 + c7 * w2) / det
+    x2 = (c2 * w0 + c5 * w1 + c8 * w2) / det
+    o0, o1, o2 = cf[c, C_LAMBDA_R], cf[c, C_LAMBDA_R + 1], cf[c, C_LAMBDA_R + 2]
+    n0, n1, n2 = o0 - x0, o1 - x1, o2 - x2
+    length = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
     if length > bound:
-        new *= bound / length if length > 0.0 else 0.0
-    for q in range(3):
-        cf[c, C_LAMBDA_R + q] = new[q]
-    _apply_angular(bf, sb, a, b, new - old)
+        scale = bound / length if length > 0.0 else 0.0
+        n0 *= scale
+        n1 *= scale
+        n2 *= scale
+    cf[c, C_LAMBDA_R] = n0
+    cf[c, C_LAMBDA_R + 1] = n1
+    cf[c, C_LAMBDA_R + 2] = n2
+    return (_twist(sb, a, ua, n0 - o0, n1 - o1, n2 - o2, -1.0),
+            _twist(sb, b, ub, n0 - o0, n1 - o1, n2 - o2, 1.0))
 
 
 @njit
