@@ -208,15 +208,16 @@ def main(argv=None):
                   f"({time.perf_counter() - t:.0f} s)", flush=True)
     profiles = {}
     if args.profile:
-        from .profile_stages import profile
         for name in args.scenes:
             if SCENES[name].world:
                 spec = SCENES[name]
                 world, _ = spec.build(args.quick)
                 for _ in range(spec.warmup_steps(args.quick)):
                     world.step(DT)
-                profile(world, DT, 2)
-                profiles[name] = profile(world, DT, spec.profile_steps(args.quick))
+                world.profiling = True
+                for _ in range(spec.profile_steps(args.quick)):
+                    world.step(DT)
+                profiles[name] = {k: 1e3 * v for k, v in world.profile.per_step().items()}
     text = table(results, args.engines)
     print()
     print(text)

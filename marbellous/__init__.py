@@ -12,6 +12,7 @@ from .body import Body
 from .constraints import Cable, Rod, Spring
 from .heightfield import HeightField
 from .mesh import TriangleMesh
+from .pipeline.profile import StepProfile
 from .query import ContactPoint, collide
 from .shapes import Box, Capsule, Plane, Shape, Sphere
 from .world import Contact, RayHit, Snapshot, World
@@ -23,4 +24,5 @@ from .envs import register_envs  # noqa: E402  (after the API: the environment b
 register_envs()
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
-           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "__version__"]
+           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "StepProfile",
+           "__version__"]

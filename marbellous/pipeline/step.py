@@ -37,6 +37,7 @@ from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies
 from ..layout import (C_POINT, DTHETA, FLAGS, OMEGA, FORCE, GROUP, K_IMPULSE, MASK, POS, POS0,
                       TORQUE, W_PREV_DT, W_TIME)
+from .clock import cycle_counter
 from .collide import narrow_phase, update_aabbs
 
 # params_f layout (tunables travel as arguments, never as globals)
@@ -65,7 +66,8 @@ P_ITERATIONS = 2        # most velocity iterations per sub-step
 P_BROADPHASE = 3
 P_SOLVER = 4            # SEQUENTIAL_IMPULSE, PENALTY or LCP (the order of world.SOLVERS)
 P_LCP_SWEEPS = 5        # LCP scheme: most projected Gauss-Seidel sweeps per solve
-PI_LEN = 6
+P_PROFILE = 6           # 1: add each stage's processor cycles to stats (World.profiling)
+PI_LEN = 7
 SEQUENTIAL_IMPULSE = 0
 PENALTY = 1
 LCP = 2
@@ -73,10 +75,31 @@ LCP = 2
 S_PAIRS = 0             # candidate pairs found by the broad phase
 S_CONTACTS = 1          # contact points found by the narrow phase
 S_ITERATIONS = 2        # velocity iterations used in the step (all sub-steps)
-STATS_LEN = 3
+# with P_PROFILE on, the step also adds to these running totals (the World clears them):
+S_PROFILED_STEPS = 3    # steps profiled
+S_SUM_PAIRS = 4         # candidate pairs, summed over the profiled steps
+S_SUM_CONTACTS = 5      # contact points, summed
+S_SUM_ITERATIONS = 6    # velocity iterations, summed
+S_CYCLES = 7            # processor cycles spent in each of STAGES, summed (one slot per stage)
+#: the step's stages as the profile names them, in step order (sub-step stages summed over sub-steps)
+STAGES = ("aabbs", "broad_phase", "narrow_phase", "match_and_wake", "prepare", "integrate_velocities",
+          "warm_start", "solve", "integrate_positions", "relax", "restitution_and_joints", "islands_and_sleep")
+(ST_AABBS, ST_BROAD, ST_NARROW, ST_MATCH, ST_PREPARE, ST_INTEGRATE_V, ST_WARM, ST_SOLVE, ST_INTEGRATE_X,
+ ST_RELAX, ST_RESTITUTION, ST_SLEEP) = range(len(STAGES))
+STATS_LEN = S_CYCLES + len(STAGES)
 OK = 0
 GROW_PAIRS = 1
 GROW_CONTACTS = 2
+
+
+@njit
+def _lap(stats, stage, since, on):
+    """With profiling ``on``: add the cycles from ``since`` to now to ``stage``'s total; returns now."""
+    if not on:
+        return 0
+    now = cycle_counter()
+    stats[S_CYCLES + stage] += now - since
+    return now
 
 
 @njit
@@ -90,18 +113,23 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     h = dt / substeps
     gravity = params_f[P_GRAVITY:P_GRAVITY + 3]
     g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
+    prof = params_i[P_PROFILE] != 0
+    t = cycle_counter() if prof else 0
 
     # --- collide -----------------------------------------------------------------------------------
     sweep = np.empty(nb)
     update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
+    t = _lap(stats, ST_AABBS, t, prof)
     n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
                          bp_f, bp_i, pairs)
     stats[S_PAIRS] = n_pairs
+    t = _lap(stats, ST_BROAD, t, prof)
     if n_pairs > pairs.shape[0]:
         return GROW_PAIRS
     nc = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, params_f[P_SPECULATIVE],
                       raw_f, raw_i, ci)
     stats[S_CONTACTS] = nc
+    t = _lap(stats, ST_NARROW, t, prof)
     if nc > cf.shape[0]:
         return GROW_CONTACTS
     for c in range(nc):
@@ -111,6 +139,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     # --- match, wake, prepare -------------------------------------------------------------------------
     match_contacts(cf, ci, nc, pcf, pci, npc)
     wake_touched_islands(bi, bf, ci, nc, nb)
+    t = _lap(stats, ST_MATCH, t, prof)
     sb = np.empty((nb, SB_COLS))
     prepare_solver_bodies(bf, bi, nb, sb)
     prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
@@ -131,6 +160,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     iterations_used = 0
     solver = params_i[P_SOLVER]
     user_forces = np.empty((nb, 6))
+    t = _lap(stats, ST_PREPARE, t, prof)
     for _ in range(substeps):
         if solver == PENALTY:
             add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
@@ -140,9 +170,11 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         if solver == PENALTY:
             restore_user_forces(bf, nb, user_forces)
         prepare_solver_bodies(bf, bi, nb, sb)
+        t = _lap(stats, ST_INTEGRATE_V, t, prof)
         warm_start_joints(bf, kf, ki, nk, sb)
         if solver == SEQUENTIAL_IMPULSE:
             warm_start_contacts(bf, cf, ci, nc, sb)
+            t = _lap(stats, ST_WARM, t, prof)
             for _ in range(params_i[P_ITERATIONS]):
                 iterations_used += 1
                 change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft)
@@ -160,11 +192,13 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft, joint_soft,
                                          params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR],
                                          params_f[P_TOLERANCE])
+        t = _lap(stats, ST_SOLVE, t, prof)
         integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
         for i in range(nb):
             for k in range(3):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
         prepare_solver_bodies(bf, bi, nb, sb)
+        t = _lap(stats, ST_INTEGRATE_X, t, prof)
         if solver == LCP:
             solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
                       params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR], params_f[P_TOLERANCE])
@@ -176,6 +210,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         for c in range(nk):
             joint_totals[c] += kf[c, K_IMPULSE]
         ws[W_PREV_DT] = h
+        t = _lap(stats, ST_RELAX, t, prof)
     stats[S_ITERATIONS] = iterations_used
 
     # --- end of step ---------------------------------------------------------------------------------------
@@ -184,6 +219,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     store_friction_state(cf, ci, nc)
     record_joint_forces(bf, kf, ki, nk, dt, joint_totals)
     break_overloaded(kf, ki, nk)
+    t = _lap(stats, ST_RESTITUTION, t, prof)
     parent = np.empty(nb, dtype=np.int64)
     update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, params_f[P_SLEEP_LINEAR], params_f[P_SLEEP_ANGULAR],
                  params_f[P_TIME_TO_SLEEP], parent)
@@ -192,4 +228,10 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         for k in range(3):
             bf[i, FORCE + k] = 0.0
             bf[i, TORQUE + k] = 0.0
+    _lap(stats, ST_SLEEP, t, prof)
+    if prof:
+        stats[S_PROFILED_STEPS] += 1
+        stats[S_SUM_PAIRS] += n_pairs
+        stats[S_SUM_CONTACTS] += nc
+        stats[S_SUM_ITERATIONS] += iterations_used
     return OK
