@@ -9,3 +9,8 @@ import numba
 
 #: Compile in nopython mode, cache to disk, no fastmath (results are bit-reproducible).
 njit = numba.njit(cache=True, nogil=True, fastmath=False)
+
+#: As :data:`njit`, but inlined into each caller at the Numba IR level: for small kernels called once per
+#: sub-step or iteration, where the call itself (every array argument's fields passed and reference
+#: counted) would cost more than the work.
+njit_inline = numba.njit(cache=True, nogil=True, fastmath=False, inline="always")

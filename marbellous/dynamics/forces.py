@@ -6,7 +6,7 @@
 The integrators call this at each of their stages with the state of that stage, so a fourth-order
 method really sees the springs at its intermediate states.
 """
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..layout import F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, TORQUE
 from .springs import add_spring_forces
 
@@ -18,11 +18,12 @@ def is_moving(bi, i):
     return (f & F_ALIVE) != 0 and (f & F_STATIC) == 0 and (f & F_SLEEPING) == 0
 
 
-@njit
-def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record):
+@njit_inline
+def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs):
     """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``; rows of resting bodies are zero.
 
-    ``record``: weight with which each spring's force is added to its recorded mean (0: none).
+    ``record``: weight with which each spring's force is added to its recorded mean (0: none);
+    ``vecs``: scratch (see ``add_spring_forces``).
     """
     for i in range(nb):
         if is_moving(bi, i):
@@ -34,4 +35,5 @@ def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record)
             for k in range(3):
                 F[i, k] = 0.0
                 T[i, k] = 0.0
-    add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record)
+    if nk > 0:
+        add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs)

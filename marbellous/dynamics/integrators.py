@@ -21,7 +21,7 @@ torque-free body conserves its angular momentum to round-off, even about its uns
 """
 import numpy as np
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT,
                       V_FREE, VEL, W_FREE, X_PRED)
 from ..math3d import mat3_vec, quat_integrate, quat_normalize, quat_to_matrix
@@ -34,16 +34,22 @@ VERLET = 2
 RK4 = 3
 #: Public names of the integrators, in code order.
 INTEGRATORS = ("explicit_euler", "semi_implicit_euler", "verlet", "rk4")
+#: Scratch the per-sub-step stages work in, allocated once per step by the caller: ``mats`` of shape
+#: (SCRATCH_MATS, 3, 3) and ``vecs`` of shape (SCRATCH_VECS, 4).  A kernel that allocates pays Numba's
+#: reference counting on every array argument at every call (~16 ns each), so the hot stages do not.
+SCRATCH_MATS = 3
+SCRATCH_VECS = 8
 
 
 @njit
-def angular_acceleration(bf, i, q, w, torque, rot, iw_inv, iw, out):
-    """Euler's equation in the world frame: ``alpha = I_w^-1 (T - omega x (I_w omega))`` (rad/s^2)."""
+def angular_acceleration(bf, i, q, w, torque, rot, iw_inv, iw, lw, rhs, out):
+    """Euler's equation in the world frame: ``alpha = I_w^-1 (T - omega x (I_w omega))`` (rad/s^2).
+
+    ``rot``, ``iw_inv``, ``iw`` (3x3) and ``lw``, ``rhs`` (3) are scratch.
+    """
     body_inverse_inertia_world(bf, i, q, rot, iw_inv)
     body_inertia_world(bf, i, rot, iw)
-    lw = np.empty(3)
     mat3_vec(iw, w, lw)
-    rhs = np.empty(3)
     rhs[0] = torque[0] - (w[1] * lw[2] - w[2] * lw[1])
     rhs[1] = torque[1] - (w[2] * lw[0] - w[0] * lw[2])
     rhs[2] = torque[2] - (w[0] * lw[1] - w[1] * lw[0])
@@ -58,11 +64,9 @@ def _store_free_velocity(bf, i):
 
 
 @njit
-def _explicit_euler_velocities(bf, bi, nb, F, T, h):
-    rot = np.empty((3, 3))
-    iw_inv = np.empty((3, 3))
-    iw = np.empty((3, 3))
-    alpha = np.empty(3)
+def _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs):
+    rot, iw_inv, iw = mats[0], mats[1], mats[2]
+    alpha, lw, rhs = vecs[0, :3], vecs[1, :3], vecs[2, :3]
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -71,7 +75,7 @@ def _explicit_euler_velocities(bf, bi, nb, F, T, h):
             bf[i, X_PRED + k] = bf[i, POS + k] + bf[i, VEL + k] * h
         quat_integrate(bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], h, bf[i, Q_PRED:Q_PRED + 4])
         angular_acceleration(bf, i, bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], T[i], rot, iw_inv, iw,
-                             alpha)
+                             lw, rhs, alpha)
         inv_m = bf[i, INV_MASS]
         for k in range(3):
             bf[i, VEL + k] += F[i, k] * inv_m * h
@@ -79,13 +83,11 @@ def _explicit_euler_velocities(bf, bi, nb, F, T, h):
         _store_free_velocity(bf, i)
 
 
-@njit
-def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
+@njit_inline
+def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h, mats, vecs):
     """Semi-implicit Euler (and Verlet's linear part): kick velocities, change L by the torque impulse."""
-    rot = np.empty((3, 3))
-    iw_inv = np.empty((3, 3))
-    iw = np.empty((3, 3))
-    lw = np.empty(3)
+    rot, iw_inv, iw = mats[0], mats[1], mats[2]
+    lw = vecs[0, :3]
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -124,11 +126,14 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
 @njit
 def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, dX, dQ, dV, dW, record):
     """The right-hand side ``dy/dt = (v, omega (x) q / 2, F/m, alpha)`` at the state (X, Q, V, W)."""
-    accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record)
+    vecs = np.empty((SCRATCH_VECS, 4))
+    accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs)
     rot = np.empty((3, 3))
     iw_inv = np.empty((3, 3))
     iw = np.empty((3, 3))
     qn = np.empty(4)
+    lw = np.empty(3)
+    rhs = np.empty(3)
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -139,7 +144,7 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, dX, dQ, d
         for k in range(4):
             qn[k] = Q[i, k]
         quat_normalize(qn)
-        angular_acceleration(bf, i, qn, W[i], T[i], rot, iw_inv, iw, dW[i])
+        angular_acceleration(bf, i, qn, W[i], T[i], rot, iw_inv, iw, lw, rhs, dW[i])
         # dq/dt = 1/2 (0, omega) * q
         wx, wy, wz = W[i, 0], W[i, 1], W[i, 2]
         dQ[i, 0] = 0.5 * (-wx * qn[1] - wy * qn[2] - wz * qn[3])
@@ -183,22 +188,22 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
         _store_free_velocity(bf, i)
 
 
-@njit
-def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record):
+@njit_inline
+def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record, mats, vecs):
     """Stage "integrate velocities": apply all forces over ``h`` seconds with the chosen ``method``.
 
-    ``F``, ``T`` are scratch (nb, 3) tables; the springs' forces at the sub-step's start are added to
-    their recorded mean with weight ``record``.
+    ``F``, ``T`` are scratch (nb, 3) tables, ``mats``, ``vecs`` the stages' scratch (see SCRATCH_MATS); the
+    springs' forces at the sub-step's start are added to their recorded mean with weight ``record``.
     """
     if method == RK4:
         _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record)
         return
     accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, bf[:, POS:POS + 3], bf[:, QUAT:QUAT + 4],
-                      bf[:, VEL:VEL + 3], bf[:, OMEGA:OMEGA + 3], F, T, record)
+                      bf[:, VEL:VEL + 3], bf[:, OMEGA:OMEGA + 3], F, T, record, vecs)
     if method == EXPLICIT_EULER:
-        _explicit_euler_velocities(bf, bi, nb, F, T, h)
+        _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs)
     else:
-        _momentum_velocities(bf, bi, nb, F, T, h, method == VERLET, prev_h)
+        _momentum_velocities(bf, bi, nb, F, T, h, method == VERLET, prev_h, mats, vecs)
 
 
 @njit
@@ -222,20 +227,16 @@ def _rotate_conserving_momentum(bf, i, h, rot, iw_inv, iw, lw, q_mid, w_mid, q_n
     mat3_vec(iw_inv, lw, w)
 
 
-@njit
-def integrate_positions(method, bf, bi, nb, h):
+@njit_inline
+def integrate_positions(method, bf, bi, nb, h, mats, vecs):
     """Stage "integrate positions": move every awake dynamic body over ``h`` seconds.
 
     The solver's velocity change ``dv = v - v_free`` is added to the integrator's own prediction for
     explicit Euler and RK4; semi-implicit Euler and Verlet move with the final velocity directly.
+    ``mats``, ``vecs``: the stages' scratch.
     """
-    dq = np.empty(4)
-    dw = np.empty(3)
-    rot = np.empty((3, 3))
-    iw_inv = np.empty((3, 3))
-    iw = np.empty((3, 3))
-    q_mid = np.empty(4)
-    w_mid = np.empty(3)
+    rot, iw_inv, iw = mats[0], mats[1], mats[2]
+    dw, dq, q_mid, w_mid = vecs[0, :3], vecs[1], vecs[2], vecs[3, :3]
     for i in range(nb):
         if not is_moving(bi, i):
             continue

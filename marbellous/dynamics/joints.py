@@ -11,7 +11,6 @@ rod pendulum keeps its length and its period without adding energy.
 """
 import math
 
-import numpy as np
 
 from .._jit import njit
 from ..layout import (C_CABLE, C_ROD, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE,
@@ -60,17 +59,25 @@ def joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u):
 
 
 @njit
-def warm_start_joints(bf, kf, ki, nk, sb):
-    """Apply each rod's and cable's impulse of the last sub-step along its current axis."""
-    if nk == 0:
-        return
-    ra = np.empty(3)
-    rb = np.empty(3)
-    pa = np.empty(3)
-    pb = np.empty(3)
-    u = np.empty(3)
-    p = np.empty(3)
-    zero9 = np.zeros(9)
+def _scratch(vecs):
+    """The 3-vectors ra, rb, pa, pb, u, dv, p as views of the scratch rows ``vecs[:7]``."""
+    return vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3], vecs[5, :3], vecs[6, :3]
+
+
+@njit
+def _world_inertia(sb, a, b):
+    """Inverse mass and world inverse inertia rows of b; for the world (b < 0) a zero mass and a's row as a
+    stand-in (its anchor offset rb is zero, so the inertia term (rb x d) I (rb x d) vanishes anyway)."""
+    if b >= 0:
+        return sb[b, 0], sb[b, 1:10]
+    return 0.0, sb[a, 1:10]
+
+
+@njit
+def warm_start_joints(bf, kf, ki, nk, sb, vecs):
+    """Apply each rod's and cable's impulse of the last sub-step along its current axis (``vecs``: scratch
+    of at least (7, 3))."""
+    ra, rb, pa, pb, u, _, p = _scratch(vecs)
     for c in range(nk):
         if not is_active_joint(ki, c) or kf[c, K_IMPULSE] == 0.0:
             continue
@@ -80,23 +87,15 @@ def warm_start_joints(bf, kf, ki, nk, sb):
         b = ki[c, K_BODY_B]
         for k in range(3):
             p[k] = kf[c, K_IMPULSE] * u[k]
-        apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, sb[b, 0] if b >= 0 else 0.0,
-                           sb[b, 1:10] if b >= 0 else zero9, rb, p)
+        inv_mb, iwb = _world_inertia(sb, a, b)
+        apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, inv_mb, iwb, rb, p)
 
 
 @njit
-def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
-    """One pass over rods and cables (``use_bias``: solve, else relax); returns the largest velocity change."""
-    if nk == 0:
-        return 0.0
-    ra = np.empty(3)
-    rb = np.empty(3)
-    pa = np.empty(3)
-    pb = np.empty(3)
-    u = np.empty(3)
-    dv = np.empty(3)
-    p = np.empty(3)
-    zero9 = np.zeros(9)
+def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
+    """One pass over rods and cables (``use_bias``: solve, else relax); returns the largest velocity change.
+    ``vecs``: scratch of at least (7, 3)."""
+    ra, rb, pa, pb, u, dv, p = _scratch(vecs)
     largest = 0.0
     for c in range(nk):
         if not is_active_joint(ki, c):
@@ -106,8 +105,7 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
         length = joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u)
         if length < 1e-12:
             continue
-        inv_mb = sb[b, 0] if b >= 0 else 0.0
-        iwb = sb[b, 1:10] if b >= 0 else zero9
+        inv_mb, iwb = _world_inertia(sb, a, b)
         mass = effective_mass(sb[a, 0], sb[a, 1:10], ra, inv_mb, iwb, rb, u)
         if mass == 0.0:
             continue
@@ -136,18 +134,12 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft):
 
 
 @njit
-def record_joint_forces(bf, kf, ki, nk, dt, totals):
+def record_joint_forces(bf, kf, ki, nk, dt, totals, vecs):
     """Store each rod's and cable's force on body a over the step: ``F = -sum(lambda) u / dt`` (N).
 
-    ``totals`` holds the impulses summed over the step's sub-steps.
+    ``totals`` holds the impulses summed over the step's sub-steps; ``vecs``: scratch of at least (7, 3).
     """
-    if nk == 0:
-        return
-    ra = np.empty(3)
-    rb = np.empty(3)
-    pa = np.empty(3)
-    pb = np.empty(3)
-    u = np.empty(3)
+    ra, rb, pa, pb, u, _, _ = _scratch(vecs)
     for c in range(nk):
         if not is_active_joint(ki, c):
             continue

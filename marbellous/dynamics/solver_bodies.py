@@ -3,8 +3,6 @@
 Row ``i`` of the (nb, 10) table ``sb`` holds ``[1/m, (R I_body^-1 R^T) row-major]``; static and sleeping
 bodies get zeros, so every constraint treats them as immovable without a branch.
 """
-import numpy as np
-
 from .._jit import njit
 from ..layout import F_ISOTROPIC, FLAGS, INV_I, INV_MASS, QUAT
 from .forces import is_moving
@@ -14,10 +12,10 @@ SB_COLS = 10
 
 
 @njit
-def prepare_solver_bodies(bf, bi, nb, sb):
-    """Fill ``sb`` from the bodies' current orientations."""
-    rot = np.empty((3, 3))
-    iw = np.empty((3, 3))
+def prepare_solver_bodies(bf, bi, nb, sb, mats):
+    """Fill ``sb`` from the bodies' current orientations (``mats``: at least two 3x3 scratch matrices)."""
+    rot = mats[0]
+    iw = mats[1]
     for i in range(nb):
         if is_moving(bi, i) and (bi[i, FLAGS] & F_ISOTROPIC) != 0:
             # R (s E) R^T = s E: the body-frame inverse inertia is already the world one.

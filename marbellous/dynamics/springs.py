@@ -9,7 +9,6 @@ offset from the centre of mass.  Evaluated at every stage of the integrator.
 """
 import math
 
-import numpy as np
 
 from .._jit import njit
 from ..layout import (C_SPRING, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS,
@@ -18,14 +17,16 @@ from ..math3d import quat_rotate
 
 
 @njit
-def anchor_world(X, Q, V, W, body, local, p_out, v_out):
-    """World position and velocity of an anchor given in ``body``'s frame (``body < 0``: a fixed world point)."""
+def anchor_world(X, Q, V, W, body, local, p_out, v_out, r):
+    """World position and velocity of an anchor given in ``body``'s frame (``body < 0``: a fixed world point).
+
+    ``r`` (3) is scratch; it receives the anchor's offset from the centre of mass.
+    """
     if body < 0:
         for k in range(3):
             p_out[k] = local[k]
             v_out[k] = 0.0
         return
-    r = np.empty(3)
     quat_rotate(Q[body], local, r)
     w = W[body]
     for k in range(3):
@@ -51,27 +52,21 @@ def add_force_at(X, F, T, body, point, f, sign):
 
 
 @njit
-def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record):
+def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs):
     """Accumulate the force and torque of every live, unbroken spring.
 
     ``record`` (a weight, 0: none) adds ``record * F`` to each spring's K_FORCE: with weight h / dt at
-    each sub-step, K_FORCE ends up as the step's mean force.
+    each sub-step, K_FORCE ends up as the step's mean force.  ``vecs``: scratch of at least (6, 3).
     """
-    if nk == 0:
-        return
-    pa = np.empty(3)
-    pb = np.empty(3)
-    va = np.empty(3)
-    vb = np.empty(3)
-    f = np.empty(3)
+    pa, pb, va, vb, f, r = vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3], vecs[5, :3]
     for c in range(nk):
         flags = ki[c, K_FLAGS]
         if ki[c, K_TYPE] != C_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0:
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
-        anchor_world(X, Q, V, W, a, kf[c, K_ANCHOR_A:K_ANCHOR_A + 3], pa, va)
-        anchor_world(X, Q, V, W, b, kf[c, K_ANCHOR_B:K_ANCHOR_B + 3], pb, vb)
+        anchor_world(X, Q, V, W, a, kf[c, K_ANCHOR_A:K_ANCHOR_A + 3], pa, va, r)
+        anchor_world(X, Q, V, W, b, kf[c, K_ANCHOR_B:K_ANCHOR_B + 3], pb, vb, r)
         dx, dy, dz = pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
         length = math.sqrt(dx * dx + dy * dy + dz * dz)
         if length < 1e-12:

@@ -27,7 +27,7 @@ from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
                                        solve_contacts, store_friction_state, warm_start_contacts)
-from ..dynamics.integrators import integrate_positions, integrate_velocities
+from ..dynamics.integrators import SCRATCH_MATS, SCRATCH_VECS, integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
@@ -115,9 +115,21 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
     prof = params_i[P_PROFILE] != 0
     t = cycle_counter() if prof else 0
+    # Scratch, allocated here once per step: the stages called per sub-step and per iteration must not
+    # allocate (see dynamics/integrators.py SCRATCH_MATS).
+    sweep = np.empty(nb)
+    sb = np.empty((nb, SB_COLS))
+    F = np.empty((nb, 3))
+    T = np.empty((nb, 3))
+    user_forces = np.empty((nb, 6))
+    joint_totals = np.zeros(nk)
+    soft = np.empty((2, 3))
+    contact_soft = soft[0]
+    joint_soft = soft[1]
+    mats = np.empty((SCRATCH_MATS, 3, 3))
+    vecs = np.empty((SCRATCH_VECS, 4))
 
     # --- collide -----------------------------------------------------------------------------------
-    sweep = np.empty(nb)
     update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
     t = _lap(stats, ST_AABBS, t, prof)
     n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
@@ -137,55 +149,57 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             cf[c, C_POINT + k] = raw_f[c, k]   # point, normal, depth are the first 7 columns
 
     # --- match, wake, prepare -------------------------------------------------------------------------
-    match_contacts(cf, ci, nc, pcf, pci, npc)
-    wake_touched_islands(bi, bf, ci, nc, nb)
+    if nc > 0:
+        match_contacts(cf, ci, nc, pcf, pci, npc)
+        wake_touched_islands(bi, bf, ci, nc, nb)
     t = _lap(stats, ST_MATCH, t, prof)
-    sb = np.empty((nb, SB_COLS))
-    prepare_solver_bodies(bf, bi, nb, sb)
-    prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
+    prepare_solver_bodies(bf, bi, nb, sb, mats)
+    if nc > 0:
+        prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
             bf[i, DTHETA + k] = 0.0
 
     # --- sub-steps ---------------------------------------------------------------------------------------
-    contact_soft = np.empty(3)
-    joint_soft = np.empty(3)
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
     soft_coefficients(params_f[P_JOINT_HERTZ], params_f[P_JOINT_ZETA], h, joint_soft)
-    F = np.empty((nb, 3))
-    T = np.empty((nb, 3))
-    joint_totals = np.zeros(nk)
-    clear_spring_forces(kf, ki, nk)
+    if nk > 0:
+        clear_spring_forces(kf, ki, nk)
     iterations_used = 0
     solver = params_i[P_SOLVER]
-    user_forces = np.empty((nb, 6))
     t = _lap(stats, ST_PREPARE, t, prof)
     for _ in range(substeps):
         if solver == PENALTY:
             add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
                                user_forces)
         integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
-                             1.0 / substeps)
+                             1.0 / substeps, mats, vecs)
         if solver == PENALTY:
             restore_user_forces(bf, nb, user_forces)
-        prepare_solver_bodies(bf, bi, nb, sb)
+        prepare_solver_bodies(bf, bi, nb, sb, mats)
         t = _lap(stats, ST_INTEGRATE_V, t, prof)
-        warm_start_joints(bf, kf, ki, nk, sb)
+        # (kernels are only called when they have rows to work on: every call passes its arrays' fields)
+        if nk > 0:
+            warm_start_joints(bf, kf, ki, nk, sb, vecs)
         if solver == SEQUENTIAL_IMPULSE:
-            warm_start_contacts(bf, cf, ci, nc, sb)
+            if nc > 0:
+                warm_start_contacts(bf, cf, ci, nc, sb)
             t = _lap(stats, ST_WARM, t, prof)
             for _ in range(params_i[P_ITERATIONS]):
                 iterations_used += 1
-                change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft)
-                change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft,
-                                                    params_f[P_MAX_PUSH]))
+                change = 0.0
+                if nk > 0:
+                    change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
+                if nc > 0:
+                    change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft,
+                                                        params_f[P_MAX_PUSH]))
                 if change < params_f[P_TOLERANCE]:
                     break
         elif solver == PENALTY:
             for _ in range(params_i[P_ITERATIONS]):
                 iterations_used += 1
-                if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft) < params_f[P_TOLERANCE]:
+                if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs) < params_f[P_TOLERANCE]:
                     break
         else:
             warm_start_contacts(bf, cf, ci, nc, sb)
@@ -193,20 +207,22 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
                                          params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR],
                                          params_f[P_TOLERANCE])
         t = _lap(stats, ST_SOLVE, t, prof)
-        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
+        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h, mats, vecs)
         for i in range(nb):
             for k in range(3):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
-        prepare_solver_bodies(bf, bi, nb, sb)
+        prepare_solver_bodies(bf, bi, nb, sb, mats)
         t = _lap(stats, ST_INTEGRATE_X, t, prof)
         if solver == LCP:
             solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
                       params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR], params_f[P_TOLERANCE])
         else:
-            solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft)
-            if solver == SEQUENTIAL_IMPULSE:
+            if nk > 0:
+                solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
+            if solver == SEQUENTIAL_IMPULSE and nc > 0:
                 solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
-        accumulate_applied(cf, ci, nc)
+        if nc > 0:
+            accumulate_applied(cf, ci, nc)
         for c in range(nk):
             joint_totals[c] += kf[c, K_IMPULSE]
         ws[W_PREV_DT] = h
@@ -214,11 +230,13 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     stats[S_ITERATIONS] = iterations_used
 
     # --- end of step ---------------------------------------------------------------------------------------
-    if solver != PENALTY:     # the penalty springs' damping gives the restitution
-        apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
-    store_friction_state(cf, ci, nc)
-    record_joint_forces(bf, kf, ki, nk, dt, joint_totals)
-    break_overloaded(kf, ki, nk)
+    if nc > 0:
+        if solver != PENALTY:     # the penalty springs' damping gives the restitution
+            apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
+        store_friction_state(cf, ci, nc)
+    if nk > 0:
+        record_joint_forces(bf, kf, ki, nk, dt, joint_totals, vecs)
+        break_overloaded(kf, ki, nk)
     t = _lap(stats, ST_RESTITUTION, t, prof)
     parent = np.empty(nb, dtype=np.int64)
     update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, params_f[P_SLEEP_LINEAR], params_f[P_SLEEP_ANGULAR],

@@ -45,7 +45,7 @@ from marbellous.collision.broadphase.static_tree import (
 from marbellous.collision.broadphase.sweep_and_prune import (
     sap_init_params, sap_pairs, sap_query_aabb, sap_state_sizes, sap_update)
 from marbellous.collision.broadphase.uniform_grid import (
-    grid_init_params, grid_pairs, grid_state_sizes)
+    GRID_MIN_SLOTS, grid_init_params, grid_pairs, grid_state_sizes)
 
 BRUTE = 0
 SAP = 1
@@ -144,7 +144,7 @@ def update(method, aabbs, flags, n_bodies, state_f, state_i):
 @njit
 def _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
     """Pair keys of the up-to-date structure into ``keys`` (while it has room); returns the count."""
-    if method == BRUTE:
+    if method == BRUTE or (method == GRID and n_bodies <= GRID_MIN_SLOTS):
         return brute_force_pairs(aabbs, flags, groups, masks, n_bodies, keys)
     if method == SAP:
         return sap_pairs(aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)

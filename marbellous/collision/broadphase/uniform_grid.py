@@ -18,6 +18,7 @@ pair is reported only in the lowest cell both boxes cover (cell ``max(lo_i, lo_j
 overlapping pair is found exactly once without a dedupe pass.
 
 The grid is transient (rebuilt each update), so box and ray queries for this method are linear scans.
+With at most ``GRID_MIN_SLOTS`` body slots the dispatcher skips the grid and tests every pair.
 State: only the header; ``state_f[F_CELL_FACTOR]`` and ``state_f[F_MAX_CELLS]`` hold the tunables.
 """
 import math
@@ -31,6 +32,9 @@ from marbellous.collision.broadphase._common import (
 F_CELL_FACTOR = 0
 F_MAX_CELLS = 1
 _AXIS_CELLS = 1 << 20
+#: Below this many body slots the dispatcher tests every pair instead (same pairs, same order): building
+#: the grid costs a few microseconds, testing 32 * 31 / 2 box pairs well under one.
+GRID_MIN_SLOTS = 32
 
 
 def grid_state_sizes(capacity):
