@@ -8,6 +8,13 @@ from .._jit import njit
 
 
 @njit
+def contact_point(p_on_a, normal, depth):
+    """The contact point (3-tuple, m) midway between the surfaces: ``p_on_a - normal * depth / 2``."""
+    h = 0.5 * depth
+    return (p_on_a[0] - normal[0] * h, p_on_a[1] - normal[1] * h, p_on_a[2] - normal[2] * h)
+
+
+@njit
 def add_contact(out_f, out_i, n, p_on_a, normal, depth, feature):
     """Write the contact into row ``n`` if the buffer has room; return ``n + 1`` either way.
 
@@ -22,10 +29,10 @@ def add_contact(out_f, out_i, n, p_on_a, normal, depth, feature):
         return n + 1
     room = n < cap
     row = min(n, cap - 1)
-    h = 0.5 * depth
-    out_f[row, 0] = p_on_a[0] - normal[0] * h if room else out_f[row, 0]
-    out_f[row, 1] = p_on_a[1] - normal[1] * h if room else out_f[row, 1]
-    out_f[row, 2] = p_on_a[2] - normal[2] * h if room else out_f[row, 2]
+    point = contact_point(p_on_a, normal, depth)
+    out_f[row, 0] = point[0] if room else out_f[row, 0]
+    out_f[row, 1] = point[1] if room else out_f[row, 1]
+    out_f[row, 2] = point[2] if room else out_f[row, 2]
     out_f[row, 3] = normal[0] if room else out_f[row, 3]
     out_f[row, 4] = normal[1] if room else out_f[row, 4]
     out_f[row, 5] = normal[2] if room else out_f[row, 5]

@@ -12,10 +12,32 @@ from .capsule_box import collide_capsule_box
 from .capsule_capsule import collide_capsule_capsule
 from .heightfield_collide import collide_convex_heightfield
 from .mesh_collide import collide_convex_mesh
-from .plane_pairs import collide_box_plane, collide_capsule_plane, collide_sphere_plane
-from .sphere_box import collide_sphere_box
-from .sphere_capsule import collide_sphere_capsule
-from .sphere_sphere import collide_sphere_sphere
+from .contact_output import add_contact
+from .plane_pairs import collide_box_plane, collide_capsule_plane, sphere_plane, world_plane
+from .sphere_box import sphere_box
+from .sphere_capsule import sphere_capsule
+from .sphere_sphere import sphere_sphere
+from .vec3 import load, mat_column, matrix
+
+
+@njit
+def sphere_primitive(c, r, type_b, pos_b, m_b, params_b, prediction):
+    """The contact of the sphere ``(c, r)`` with a sphere, capsule, box or plane b, all in registers.
+
+    ``c``, ``pos_b`` 3-tuples (m), ``r`` (m), ``m_b`` b's rotation as a row-major 9-tuple
+    (``vec3.matrix``; not read for a sphere), ``params_b`` the first four of b's parameters.
+    Returns ``(hit, p_on_a, normal, depth)`` (``sphere_sphere.ball_ball``), normal from the sphere
+    to b, feature id 0.  The fast path of the narrow phase: no array argument, so no reference
+    counting (which costs more than the pair test itself).
+    """
+    if type_b == st.SPHERE:
+        return sphere_sphere(c, r, pos_b, params_b[0], prediction)
+    if type_b == st.CAPSULE:
+        return sphere_capsule(c, r, pos_b, mat_column(m_b, 1), params_b[0], params_b[1], prediction)
+    if type_b == st.BOX:
+        return sphere_box(c, r, pos_b, m_b, (params_b[0], params_b[1], params_b[2]), prediction)
+    pn, off = world_plane(pos_b, m_b, (params_b[0], params_b[1], params_b[2]), params_b[3])
+    return sphere_plane(c, r, pn, off, prediction)
 
 
 @njit
@@ -23,13 +45,9 @@ def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, p
                          out_f, out_i, n):
     """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
     if type_a == st.SPHERE:
-        if type_b == st.SPHERE:
-            return collide_sphere_sphere(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
-        if type_b == st.CAPSULE:
-            return collide_sphere_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
-        if type_b == st.BOX:
-            return collide_sphere_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
-        return collide_sphere_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
+                                                 (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
+        return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
     if type_a == st.CAPSULE:
         if type_b == st.CAPSULE:
             return collide_capsule_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)

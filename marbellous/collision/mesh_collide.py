@@ -23,7 +23,7 @@ from .grid2d import grid_candidates
 from . import shape_types as st
 from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
-from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C
+from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C, sphere_triangle
 
 
 @njit
@@ -106,6 +106,9 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
         a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
         if (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0) or not boxes_overlap(a, b, cc, lo, hi):
             continue                                  # degenerate, or too far
+        if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
+            continue                                  # missed: decided by values alone, so the arrays of
+                                                      # the call below are not reference counted for it
         m0 = m1 = m2 = zero
         if type_a == st.BOX:
             m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)

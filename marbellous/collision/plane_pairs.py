@@ -6,14 +6,35 @@ the half-space ``x . n <= o + n . p`` with ``n = R n_l``.  A point ``x`` of shap
 """
 from .._jit import njit
 from .contact_output import add_contact
-from .vec3 import column, dot, load, madd, scale, to_world
+from .vec3 import column, dot, load, madd, mat_to_world, matrix, scale
+
+
+@njit
+def world_plane(p, m, local_normal, offset):
+    """World normal (3-tuple) and offset (m) of a plane with ``local_normal`` and ``offset`` placed at
+    ``p`` (3-tuple) with rotation ``m`` (row-major 9-tuple, ``vec3.matrix``)."""
+    normal = mat_to_world(m, local_normal)
+    return normal, offset + dot(normal, p)
 
 
 @njit
 def _world_plane(pos, rot, params):
     """World normal (3-tuple) and offset (m) of a plane shape."""
-    normal = to_world(rot, (params[0], params[1], params[2]))
-    return normal, params[3] + dot(normal, load(pos))
+    return world_plane(load(pos), matrix(rot), (params[0], params[1], params[2]), params[3])
+
+
+@njit
+def sphere_plane(c, r, pn, off, prediction):
+    """Sphere ``(c, r)`` against the world half-space ``x . pn <= off``, as values
+    ``(hit, p_on_a, normal, depth)`` (``sphere_sphere.ball_ball``).
+
+    ``depth = offset - n . c + r``.
+    """
+    depth = off - dot(pn, c) + r
+    normal = scale(pn, -1.0)
+    if depth < -prediction:
+        return False, c, normal, depth
+    return True, madd(c, r, normal), normal, depth
 
 
 @njit
@@ -23,13 +44,8 @@ def collide_sphere_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, predict
     ``depth = offset - n . c + r``.
     """
     pn, off = _world_plane(pos_b, rot_b, params_b)
-    r = params_a[0]
-    c = load(pos_a)
-    depth = off - dot(pn, c) + r
-    if depth < -prediction:
-        return n
-    normal = scale(pn, -1.0)
-    return add_contact(out_f, out_i, n, madd(c, r, normal), normal, depth, 0)
+    hit, p, normal, depth = sphere_plane(load(pos_a), params_a[0], pn, off, prediction)
+    return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
 
 
 @njit

@@ -63,19 +63,47 @@ def column(rot, k):
 
 
 @njit
+def matrix(rot):
+    """The (3, 3) rotation matrix array as a row-major 9-tuple ``(r00, r01, r02, r10, ..., r22)``.
+
+    Pair tests that take their poses in registers (no array arguments, so no reference counting)
+    use rotations in this form with ``mat_column``, ``mat_to_world`` and ``mat_to_local``.
+    """
+    return (rot[0, 0], rot[0, 1], rot[0, 2], rot[1, 0], rot[1, 1], rot[1, 2], rot[2, 0], rot[2, 1], rot[2, 2])
+
+
+@njit
+def mat_column(m, k):
+    """Column ``k`` of the row-major 9-tuple rotation ``m``."""
+    return (m[k], m[3 + k], m[6 + k])
+
+
+@njit
+def mat_to_world(m, v):
+    """``R v`` for the row-major 9-tuple rotation ``m``."""
+    return (m[0] * v[0] + m[1] * v[1] + m[2] * v[2],
+            m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
+            m[6] * v[0] + m[7] * v[1] + m[8] * v[2])
+
+
+@njit
+def mat_to_local(m, v):
+    """``R^T v`` for the row-major 9-tuple rotation ``m``."""
+    return (m[0] * v[0] + m[3] * v[1] + m[6] * v[2],
+            m[1] * v[0] + m[4] * v[1] + m[7] * v[2],
+            m[2] * v[0] + m[5] * v[1] + m[8] * v[2])
+
+
+@njit
 def to_world(rot, v):
     """``R v``: a local direction in world coordinates."""
-    return (rot[0, 0] * v[0] + rot[0, 1] * v[1] + rot[0, 2] * v[2],
-            rot[1, 0] * v[0] + rot[1, 1] * v[1] + rot[1, 2] * v[2],
-            rot[2, 0] * v[0] + rot[2, 1] * v[1] + rot[2, 2] * v[2])
+    return mat_to_world(matrix(rot), v)
 
 
 @njit
 def to_local(rot, v):
     """``R^T v``: a world direction in the shape's local coordinates."""
-    return (rot[0, 0] * v[0] + rot[1, 0] * v[1] + rot[2, 0] * v[2],
-            rot[0, 1] * v[0] + rot[1, 1] * v[1] + rot[2, 1] * v[2],
-            rot[0, 2] * v[0] + rot[1, 2] * v[1] + rot[2, 2] * v[2])
+    return mat_to_local(matrix(rot), v)
 
 
 @njit

@@ -8,6 +8,15 @@ again from the same state.
                         reaches from the centre of mass; 0 for a centred sphere, which turns in place)
     AABB                shape boxes grown by the speculative distance and the sweep
     prediction          speculative distance + d_a + d_b: contacts are made before bodies touch
+
+The narrow phase poses each shape once per call, when a pair first needs it, into scratch tables (a
+sphere at its body's centre needs no pose at all: its centre is the body's position, and no pair test
+reads a sphere's rotation).  A sphere against a sphere, capsule, box or plane, nearly every pair of a
+pile, runs its pair test with every pose in registers and the row is written here: Numba counts the
+references of each array handed to a function that branches (an atomic increment and decrement, about
+as costly as the pair test itself), so the hot loop hands none.  Other pairs go through
+``collide_pair``.  Contacts, their order and their bits are those of posing both shapes of every pair
+and calling ``collide_pair`` (tests/test_narrow_phase.py).
 """
 import math
 
@@ -16,7 +25,9 @@ import numpy as np
 from .._jit import njit
 from ..collision import shape_types as st
 from ..collision.aabb import merge_aabb, shape_aabb
-from ..collision.dispatch import collide_pair
+from ..collision.contact_output import contact_point
+from ..collision.dispatch import collide_pair, sphere_primitive
+from ..collision.shape_types import N_SHAPE_PARAMS
 from ..layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                       F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
                       S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
@@ -25,14 +36,76 @@ from ..dynamics.forces import is_moving
 
 
 @njit
-def shape_pose(bf, sf, s, b, pos, rot):
-    """World position and rotation matrix of shape row ``s`` on body row ``b``."""
-    q = np.empty(4)
-    quat_mul(bf[b, QUAT:QUAT + 4], sf[s, S_LOCAL_QUAT:S_LOCAL_QUAT + 4], q)
-    quat_to_matrix(q, rot)
-    quat_rotate(bf[b, QUAT:QUAT + 4], sf[s, S_LOCAL_POS:S_LOCAL_POS + 3], pos)
+def shape_position(bf, sf, s, b, pos):
+    """World position (m) of shape row ``s`` on body row ``b`` into ``pos`` (3,): ``x + R p_local``."""
+    q = (bf[b, QUAT], bf[b, QUAT + 1], bf[b, QUAT + 2], bf[b, QUAT + 3])
+    quat_rotate(q, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]), pos)
     for k in range(3):
         pos[k] += bf[b, POS + k]
+
+
+@njit
+def shape_rotation(bf, sf, s, b, q, rot):
+    """World rotation matrix of shape row ``s`` on body row ``b`` into ``rot`` (3, 3):
+    ``R_s = R R_local``, through the quaternion product into the scratch ``q`` (4,)."""
+    quat_mul((bf[b, QUAT], bf[b, QUAT + 1], bf[b, QUAT + 2], bf[b, QUAT + 3]),
+             (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2], sf[s, S_LOCAL_QUAT + 3]), q)
+    quat_to_matrix(q, rot)
+
+
+@njit
+def shape_pose(bf, sf, s, b, pos, rot):
+    """World position and rotation matrix of shape row ``s`` on body row ``b``."""
+    shape_rotation(bf, sf, s, b, np.empty(4), rot)
+    shape_position(bf, sf, s, b, pos)
+
+
+#: States of a shape's row in the narrow phase's pose tables.
+POSE_NONE = 0
+POSE_POSITION = 1       # position only: a sphere seen only by the sphere fast paths
+POSE_FULL = 2           # position and rotation
+
+
+@njit
+def pose_shape(bf, sf, si, s, b, rotation, q, pos_t, rot_t, state):
+    """Fill row ``s`` of the pose tables ``pos_t`` (n, 3) and ``rot_t`` (n, 3, 3) once per narrow phase:
+    the position always, the rotation unless ``s`` is a sphere and ``rotation`` is False (the sphere
+    pair tests never read a sphere's rotation)."""
+    have = state[s]
+    if have == POSE_NONE:
+        shape_position(bf, sf, s, b, pos_t[s])
+        have = POSE_POSITION
+    if have == POSE_POSITION and (rotation or si[s, S_TYPE] != st.SPHERE):
+        shape_rotation(bf, sf, s, b, q, rot_t[s])
+        have = POSE_FULL
+    state[s] = have
+
+
+@njit
+def at_body_origin(sf, s):
+    """True if shape row ``s`` sits at its body's centre of mass (``p_local = 0``): a sphere there is
+    posed by its body's position alone.  Straight-line code (``&``, not ``and``), so a caller's
+    arrays are not reference counted."""
+    return (sf[s, S_LOCAL_POS] == 0.0) & (sf[s, S_LOCAL_POS + 1] == 0.0) & (sf[s, S_LOCAL_POS + 2] == 0.0)
+
+
+@njit
+def _row_matrix(rot_t, s):
+    """Row ``s`` of the rotation table as a row-major 9-tuple."""
+    return (rot_t[s, 0, 0], rot_t[s, 0, 1], rot_t[s, 0, 2], rot_t[s, 1, 0], rot_t[s, 1, 1], rot_t[s, 1, 2],
+            rot_t[s, 2, 0], rot_t[s, 2, 1], rot_t[s, 2, 2])
+
+
+@njit
+def collide_posed(bf, sf, si, geom_f, geom_i, a, sa, b, sb, q, pos_t, rot_t, state, prediction, out_f, out_i, n):
+    """Contacts of shape ``sa`` of body ``a`` with shape ``sb`` of body ``b`` (normals from a to b)
+    through ``collide_pair``, posed through the tables; returns the new count."""
+    pose_shape(bf, sf, si, sa, a, True, q, pos_t, rot_t, state)
+    pose_shape(bf, sf, si, sb, b, True, q, pos_t, rot_t, state)
+    return collide_pair(si[sa, S_TYPE], pos_t[sa], rot_t[sa], sf[sa, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                        si[sb, S_TYPE], pos_t[sb], rot_t[sb], sf[sb, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                        geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F], si[sb, S_OFF_I],
+                        prediction, out_f, out_i, n)
 
 
 @njit
@@ -40,6 +113,7 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
     """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs."""
     pos = np.empty(3)
     rot = np.empty((3, 3))
+    q = np.empty(4)
     box = np.empty(6)
     for i in range(nb):
         if (bi[i, FLAGS] & F_ALIVE) == 0 or (bi[i, FLAGS] & F_STATIC) != 0:
@@ -51,8 +125,10 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
             offset = math.sqrt(sf[s, S_LOCAL_POS] ** 2 + sf[s, S_LOCAL_POS + 1] ** 2 + sf[s, S_LOCAL_POS + 2] ** 2)
             turning = 0.0 if si[s, S_TYPE] == st.SPHERE else sf[s, S_RADIUS]
             reach = max(reach, offset + turning)
-            shape_pose(bf, sf, s, i, pos, rot)
-            shape_aabb(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + 8], box)
+            shape_position(bf, sf, s, i, pos)
+            if si[s, S_TYPE] != st.SPHERE:            # a sphere's box needs no rotation
+                shape_rotation(bf, sf, s, i, q, rot)
+            shape_aabb(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], box)
             if s == s0:
                 for k in range(6):
                     aabbs[i, k] = box[k]
@@ -76,10 +152,11 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
     (bodies, shapes, sensor flag).  Returns the number of points (it may exceed the capacity)."""
     n = 0
     cap = raw_f.shape[0]
-    pos_a = np.empty(3)
-    pos_b = np.empty(3)
-    rot_a = np.empty((3, 3))
-    rot_b = np.empty((3, 3))
+    n_shapes = sf.shape[0]
+    pos_t = np.empty((n_shapes, 3))         # world poses, each shape's computed once, when first needed
+    rot_t = np.empty((n_shapes, 3, 3))
+    state = np.zeros(n_shapes, np.int8)
+    q = np.empty(4)
     for p in range(n_pairs):
         a = pairs[p, 0]
         b = pairs[p, 1]
@@ -93,13 +170,45 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
         # Sensors report overlaps only; solid pairs also report gaps they may close within the step.
         prediction = 0.0 if sensor else speculative + sweep[a] + sweep[b]
         for sa in range(bi[a, SHAPE_START], bi[a, SHAPE_START] + bi[a, SHAPE_COUNT]):
-            shape_pose(bf, sf, sa, a, pos_a, rot_a)
             for sb in range(bi[b, SHAPE_START], bi[b, SHAPE_START] + bi[b, SHAPE_COUNT]):
-                shape_pose(bf, sf, sb, b, pos_b, rot_b)
-                m = collide_pair(si[sa, S_TYPE], pos_a, rot_a, sf[sa, S_PARAMS:S_PARAMS + 8],
-                                 si[sb, S_TYPE], pos_b, rot_b, sf[sb, S_PARAMS:S_PARAMS + 8],
-                                 geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F],
-                                 si[sb, S_OFF_I], prediction, raw_f, raw_i, n)
+                ta = si[sa, S_TYPE]
+                tb = si[sb, S_TYPE]
+                if (ta == st.SPHERE and tb <= st.PLANE) or (tb == st.SPHERE and ta <= st.PLANE):
+                    # Fast path: the sphere (first, as collide_convex_pair orders them) against a
+                    # primitive, every pose in registers.
+                    flip = ta != st.SPHERE
+                    s1, b1, s2, b2, t2 = (sb, b, sa, a, ta) if flip else (sa, a, sb, b, tb)
+                    # Poses: a centred sphere is at its body's centre; any other shape's pose is
+                    # computed once, into the tables (inline here: a call per pair with the arrays
+                    # would count their references, which costs more than the pair test).
+                    c1 = (bf[b1, POS], bf[b1, POS + 1], bf[b1, POS + 2])
+                    if not at_body_origin(sf, s1):
+                        if state[s1] == POSE_NONE:
+                            pose_shape(bf, sf, si, s1, b1, False, q, pos_t, rot_t, state)
+                        c1 = (pos_t[s1, 0], pos_t[s1, 1], pos_t[s1, 2])
+                    c2 = (bf[b2, POS], bf[b2, POS + 1], bf[b2, POS + 2])
+                    if t2 != st.SPHERE or not at_body_origin(sf, s2):
+                        if state[s2] == POSE_NONE:
+                            pose_shape(bf, sf, si, s2, b2, False, q, pos_t, rot_t, state)
+                        c2 = (pos_t[s2, 0], pos_t[s2, 1], pos_t[s2, 2])
+                    hit, p_on_a, normal, depth = sphere_primitive(
+                        c1, sf[s1, S_PARAMS], t2, c2, _row_matrix(rot_t, s2),
+                        (sf[s2, S_PARAMS], sf[s2, S_PARAMS + 1], sf[s2, S_PARAMS + 2], sf[s2, S_PARAMS + 3]),
+                        prediction)
+                    m = n + 1 if hit else n
+                    if hit and n < cap:
+                        # The row add_contact writes, stored here: passing the buffers to a function in
+                        # this loop would count their references, which costs more than the pair test.
+                        point = contact_point(p_on_a, normal, depth)
+                        side = -1.0 if flip else 1.0     # normals from a to b (collide_convex_pair)
+                        for k in range(3):
+                            raw_f[n, k] = point[k]
+                            raw_f[n, 3 + k] = side * normal[k]
+                        raw_f[n, 6] = depth
+                        raw_i[n] = 0
+                else:
+                    m = collide_posed(bf, sf, si, geom_f, geom_i, a, sa, b, sb, q, pos_t, rot_t, state,
+                                      prediction, raw_f, raw_i, n)
                 for c in range(n, min(m, cap)):
                     ci[c, C_BODY_A] = a
                     ci[c, C_BODY_B] = b

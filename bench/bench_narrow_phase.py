@@ -1,0 +1,178 @@
+"""Benchmark of the collide stage's own kernels: ``update_aabbs`` and ``narrow_phase``.
+
+Each scene (sphere pile 1k and 8k, the marble on the 131k-triangle mesh) is built and stepped into a
+settled state; then the world's own arrays are taken as ``World.step`` sees them (as
+``bench/profile_stages.py`` does) and the two kernels are called on them, ``reps`` times inside one
+compiled loop (so the Python-to-Numba dispatch, ~1 us, is not counted), best of ``REPEATS`` rounds:
+the machine is shared, and other processes only ever add time.  Both kernels only read the bodies, so
+every call sees the same input.  Reports us per call, ns per candidate pair, the pair and contact
+counts and a digest of the contacts (equal digests: bit-identical contacts), and writes
+``bench/results/<date>-<host>-narrow_phase.json``.
+
+Run:  python -m bench.bench_narrow_phase [--quick] [--scenes pile_1k marble_terrain]
+"""
+import argparse
+import hashlib
+import json
+import os
+import time
+
+import numpy as np
+
+from marbellous import layout as L
+from marbellous._jit import njit
+from marbellous.collision.broadphase import find_pairs
+from marbellous.pipeline import step as S
+from marbellous.pipeline.collide import narrow_phase, update_aabbs
+
+from .machine import describe
+from .scenes import DT, SCENES, build_scene
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+DEFAULT_SCENES = ("pile_1k", "pile_8k", "marble_terrain")
+REPEATS = 7
+#: wall time (s) one round of calls should take at least
+ROUND_SECONDS = 0.05
+
+
+@njit
+def _repeat_narrow(reps, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci):
+    """``narrow_phase`` called ``reps`` times; returns the last count."""
+    n = 0
+    for _ in range(reps):
+        n = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci)
+    return n
+
+
+@njit
+def _repeat_aabbs(reps, bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative):
+    """``update_aabbs`` called ``reps`` times."""
+    for _ in range(reps):
+        update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
+
+
+class CollideInput:
+    """The collide stage's input taken from a world at its current state: the arrays ``World.step``
+    passes to ``update_aabbs`` and ``narrow_phase``, with the broad phase's pairs and private output
+    buffers (the world's own are left alone)."""
+
+    def __init__(self, world, dt):
+        world._refresh_params(dt)
+        pf, pi = world._params_f, world._params_i
+        w = world
+        self.bf, self.bi, self.sf, self.si = w._bf, w._bi, w._sf, w._si
+        self.geom_f, self.geom_i = w._geom_f, w._geom_i
+        self.nb = w._nb
+        self.dt = dt * pf[S.P_SWEEP]
+        gravity = pf[S.P_GRAVITY:S.P_GRAVITY + 3]
+        self.g_mag = float(np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2))
+        self.speculative = float(pf[S.P_SPECULATIVE])
+        self.aabbs = w._aabbs.copy()
+        self.sweep = np.empty(self.nb)
+        update_aabbs(self.bf, self.bi, self.sf, self.si, self.nb, self.aabbs, self.sweep, self.dt, self.g_mag,
+                     self.speculative)
+        pairs = np.zeros_like(w._pairs)
+        while True:
+            n_pairs = find_pairs(pi[S.P_BROADPHASE], self.aabbs, self.bi[:, L.FLAGS], self.bi[:, L.GROUP],
+                                 self.bi[:, L.MASK], self.nb, w._bp_f.copy(), w._bp_i.copy(), pairs)
+            if n_pairs <= pairs.shape[0]:
+                break
+            pairs = np.zeros((n_pairs, 2), dtype=np.int64)
+        self.pairs, self.n_pairs = pairs, n_pairs
+        cap = max(16, w._raw_f.shape[0])
+        while True:
+            self.raw_f = np.zeros((cap, w._raw_f.shape[1]))
+            self.raw_i = np.zeros(cap, dtype=np.int64)
+            self.ci = np.zeros((cap, w._ci.shape[1]), dtype=np.int64)
+            self.n_contacts = self.narrow(1)
+            if self.n_contacts <= cap:
+                break
+            cap = self.n_contacts
+
+    def narrow(self, reps):
+        """Run the narrow phase ``reps`` times; the number of contact points."""
+        return _repeat_narrow(reps, self.bf, self.bi, self.sf, self.si, self.geom_f, self.geom_i, self.pairs,
+                              self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci)
+
+    def aabbs_update(self, reps):
+        """Run ``update_aabbs`` ``reps`` times."""
+        _repeat_aabbs(reps, self.bf, self.bi, self.sf, self.si, self.nb, self.aabbs, self.sweep, self.dt,
+                      self.g_mag, self.speculative)
+
+    def contacts(self):
+        """``(raw_f, raw_i, ci)`` rows of the last narrow phase."""
+        n = self.n_contacts
+        return self.raw_f[:n].copy(), self.raw_i[:n].copy(), self.ci[:n].copy()
+
+    def digest(self):
+        """SHA-256 (16 hex digits) of the contacts' bytes: equal digests mean bit-identical contacts."""
+        h = hashlib.sha256()
+        for a in self.contacts():
+            h.update(np.ascontiguousarray(a).tobytes())
+        return h.hexdigest()[:16]
+
+
+def best_seconds(run):
+    """Best seconds per call of ``run(reps)`` over ``REPEATS`` rounds of at least ``ROUND_SECONDS``."""
+    reps = 1
+    while True:
+        t0 = time.perf_counter()
+        run(reps)
+        t = time.perf_counter() - t0
+        if t >= ROUND_SECONDS or reps >= 1 << 22:
+            break
+        reps *= 2
+    best = t / reps
+    for _ in range(REPEATS - 1):
+        t0 = time.perf_counter()
+        run(reps)
+        best = min(best, (time.perf_counter() - t0) / reps)
+    return best
+
+
+def measure(name, quick=False, warm_steps=None):
+    """The collide-stage timings of scene ``name`` after ``warm_steps`` steps (default: the scene's
+    warm-up).  Returns a dict of numbers."""
+    world, _ = build_scene(name, quick=quick)
+    steps = SCENES[name].warmup_steps(quick) if warm_steps is None else warm_steps
+    for _ in range(steps):
+        world.step(DT)
+    inp = CollideInput(world, DT)
+    narrow = best_seconds(inp.narrow)
+    aabbs = best_seconds(inp.aabbs_update)
+    return {"scene": name, "bodies": int(inp.nb), "warm_steps": int(steps), "pairs": int(inp.n_pairs),
+            "contacts": int(inp.n_contacts), "narrow_us": narrow * 1e6,
+            "narrow_ns_per_pair": narrow * 1e9 / max(inp.n_pairs, 1), "aabbs_us": aabbs * 1e6,
+            "aabbs_ns_per_body": aabbs * 1e9 / max(inp.nb, 1), "contacts_digest": inp.digest()}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="smaller scenes: a check of the harness")
+    ap.add_argument("--scenes", nargs="*", default=list(DEFAULT_SCENES), help="scene names")
+    ap.add_argument("--no-write", action="store_true", help="print only, write no results file")
+    args = ap.parse_args(argv)
+    rows = []
+    print(f"load average {os.getloadavg()[0]:.2f}")
+    for name in args.scenes:
+        r = measure(name, quick=args.quick)
+        rows.append(r)
+        print(f"{name:16s} pairs {r['pairs']:6d}  contacts {r['contacts']:6d}  narrow {r['narrow_us']:10.2f} us "
+              f"({r['narrow_ns_per_pair']:7.1f} ns/pair)  aabbs {r['aabbs_us']:9.2f} us "
+              f"({r['aabbs_ns_per_body']:5.1f} ns/body)  digest {r['contacts_digest']}", flush=True)
+    if args.no_write:
+        return rows
+    machine = describe(ROOT, {})
+    machine["load_average"] = os.getloadavg()[0]
+    out = {"machine": machine, "quick": args.quick, "repeats": REPEATS, "scenes": rows}
+    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
+    path = os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-narrow_phase.json")
+    with open(path, "w") as f:
+        json.dump(out, f, indent=1)
+    print("wrote", path)
+    return rows
+
+
+if __name__ == "__main__":
+    main()
