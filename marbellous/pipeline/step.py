@@ -27,6 +27,7 @@ from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
                                        solve_contacts, store_friction_state, warm_start_contacts)
+from ..dynamics.forces import is_moving
 from ..dynamics.integrators import SCRATCH_MATS, SCRATCH_VECS, integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.lcp import solve_lcp
@@ -35,8 +36,8 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.springs import clear_spring_forces
 from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies
-from ..layout import (C_POINT, DTHETA, FLAGS, OMEGA, FORCE, GROUP, K_IMPULSE, MASK, POS, POS0,
-                      TORQUE, W_PREV_DT, W_TIME)
+from ..layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, OMEGA, POS,
+                      POS0, TORQUE, W_PREV_DT, W_TIME)
 from .clock import cycle_counter
 from .collide import narrow_phase, update_aabbs
 
@@ -103,6 +104,17 @@ def _lap(stats, stage, since, on):
 
 
 @njit
+def _needs_pairs(bi, nb):
+    """True if some body is awake and dynamic, or is a sensor: otherwise every pair is resting or static,
+    the narrow phase would skip them all, and the broad phase is skipped too (a sleeping world costs
+    next to nothing)."""
+    for i in range(nb):
+        if is_moving(bi, i) or ((bi[i, FLAGS] & F_ALIVE) != 0 and (bi[i, FLAGS] & F_SENSOR) != 0):
+            return True
+    return False
+
+
+@njit
 def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i,
                cf, ci, pcf, pci, npc, nb, nk, params_f, params_i, stats):
     """Advance the world by ``params_f[P_DT]`` seconds.  Returns OK, or GROW_PAIRS / GROW_CONTACTS
@@ -132,8 +144,10 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     # --- collide -----------------------------------------------------------------------------------
     update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
     t = _lap(stats, ST_AABBS, t, prof)
-    n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
-                         bp_f, bp_i, pairs)
+    n_pairs = 0
+    if _needs_pairs(bi, nb):
+        n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
+                             bp_f, bp_i, pairs)
     stats[S_PAIRS] = n_pairs
     t = _lap(stats, ST_BROAD, t, prof)
     if n_pairs > pairs.shape[0]:

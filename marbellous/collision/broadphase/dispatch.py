@@ -162,7 +162,9 @@ def find_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, 
     """Every overlapping, filter-passing pair among the first ``n_bodies`` slots, in canonical order,
     into ``pairs_out``; returns the full number of pairs (see the module docstring)."""
     update(method, aabbs, flags, n_bodies, state_f, state_i)
-    keys = np.empty(max(64, 4 * n_bodies), np.int64)
+    # as many keys as the caller's pair buffer holds (a world keeps it as large as its busiest step), so
+    # the pairs are collected once, not once to count and again to write
+    keys = np.empty(max(64, 4 * n_bodies, pairs_out.shape[0]), np.int64)
     count = _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys)
     if count > keys.shape[0]:
         keys = np.empty(count, np.int64)
