@@ -22,10 +22,11 @@ from .._jit import njit
 from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                       C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S,
                       C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
-                      CP_MATCHED, CP_SENSOR, CP_SLIDING, DTHETA, FRICTION, OMEGA, POS, POS0, RESTITUTION, ROLLING,
-                      STATIC_FRICTION, VEL)
+                      CP_MATCHED, CP_SENSOR, CP_SLIDING, FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
 from .contact_basis import contact_basis
-from .rigid import apply_impulse_pair, effective_mass, relative_velocity
+from .rigid import apply_impulse_pair, relative_velocity
+from .solver_bodies import (effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
+                            velocity)
 
 
 @njit
@@ -35,34 +36,30 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
     A contact slides (dynamic friction) if its tangential speed exceeds ``slide_speed`` (m/s) or its
     friction was saturated in the last step; otherwise it sticks (static friction).
     """
-    if nc == 0:
-        return
-    dv = np.empty(3)
     for c in range(nc):
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        n = cf[c, C_NORMAL:C_NORMAL + 3]
         for k in range(3):
             cf[c, C_RA + k] = cf[c, C_POINT + k] - bf[a, POS + k]
             cf[c, C_RB + k] = cf[c, C_POINT + k] - bf[b, POS + k]
-        ra = cf[c, C_RA:C_RA + 3]
-        rb = cf[c, C_RB:C_RB + 3]
-        t1 = cf[c, C_T1:C_T1 + 3]
-        t2 = cf[c, C_T2:C_T2 + 3]
-        contact_basis(n, t1, t2)
-        cf[c, C_MASS_N] = effective_mass(sb[a, 0], sb[a, 1:10], ra, sb[b, 0], sb[b, 1:10], rb, n)
-        cf[c, C_MASS_T1] = effective_mass(sb[a, 0], sb[a, 1:10], ra, sb[b, 0], sb[b, 1:10], rb, t1)
-        cf[c, C_MASS_T2] = effective_mass(sb[a, 0], sb[a, 1:10], ra, sb[b, 0], sb[b, 1:10], rb, t2)
+        contact_basis(cf[c, C_NORMAL:C_NORMAL + 3], cf[c, C_T1:C_T1 + 3], cf[c, C_T2:C_T2 + 3])
+        ra = _vec3(cf, c, C_RA)
+        rb = _vec3(cf, c, C_RB)
+        n = _vec3(cf, c, C_NORMAL)
+        t1 = _vec3(cf, c, C_T1)
+        t2 = _vec3(cf, c, C_T2)
+        cf[c, C_MASS_N] = effective_mass_along(sb, a, ra, b, rb, n)
+        cf[c, C_MASS_T1] = effective_mass_along(sb, a, ra, b, rb, t1)
+        cf[c, C_MASS_T2] = effective_mass_along(sb, a, ra, b, rb, t2)
         # Materials: friction by geometric mean, restitution and rolling friction by maximum.
         cf[c, C_MU_D] = math.sqrt(bf[a, FRICTION] * bf[b, FRICTION])
         cf[c, C_MU_S] = math.sqrt(bf[a, STATIC_FRICTION] * bf[b, STATIC_FRICTION])
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_ROLL] = max(bf[a, ROLLING], bf[b, ROLLING])
-        relative_velocity(bf, a, ra, b, rb, dv)
-        vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
-        cf[c, C_VN0] = vn
-        vt1 = dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2]
-        vt2 = dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2]
+        dv = relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb)
+        cf[c, C_VN0] = _dot(dv, n)
+        vt1 = _dot(dv, t1)
+        vt2 = _dot(dv, t2)
         sliding = math.sqrt(vt1 * vt1 + vt2 * vt2) > slide_speed
         if (ci[c, C_FLAGS] & CP_MATCHED) != 0 and (ci[c, C_FLAGS] & CP_SLIDING) != 0:
             sliding = True
@@ -84,65 +81,12 @@ def _vec3(table, row, col):
 
 
 @njit
-def _body_velocity(bf, i):
-    """``(v, omega)`` of body row ``i`` as one 6-tuple (m/s, rad/s)."""
-    return (bf[i, VEL], bf[i, VEL + 1], bf[i, VEL + 2], bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2])
-
-
-@njit
-def _store_velocity(bf, i, u):
-    """Write the 6-tuple ``u = (v, omega)`` back to body row ``i``."""
-    for k in range(3):
-        bf[i, VEL + k] = u[k]
-        bf[i, OMEGA + k] = u[3 + k]
-
-
-@njit
-def _point_velocity(u, r):
-    """Velocity of the point at offset ``r`` of a body moving with ``u = (v, omega)``: ``v + omega x r``."""
-    return (u[0] + u[4] * r[2] - u[5] * r[1],
-            u[1] + u[5] * r[0] - u[3] * r[2],
-            u[2] + u[3] * r[1] - u[4] * r[0])
-
-
-@njit
-def _relative_velocity(ua, ra, ub, rb):
-    """``(v_b + w_b x rb) - (v_a + w_a x ra)`` (m/s)."""
-    pa = _point_velocity(ua, ra)
-    pb = _point_velocity(ub, rb)
-    return pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]
-
-
-@njit
 def _dot(x, y):
     return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
 
 
 @njit
-def _push(sb, i, u, r, px, py, pz, sign):
-    """``u`` of body ``i`` after the impulse ``sign p`` at offset ``r``:  v += sign p / m,
-    omega += sign I_w^-1 (r x p)."""
-    cx = r[1] * pz - r[2] * py
-    cy = r[2] * px - r[0] * pz
-    cz = r[0] * py - r[1] * px
-    im = sign * sb[i, 0]
-    return (u[0] + im * px, u[1] + im * py, u[2] + im * pz,
-            u[3] + sign * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz),
-            u[4] + sign * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz),
-            u[5] + sign * (sb[i, 7] * cx + sb[i, 8] * cy + sb[i, 9] * cz))
-
-
-@njit
-def _twist(sb, i, u, lx, ly, lz, sign):
-    """``u`` of body ``i`` after the angular impulse ``sign l``:  omega += sign I_w^-1 l."""
-    return (u[0], u[1], u[2],
-            u[3] + sign * (sb[i, 1] * lx + sb[i, 2] * ly + sb[i, 3] * lz),
-            u[4] + sign * (sb[i, 4] * lx + sb[i, 5] * ly + sb[i, 6] * lz),
-            u[5] + sign * (sb[i, 7] * lx + sb[i, 8] * ly + sb[i, 9] * lz))
-
-
-@njit
-def warm_start_contacts(bf, cf, ci, nc, sb):
+def warm_start_contacts(cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
     for c in range(nc):
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
@@ -153,38 +97,31 @@ def warm_start_contacts(bf, cf, ci, nc, sb):
         px = ln * cf[c, C_NORMAL] + l1 * cf[c, C_T1] + l2 * cf[c, C_T2]
         py = ln * cf[c, C_NORMAL + 1] + l1 * cf[c, C_T1 + 1] + l2 * cf[c, C_T2 + 1]
         pz = ln * cf[c, C_NORMAL + 2] + l1 * cf[c, C_T1 + 2] + l2 * cf[c, C_T2 + 2]
-        ua = _push(sb, a, _body_velocity(bf, a), _vec3(cf, c, C_RA), px, py, pz, -1.0)
-        ub = _push(sb, b, _body_velocity(bf, b), _vec3(cf, c, C_RB), px, py, pz, 1.0)
+        ua = push(sb, a, velocity(sb, a), _vec3(cf, c, C_RA), px, py, pz, -1.0)
+        ub = push(sb, b, velocity(sb, b), _vec3(cf, c, C_RB), px, py, pz, 1.0)
         lr = _vec3(cf, c, C_LAMBDA_R)
         if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
-            ua = _twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
-            ub = _twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
-        _store_velocity(bf, a, ua)
-        _store_velocity(bf, b, ub)
+            ua = twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
+            ub = twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
+        set_velocity(sb, a, ua)
+        set_velocity(sb, b, ub)
 
 
 @njit
-def contact_separation(bf, cf, c, a, b):
+def contact_separation(sb, cf, c, a, b):
     """Current separation (m): the one at detection plus the normal part of the contact points' motion,
 
         s = s0 + n . ((dx_b + dtheta_b x rb) - (dx_a + dtheta_a x ra))
 
     with dx, dtheta the bodies' displacement and rotation since the step began (first order in the
-    rotation, so a rolling ball's contact stays at its lowest point).
+    rotation, so a rolling ball's contact stays at its lowest point), read from the solver bodies ``sb``.
     """
-    motion_a = _point_velocity((bf[a, POS] - bf[a, POS0], bf[a, POS + 1] - bf[a, POS0 + 1],
-                                bf[a, POS + 2] - bf[a, POS0 + 2], bf[a, DTHETA], bf[a, DTHETA + 1],
-                                bf[a, DTHETA + 2]), _vec3(cf, c, C_RA))
-    motion_b = _point_velocity((bf[b, POS] - bf[b, POS0], bf[b, POS + 1] - bf[b, POS0 + 1],
-                                bf[b, POS + 2] - bf[b, POS0 + 2], bf[b, DTHETA], bf[b, DTHETA + 1],
-                                bf[b, DTHETA + 2]), _vec3(cf, c, C_RB))
-    return cf[c, C_ADJ_SEP] + (cf[c, C_NORMAL] * (motion_b[0] - motion_a[0])
-                               + cf[c, C_NORMAL + 1] * (motion_b[1] - motion_a[1])
-                               + cf[c, C_NORMAL + 2] * (motion_b[2] - motion_a[2]))
+    return cf[c, C_ADJ_SEP] + _dot(relative_velocity_at(motion(sb, a), _vec3(cf, c, C_RA), motion(sb, b),
+                                                        _vec3(cf, c, C_RB)), _vec3(cf, c, C_NORMAL))
 
 
 @njit
-def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
+def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
     """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over all contacts.
 
     ``soft`` = (bias_rate, mass_scale, impulse_scale) of the contact softness; ``max_push`` (m/s) caps
@@ -202,10 +139,10 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
         ra = _vec3(cf, c, C_RA)
         rb = _vec3(cf, c, C_RB)
         n = _vec3(cf, c, C_NORMAL)
-        ua = _body_velocity(bf, a)
-        ub = _body_velocity(bf, b)
+        ua = velocity(sb, a)
+        ub = velocity(sb, b)
         # --- normal: non-penetration -------------------------------------------------------------
-        s = contact_separation(bf, cf, c, a, b)
+        s = contact_separation(sb, cf, c, a, b)
         if s > 0.0:
             bias, mass_scale, impulse_scale = s / h, 1.0, 0.0      # speculative: close the gap exactly
         elif use_bias:
@@ -213,7 +150,7 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
             mass_scale, impulse_scale = soft[1], soft[2]
         else:
             bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        vn = _dot(_relative_velocity(ua, ra, ub, rb), n)
+        vn = _dot(relative_velocity_at(ua, ra, ub, rb), n)
         mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
         new = max(old - mass_n * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
@@ -225,8 +162,8 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
             cf[c, C_MAX_N] = new
         d = new - old
         if d != 0.0:
-            ua = _push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0)
-            ub = _push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0)
+            ua = push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0)
+            ub = push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0)
             if mass_n > 0.0:
                 largest = max(largest, abs(d) / mass_n)
         # --- friction: Coulomb disc on the tangent plane -------------------------------------------
@@ -234,7 +171,7 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
         bound = mu * new
         t1 = _vec3(cf, c, C_T1)
         t2 = _vec3(cf, c, C_T2)
-        dv = _relative_velocity(ua, ra, ub, rb)
+        dv = relative_velocity_at(ua, ra, ub, rb)
         o1, o2 = cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
         n1 = o1 - cf[c, C_MASS_T1] * _dot(dv, t1)
         n2 = o2 - cf[c, C_MASS_T2] * _dot(dv, t2)
@@ -250,14 +187,14 @@ def solve_contacts(bf, cf, ci, nc, sb, h, use_bias, soft, max_push):
             px = d1 * t1[0] + d2 * t2[0]
             py = d1 * t1[1] + d2 * t2[1]
             pz = d1 * t1[2] + d2 * t2[2]
-            ua = _push(sb, a, ua, ra, px, py, pz, -1.0)
-            ub = _push(sb, b, ub, rb, px, py, pz, 1.0)
+            ua = push(sb, a, ua, ra, px, py, pz, -1.0)
+            ub = push(sb, b, ub, rb, px, py, pz, 1.0)
         # --- rolling resistance: an angular impulse bounded by rho * lambda_n -------------------------
         rho = cf[c, C_ROLL]
         if rho > 0.0:
             ua, ub = _solve_rolling(cf, c, sb, a, b, ua, ub, rho * new)
-        _store_velocity(bf, a, ua)
-        _store_velocity(bf, b, ub)
+        set_velocity(sb, a, ua)
+        set_velocity(sb, b, ub)
     return largest
 
 
@@ -294,8 +231,8 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
     cf[c, C_LAMBDA_R] = n0
     cf[c, C_LAMBDA_R + 1] = n1
     cf[c, C_LAMBDA_R + 2] = n2
-    return (_twist(sb, a, ua, n0 - o0, n1 - o1, n2 - o2, -1.0),
-            _twist(sb, b, ub, n0 - o0, n1 - o1, n2 - o2, 1.0))
+    return (twist(sb, a, ua, n0 - o0, n1 - o1, n2 - o2, -1.0),
+            twist(sb, b, ub, n0 - o0, n1 - o1, n2 - o2, 1.0))
 
 
 @njit

@@ -16,7 +16,7 @@ from .._jit import njit
 from ..layout import (C_CABLE, C_ROD, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE,
                       K_IMPULSE, K_LENGTH, K_TYPE, KF_ALIVE, KF_BROKEN, POS, QUAT)
 from ..math3d import quat_rotate
-from .rigid import apply_impulse_pair, effective_mass, relative_velocity
+from .solver_bodies import effective_mass_along, push, relative_velocity_at, set_velocity, velocity
 
 
 @njit
@@ -60,42 +60,45 @@ def joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u):
 
 @njit
 def _scratch(vecs):
-    """The 3-vectors ra, rb, pa, pb, u, dv, p as views of the scratch rows ``vecs[:7]``."""
-    return vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3], vecs[5, :3], vecs[6, :3]
+    """The 3-vectors ra, rb, pa, pb, u as views of the scratch rows ``vecs[:5]``."""
+    return vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3]
 
 
 @njit
-def _world_inertia(sb, a, b):
-    """Inverse mass and world inverse inertia rows of b; for the world (b < 0) a zero mass and a's row as a
-    stand-in (its anchor offset rb is zero, so the inertia term (rb x d) I (rb x d) vanishes anyway)."""
+def _velocity(sb, b):
+    """``(v, omega)`` of solver body ``b``, or rest for the world (``b < 0``)."""
     if b >= 0:
-        return sb[b, 0], sb[b, 1:10]
-    return 0.0, sb[a, 1:10]
+        return velocity(sb, b)
+    return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit
+def _apply(sb, a, ra, b, rb, px, py, pz):
+    """Apply the impulse ``p`` (N s) to b at ``rb`` and ``-p`` to a at ``ra`` (``b < 0``: the world)."""
+    set_velocity(sb, a, push(sb, a, velocity(sb, a), ra, px, py, pz, -1.0))
+    if b >= 0:
+        set_velocity(sb, b, push(sb, b, velocity(sb, b), rb, px, py, pz, 1.0))
 
 
 @njit
 def warm_start_joints(bf, kf, ki, nk, sb, vecs):
-    """Apply each rod's and cable's impulse of the last sub-step along its current axis (``vecs``: scratch
-    of at least (7, 3))."""
-    ra, rb, pa, pb, u, _, p = _scratch(vecs)
+    """Apply each rod's and cable's impulse of the last sub-step along its current axis to the solver bodies
+    ``sb`` (``vecs``: scratch of at least (5, 3))."""
+    ra, rb, pa, pb, u = _scratch(vecs)
     for c in range(nk):
         if not is_active_joint(ki, c) or kf[c, K_IMPULSE] == 0.0:
             continue
         if joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u) < 1e-12:
             continue
-        a = ki[c, K_BODY_A]
-        b = ki[c, K_BODY_B]
-        for k in range(3):
-            p[k] = kf[c, K_IMPULSE] * u[k]
-        inv_mb, iwb = _world_inertia(sb, a, b)
-        apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, inv_mb, iwb, rb, p)
+        lam = kf[c, K_IMPULSE]
+        _apply(sb, ki[c, K_BODY_A], ra, ki[c, K_BODY_B], rb, lam * u[0], lam * u[1], lam * u[2])
 
 
 @njit
 def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
-    """One pass over rods and cables (``use_bias``: solve, else relax); returns the largest velocity change.
-    ``vecs``: scratch of at least (7, 3)."""
-    ra, rb, pa, pb, u, dv, p = _scratch(vecs)
+    """One pass over rods and cables on the solver bodies ``sb`` (``use_bias``: solve, else relax); returns the
+    largest velocity change (m/s).  ``vecs``: scratch of at least (5, 3)."""
+    ra, rb, pa, pb, u = _scratch(vecs)
     largest = 0.0
     for c in range(nk):
         if not is_active_joint(ki, c):
@@ -105,8 +108,7 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
         length = joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u)
         if length < 1e-12:
             continue
-        inv_mb, iwb = _world_inertia(sb, a, b)
-        mass = effective_mass(sb[a, 0], sb[a, 1:10], ra, inv_mb, iwb, rb, u)
+        mass = effective_mass_along(sb, a, ra, b, rb, u)
         if mass == 0.0:
             continue
         err = length - kf[c, K_LENGTH]
@@ -117,7 +119,7 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
             bias, mass_scale, impulse_scale = soft[0] * err, soft[1], soft[2]
         else:
             bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        relative_velocity(bf, a, ra, b, rb, dv)
+        dv = relative_velocity_at(velocity(sb, a), ra, _velocity(sb, b), rb)
         vu = dv[0] * u[0] + dv[1] * u[1] + dv[2] * u[2]
         old = kf[c, K_IMPULSE]
         new = old - mass * mass_scale * (vu + bias) - impulse_scale * old
@@ -126,9 +128,7 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
         kf[c, K_IMPULSE] = new
         d = new - old
         if d != 0.0:
-            for k in range(3):
-                p[k] = d * u[k]
-            apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, inv_mb, iwb, rb, p)
+            _apply(sb, a, ra, b, rb, d * u[0], d * u[1], d * u[2])
             largest = max(largest, abs(d) / mass)
     return largest
 
@@ -139,7 +139,7 @@ def record_joint_forces(bf, kf, ki, nk, dt, totals, vecs):
 
     ``totals`` holds the impulses summed over the step's sub-steps; ``vecs``: scratch of at least (7, 3).
     """
-    ra, rb, pa, pb, u, _, _ = _scratch(vecs)
+    ra, rb, pa, pb, u = _scratch(vecs)
     for c in range(nk):
         if not is_active_joint(ki, c):
             continue

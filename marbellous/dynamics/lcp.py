@@ -219,7 +219,7 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
         n_row = m
         _linear_row(J, MJ, m, sb, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], cf[c, C_NORMAL:C_NORMAL + 3])
         a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
-        s = contact_separation(bf, cf, c, a, b)
+        s = contact_separation(sb, cf, c, a, b)
         if s > 0.0:
             bias[m] = s / h                     # speculative: close the gap exactly
         elif use_bias:

@@ -121,7 +121,7 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
         cf[c, C_LAMBDA_N] = 0.0
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        depth = -contact_separation(bf, cf, c, a, b)
+        depth = -contact_separation(sb, cf, c, a, b)
         m_n = cf[c, C_MASS_N]
         if depth <= 0.0 or m_n == 0.0 or (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             cf[c, C_LAMBDA_T1] = 0.0      # out of touch: the friction spring lets go

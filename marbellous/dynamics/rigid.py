@@ -56,24 +56,6 @@ def relative_velocity(bf, a, ra, b, rb, out):
 
 
 @njit
-def effective_mass(inv_ma, iwa, ra, inv_mb, iwb, rb, d):
-    """``1 / (m_a^-1 + m_b^-1 + (ra x d) . I_a^-1 (ra x d) + (rb x d) . I_b^-1 (rb x d))`` along unit ``d`` (kg).
-
-    ``iwa``, ``iwb``: world inverse inertia, 9 values row-major.  Returns 0 if nothing can move.
-    """
-    k = inv_ma + inv_mb
-    for sgn in range(2):
-        r = ra if sgn == 0 else rb
-        iw = iwa if sgn == 0 else iwb
-        cx = r[1] * d[2] - r[2] * d[1]
-        cy = r[2] * d[0] - r[0] * d[2]
-        cz = r[0] * d[1] - r[1] * d[0]
-        k += (cx * (iw[0] * cx + iw[1] * cy + iw[2] * cz) + cy * (iw[3] * cx + iw[4] * cy + iw[5] * cz)
-              + cz * (iw[6] * cx + iw[7] * cy + iw[8] * cz))
-    return 1.0 / k if k > 0.0 else 0.0
-
-
-@njit
 def apply_impulse_pair(bf, a, inv_ma, iwa, ra, b, inv_mb, iwb, rb, p):
     """Apply impulse ``p`` (N s) to b at ``rb`` and ``-p`` to a at ``ra`` (``b < 0``: the world)."""
     cx = ra[1] * p[2] - ra[2] * p[1]

@@ -35,7 +35,7 @@ from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.springs import clear_spring_forces
 from ..dynamics.soft import soft_coefficients
-from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies
+from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies, store_velocities
 from ..layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, OMEGA, POS,
                       POS0, TORQUE, W_PREV_DT, W_TIME)
 from .clock import cycle_counter
@@ -167,13 +167,13 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         match_contacts(cf, ci, nc, pcf, pci, npc)
         wake_touched_islands(bi, bf, ci, nc, nb)
     t = _lap(stats, ST_MATCH, t, prof)
-    prepare_solver_bodies(bf, bi, nb, sb, mats)
-    if nc > 0:
-        prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
             bf[i, DTHETA + k] = 0.0
+    prepare_solver_bodies(bf, bi, nb, sb, mats)
+    if nc > 0:
+        prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -198,7 +198,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             warm_start_joints(bf, kf, ki, nk, sb, vecs)
         if solver == SEQUENTIAL_IMPULSE:
             if nc > 0:
-                warm_start_contacts(bf, cf, ci, nc, sb)
+                warm_start_contacts(cf, ci, nc, sb)
             t = _lap(stats, ST_WARM, t, prof)
             for _ in range(params_i[P_ITERATIONS]):
                 iterations_used += 1
@@ -206,7 +206,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
                 if nk > 0:
                     change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
                 if nc > 0:
-                    change = max(change, solve_contacts(bf, cf, ci, nc, sb, h, True, contact_soft,
+                    change = max(change, solve_contacts(cf, ci, nc, sb, h, True, contact_soft,
                                                         params_f[P_MAX_PUSH]))
                 if change < params_f[P_TOLERANCE]:
                     break
@@ -216,10 +216,13 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
                 if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs) < params_f[P_TOLERANCE]:
                     break
         else:
-            warm_start_contacts(bf, cf, ci, nc, sb)
+            warm_start_contacts(cf, ci, nc, sb)
+            store_velocities(bf, bi, nb, sb)       # the LCP scheme works on the body table
             iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft, joint_soft,
                                          params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR],
                                          params_f[P_TOLERANCE])
+        if solver != LCP:
+            store_velocities(bf, bi, nb, sb)
         t = _lap(stats, ST_SOLVE, t, prof)
         integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h, mats, vecs)
         for i in range(nb):
@@ -234,7 +237,8 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             if nk > 0:
                 solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
             if solver == SEQUENTIAL_IMPULSE and nc > 0:
-                solve_contacts(bf, cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+                solve_contacts(cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+            store_velocities(bf, bi, nb, sb)
         if nc > 0:
             accumulate_applied(cf, ci, nc)
         for c in range(nk):
