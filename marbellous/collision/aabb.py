@@ -11,14 +11,20 @@ from . import shape_types as st
 
 
 @njit
+def sphere_aabb(c, r):
+    """Corners ``(lo, hi)`` (3-tuples, m) of the box of the sphere with centre ``c`` and radius ``r``."""
+    return (c[0] - r, c[1] - r, c[2] - r), (c[0] + r, c[1] + r, c[2] + r)
+
+
+@njit
 def shape_aabb(stype, pos, rot, params, out):
     """Write the world AABB of a primitive (sphere, capsule, box) at pose ``(pos, rot)`` into ``out``;
     unbounded (+-inf) for any other type."""
     if stype == st.SPHERE:
-        r = params[0]
+        lo, hi = sphere_aabb((pos[0], pos[1], pos[2]), params[0])
         for k in range(3):
-            out[k] = pos[k] - r
-            out[3 + k] = pos[k] + r
+            out[k] = lo[k]
+            out[3 + k] = hi[k]
     elif stype == st.CAPSULE:
         r, hh = params[0], params[1]
         for k in range(3):

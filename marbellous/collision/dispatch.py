@@ -89,34 +89,31 @@ def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, pa
 
 
 @njit
-def _convex_static(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
-                   off_f_b, off_i_b, prediction, out_f, out_i, n):
-    """Convex shape a (sphere, capsule, box) against height field or mesh b."""
-    if type_b == st.HEIGHTFIELD:
-        return collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f,
-                                          geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
-    return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
-                               off_f_b, off_i_b, prediction, out_f, out_i, n)
-
-
-@njit
 def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
                  off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """Contacts of any two shapes, normals from a to b; returns the new count.
 
     As :func:`collide_convex_pair`, plus height fields and meshes, whose bulk geometry lies in the
     blobs ``geom_f`` (float64) and ``geom_i`` (int64) at each shape's offsets.  Two static-only
-    shapes (plane, height field, mesh) have no contacts.
+    shapes (plane, height field, mesh) have no contacts.  Each pair test is called from here directly:
+    every level of calls between passes (and reference counts) all the arrays again.
     """
     if type_a <= st.PLANE and type_b <= st.PLANE:
         return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
                                    prediction, out_f, out_i, n)
-    if type_a <= st.BOX and type_b >= st.HEIGHTFIELD:
-        return _convex_static(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f,
-                              geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
-    if type_b <= st.BOX and type_a >= st.HEIGHTFIELD:
-        m = _convex_static(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a, geom_f,
-                           geom_i, off_f_a, off_i_a, prediction, out_f, out_i, n)
-        flip_normals(out_f, n, m)
-        return m
-    return n
+    if type_a <= st.BOX and type_b == st.MESH:
+        return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                                   off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_a <= st.BOX and type_b == st.HEIGHTFIELD:
+        return collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f,
+                                          geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_b <= st.BOX and type_a == st.MESH:
+        m = collide_convex_mesh(type_b, pos_b, rot_b, params_b, pos_a, rot_a, params_a, geom_f, geom_i,
+                                off_f_a, off_i_a, prediction, out_f, out_i, n)
+    elif type_b <= st.BOX and type_a == st.HEIGHTFIELD:
+        m = collide_convex_heightfield(type_b, pos_b, rot_b, params_b, pos_a, rot_a, params_a, geom_f,
+                                       geom_i, off_f_a, off_i_a, prediction, out_f, out_i, n)
+    else:
+        return n
+    flip_normals(out_f, n, m)
+    return m

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._jit import njit
 from ..collision import shape_types as st
-from ..collision.aabb import merge_aabb, shape_aabb
+from ..collision.aabb import merge_aabb, shape_aabb, sphere_aabb
 from ..collision.contact_output import contact_point
 from ..collision.dispatch import collide_pair, sphere_primitive
 from ..collision.shape_types import N_SHAPE_PARAMS
@@ -97,18 +97,6 @@ def _row_matrix(rot_t, s):
 
 
 @njit
-def collide_posed(bf, sf, si, geom_f, geom_i, a, sa, b, sb, q, pos_t, rot_t, state, prediction, out_f, out_i, n):
-    """Contacts of shape ``sa`` of body ``a`` with shape ``sb`` of body ``b`` (normals from a to b)
-    through ``collide_pair``, posed through the tables; returns the new count."""
-    pose_shape(bf, sf, si, sa, a, True, q, pos_t, rot_t, state)
-    pose_shape(bf, sf, si, sb, b, True, q, pos_t, rot_t, state)
-    return collide_pair(si[sa, S_TYPE], pos_t[sa], rot_t[sa], sf[sa, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
-                        si[sb, S_TYPE], pos_t[sb], rot_t[sb], sf[sb, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
-                        geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F], si[sb, S_OFF_I],
-                        prediction, out_f, out_i, n)
-
-
-@njit
 def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative):
     """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs."""
     pos = np.empty(3)
@@ -125,10 +113,18 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
             offset = math.sqrt(sf[s, S_LOCAL_POS] ** 2 + sf[s, S_LOCAL_POS + 1] ** 2 + sf[s, S_LOCAL_POS + 2] ** 2)
             turning = 0.0 if si[s, S_TYPE] == st.SPHERE else sf[s, S_RADIUS]
             reach = max(reach, offset + turning)
-            shape_position(bf, sf, s, i, pos)
-            if si[s, S_TYPE] != st.SPHERE:            # a sphere's box needs no rotation
-                shape_rotation(bf, sf, s, i, q, rot)
-            shape_aabb(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], box)
+            if si[s, S_TYPE] == st.SPHERE and at_body_origin(sf, s):
+                # A centred sphere's box from its body's position (no call that takes arrays here:
+                # they would be reference counted, which costs more than the box)
+                lo, hi = sphere_aabb((bf[i, POS], bf[i, POS + 1], bf[i, POS + 2]), sf[s, S_PARAMS])
+                for k in range(3):
+                    box[k] = lo[k]
+                    box[3 + k] = hi[k]
+            else:
+                shape_position(bf, sf, s, i, pos)
+                if si[s, S_TYPE] != st.SPHERE:        # a sphere's box needs no rotation
+                    shape_rotation(bf, sf, s, i, q, rot)
+                shape_aabb(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], box)
             if s == s0:
                 for k in range(6):
                     aabbs[i, k] = box[k]
@@ -150,6 +146,8 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
 def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
     (bodies, shapes, sensor flag).  Returns the number of points (it may exceed the capacity)."""
+    if n_pairs == 0:
+        return 0
     n = 0
     cap = raw_f.shape[0]
     n_shapes = sf.shape[0]
@@ -207,8 +205,14 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                         raw_f[n, 6] = depth
                         raw_i[n] = 0
                 else:
-                    m = collide_posed(bf, sf, si, geom_f, geom_i, a, sa, b, sb, q, pos_t, rot_t, state,
-                                      prediction, raw_f, raw_i, n)
+                    if state[sa] != POSE_FULL:
+                        pose_shape(bf, sf, si, sa, a, True, q, pos_t, rot_t, state)
+                    if state[sb] != POSE_FULL:
+                        pose_shape(bf, sf, si, sb, b, True, q, pos_t, rot_t, state)
+                    m = collide_pair(ta, pos_t[sa], rot_t[sa], sf[sa, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                                     tb, pos_t[sb], rot_t[sb], sf[sb, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                                     geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F],
+                                     si[sb, S_OFF_I], prediction, raw_f, raw_i, n)
                 for c in range(n, min(m, cap)):
                     ci[c, C_BODY_A] = a
                     ci[c, C_BODY_B] = b
