@@ -16,7 +16,7 @@
 
 import numpy as np
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from . import mesh_layout as ml
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
@@ -49,7 +49,7 @@ def boxes_overlap(a, b, c, lo, hi):
     return True
 
 
-@njit
+@njit_inline
 def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
     """Candidate triangles under the box ``lo..hi`` (mesh frame), ascending: ``(array, count)``."""
     accel = int(params_b[2])
@@ -68,7 +68,7 @@ def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
     return buf, m
 
 
-@njit
+@njit_inline
 def keep_row(geom_f, geom_i, off_f, off_i, t, scratch, r):
     """Voronoi test on the whole mesh of scratch row ``r`` (a contact with triangle ``t``): edge rows
     against the neighbour's direction, vertex rows against the vertex's ring; others pass."""

@@ -7,7 +7,7 @@ neighbour directions in its axis test and needs them up front.
 """
 import numpy as np
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from . import shape_types as st
 from .contact_output import add_contact
 from .triangle_box import box_triangle
@@ -54,7 +54,7 @@ def convex_local_bounds(type_a, c, rot, params_a, margin):
             (c[0] + e[0] + margin, c[1] + e[1] + margin, c[2] + e[2] + margin))
 
 
-@njit
+@njit_inline
 def to_static_frame(pos_a, rot_a, pos_b, rot_b):
     """Centre (3-tuple) and rotation matrix (new (3, 3) array) of shape a in b's frame:
     ``c = R_b^T (p_a - p_b)``, ``R = R_b^T R_a``."""
@@ -67,7 +67,7 @@ def to_static_frame(pos_a, rot_a, pos_b, rot_b):
     return c, rot
 
 
-@njit
+@njit_inline
 def emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n):
     """Append scratch row ``k`` (static frame) to the contact buffer in world coordinates with
     feature id ``triangle * FEATURE_STRIDE + code``; returns the new count."""
@@ -80,7 +80,7 @@ def emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n):
                        triangle * FEATURE_STRIDE + int(scratch[k, 7]))
 
 
-@njit
+@njit_inline
 def emit_unique(scratch, k, pos_b, rot_b, triangle, seen, n_seen, out_f, out_i, n):
     """``emit_row``, unless row ``k`` repeats (bit for bit: point, normal, depth) a contact already
     emitted in this query, as happens where triangles of one plane meet right under a sphere.
