@@ -87,8 +87,8 @@ def quat_rotate(q, v, out):
 
 
 @njit
-def quat_integrate(q, omega, h, out):
-    """Rotate ``q`` by the world angular velocity ``omega`` (rad/s) held for ``h`` seconds.
+def quat_step(q, omega, h):
+    """``q`` rotated by the world angular velocity ``omega`` (rad/s) held for ``h`` seconds, as a tuple.
 
     Exact exponential map: ``q' = exp(omega h / 2) * q``, renormalised.
     """
@@ -102,32 +102,57 @@ def quat_integrate(q, omega, h, out):
         c = math.cos(0.5 * angle)
         s = math.sin(0.5 * angle) / angle
     dw, dx, dy, dz = c, s * wx, s * wy, s * wz
-    out[0] = dw * q[0] - dx * q[1] - dy * q[2] - dz * q[3]
-    out[1] = dw * q[1] + dx * q[0] + dy * q[3] - dz * q[2]
-    out[2] = dw * q[2] - dx * q[3] + dy * q[0] + dz * q[1]
-    out[3] = dw * q[3] + dx * q[2] - dy * q[1] + dz * q[0]
-    quat_normalize(out)
+    r0 = dw * q[0] - dx * q[1] - dy * q[2] - dz * q[3]
+    r1 = dw * q[1] + dx * q[0] + dy * q[3] - dz * q[2]
+    r2 = dw * q[2] - dx * q[3] + dy * q[0] + dz * q[1]
+    r3 = dw * q[3] + dx * q[2] - dy * q[1] + dz * q[0]
+    n = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3)
+    return r0 / n, r1 / n, r2 / n, r3 / n
 
 
 @njit
-def world_inverse_inertia(rot, inv_inertia_body, out):
-    """``out = R I_body^-1 R^T``: the inverse inertia tensor in world coordinates (1/(kg m^2))."""
-    for i in range(3):
-        for j in range(3):
-            s = 0.0
-            for k in range(3):
-                rk = rot[i, k]
-                for m in range(3):
-                    s += rk * inv_inertia_body[k, m] * rot[j, m]
-            out[i, j] = s
+def quat_integrate(q, omega, h, out):
+    """As :func:`quat_step`, written into ``out``."""
+    r = quat_step(q, omega, h)
+    for k in range(4):
+        out[k] = r[k]
 
 
 @njit
-def mat3_vec(m, v, out):
-    """``out = M v`` for a 3x3 matrix (out must not alias v)."""
-    out[0] = m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2]
-    out[1] = m[1, 0] * v[0] + m[1, 1] * v[1] + m[1, 2] * v[2]
-    out[2] = m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2]
+def rotation_of(q):
+    """Rotation matrix (local to world) of the unit quaternion ``q``, as a row-major 9-tuple."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    return (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),
+            2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x),
+            2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y))
+
+
+@njit
+def rotate_tensor(r, m):
+    """``R M R^T`` for row-major 9-tuples ``r`` (a rotation) and ``m`` (a body-frame tensor): the tensor in
+    world coordinates, as a 9-tuple."""
+    # A = M R^T:  A[k][j] = sum_m M[k][m] R[j][m]
+    a0 = m[0] * r[0] + m[1] * r[1] + m[2] * r[2]
+    a1 = m[0] * r[3] + m[1] * r[4] + m[2] * r[5]
+    a2 = m[0] * r[6] + m[1] * r[7] + m[2] * r[8]
+    a3 = m[3] * r[0] + m[4] * r[1] + m[5] * r[2]
+    a4 = m[3] * r[3] + m[4] * r[4] + m[5] * r[5]
+    a5 = m[3] * r[6] + m[4] * r[7] + m[5] * r[8]
+    a6 = m[6] * r[0] + m[7] * r[1] + m[8] * r[2]
+    a7 = m[6] * r[3] + m[7] * r[4] + m[8] * r[5]
+    a8 = m[6] * r[6] + m[7] * r[7] + m[8] * r[8]
+    # R A
+    return (r[0] * a0 + r[1] * a3 + r[2] * a6, r[0] * a1 + r[1] * a4 + r[2] * a7, r[0] * a2 + r[1] * a5 + r[2] * a8,
+            r[3] * a0 + r[4] * a3 + r[5] * a6, r[3] * a1 + r[4] * a4 + r[5] * a7, r[3] * a2 + r[4] * a5 + r[5] * a8,
+            r[6] * a0 + r[7] * a3 + r[8] * a6, r[6] * a1 + r[7] * a4 + r[8] * a7, r[6] * a2 + r[7] * a5 + r[8] * a8)
+
+
+@njit
+def tensor_vec(m, v):
+    """``M v`` for a row-major 9-tuple ``m``, as a 3-tuple."""
+    return (m[0] * v[0] + m[1] * v[1] + m[2] * v[2],
+            m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
+            m[6] * v[0] + m[7] * v[1] + m[8] * v[2])
 
 
 def quat_to_matrix_np(q):

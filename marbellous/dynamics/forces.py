@@ -19,12 +19,8 @@ def is_moving(bi, i):
 
 
 @njit_inline
-def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs):
-    """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``; rows of resting bodies are zero.
-
-    ``record``: weight with which each spring's force is added to its recorded mean (0: none);
-    ``vecs``: scratch (see ``add_spring_forces``).
-    """
+def add_applied_forces(bf, bi, nb, gravity, F, T):
+    """Fill ``F`` (N) and ``T`` (N m) with gravity and the user's accumulators; rows of resting bodies are zero."""
     for i in range(nb):
         if is_moving(bi, i):
             m = bf[i, MASS]
@@ -35,5 +31,15 @@ def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record,
             for k in range(3):
                 F[i, k] = 0.0
                 T[i, k] = 0.0
+
+
+@njit_inline
+def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs):
+    """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``: applied forces and springs.
+
+    ``record``: weight with which each spring's force is added to its recorded mean (0: none);
+    ``vecs``: scratch (see ``add_spring_forces``).
+    """
+    add_applied_forces(bf, bi, nb, gravity, F, T)
     if nk > 0:
         add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs)

@@ -24,9 +24,10 @@ import numpy as np
 from .._jit import njit, njit_inline
 from ..layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT,
                       V_FREE, VEL, W_FREE, X_PRED)
-from ..math3d import mat3_vec, quat_integrate, quat_normalize, quat_to_matrix
-from .forces import accumulate_forces, is_moving
-from .rigid import body_inertia_world, body_inverse_inertia_world
+from ..math3d import quat_integrate, quat_normalize, quat_step, tensor_vec
+from .forces import accumulate_forces, add_applied_forces, is_moving
+from .springs import add_spring_forces
+from .rigid import inertia_world, inverse_inertia_world
 
 EXPLICIT_EULER = 0
 SEMI_IMPLICIT_EULER = 1
@@ -34,26 +35,19 @@ VERLET = 2
 RK4 = 3
 #: Public names of the integrators, in code order.
 INTEGRATORS = ("explicit_euler", "semi_implicit_euler", "verlet", "rk4")
-#: Scratch the per-sub-step stages work in, allocated once per step by the caller: ``mats`` of shape
-#: (SCRATCH_MATS, 3, 3) and ``vecs`` of shape (SCRATCH_VECS, 4).  A kernel that allocates pays Numba's
-#: reference counting on every array argument at every call (~16 ns each), so the hot stages do not.
-SCRATCH_MATS = 3
+#: Scratch vectors the per-sub-step stages work in (springs, joints), allocated once per step by the caller
+#: as ``vecs`` of shape (SCRATCH_VECS, 4).  A kernel that allocates, or creates array views, pays Numba's
+#: reference counting at every call, so the hot stages do neither: small tensors travel as tuples.
 SCRATCH_VECS = 8
 
 
 @njit
-def angular_acceleration(bf, i, q, w, torque, rot, iw_inv, iw, lw, rhs, out):
-    """Euler's equation in the world frame: ``alpha = I_w^-1 (T - omega x (I_w omega))`` (rad/s^2).
-
-    ``rot``, ``iw_inv``, ``iw`` (3x3) and ``lw``, ``rhs`` (3) are scratch.
-    """
-    body_inverse_inertia_world(bf, i, q, rot, iw_inv)
-    body_inertia_world(bf, i, rot, iw)
-    mat3_vec(iw, w, lw)
-    rhs[0] = torque[0] - (w[1] * lw[2] - w[2] * lw[1])
-    rhs[1] = torque[1] - (w[2] * lw[0] - w[0] * lw[2])
-    rhs[2] = torque[2] - (w[0] * lw[1] - w[1] * lw[0])
-    mat3_vec(iw_inv, rhs, out)
+def angular_acceleration(bf, i, q, w, torque):
+    """Euler's equation in the world frame: ``alpha = I_w^-1 (T - omega x (I_w omega))`` (rad/s^2), a tuple."""
+    lw = tensor_vec(inertia_world(bf, i, q), w)
+    return tensor_vec(inverse_inertia_world(bf, i, q), (torque[0] - (w[1] * lw[2] - w[2] * lw[1]),
+                                                        torque[1] - (w[2] * lw[0] - w[0] * lw[2]),
+                                                        torque[2] - (w[0] * lw[1] - w[1] * lw[0])))
 
 
 @njit
@@ -64,9 +58,7 @@ def _store_free_velocity(bf, i):
 
 
 @njit
-def _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs):
-    rot, iw_inv, iw = mats[0], mats[1], mats[2]
-    alpha, lw, rhs = vecs[0, :3], vecs[1, :3], vecs[2, :3]
+def _explicit_euler_velocities(bf, bi, nb, F, T, h):
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -74,8 +66,7 @@ def _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs):
         for k in range(3):
             bf[i, X_PRED + k] = bf[i, POS + k] + bf[i, VEL + k] * h
         quat_integrate(bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], h, bf[i, Q_PRED:Q_PRED + 4])
-        angular_acceleration(bf, i, bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], T[i], rot, iw_inv, iw,
-                             lw, rhs, alpha)
+        alpha = angular_acceleration(bf, i, bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], T[i])
         inv_m = bf[i, INV_MASS]
         for k in range(3):
             bf[i, VEL + k] += F[i, k] * inv_m * h
@@ -84,10 +75,8 @@ def _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs):
 
 
 @njit_inline
-def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h, mats, vecs):
+def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
     """Semi-implicit Euler (and Verlet's linear part): kick velocities, change L by the torque impulse."""
-    rot, iw_inv, iw = mats[0], mats[1], mats[2]
-    lw = vecs[0, :3]
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -113,13 +102,12 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h, mats, vecs):
             _store_free_velocity(bf, i)
             continue
         # L = I_w omega + T h, omega = I_w^-1 L
-        q = bf[i, QUAT:QUAT + 4]
-        body_inverse_inertia_world(bf, i, q, rot, iw_inv)
-        body_inertia_world(bf, i, rot, iw)
-        mat3_vec(iw, bf[i, OMEGA:OMEGA + 3], lw)
+        q = _quat(bf, i, QUAT)
+        lw = tensor_vec(inertia_world(bf, i, q), _vec(bf, i, OMEGA))
+        w = tensor_vec(inverse_inertia_world(bf, i, q), (lw[0] + T[i, 0] * h, lw[1] + T[i, 1] * h,
+                                                          lw[2] + T[i, 2] * h))
         for k in range(3):
-            lw[k] += T[i, k] * h
-        mat3_vec(iw_inv, lw, bf[i, OMEGA:OMEGA + 3])
+            bf[i, OMEGA + k] = w[k]
         _store_free_velocity(bf, i)
 
 
@@ -128,12 +116,7 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, dX, dQ, d
     """The right-hand side ``dy/dt = (v, omega (x) q / 2, F/m, alpha)`` at the state (X, Q, V, W)."""
     vecs = np.empty((SCRATCH_VECS, 4))
     accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs)
-    rot = np.empty((3, 3))
-    iw_inv = np.empty((3, 3))
-    iw = np.empty((3, 3))
     qn = np.empty(4)
-    lw = np.empty(3)
-    rhs = np.empty(3)
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -144,7 +127,9 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, dX, dQ, d
         for k in range(4):
             qn[k] = Q[i, k]
         quat_normalize(qn)
-        angular_acceleration(bf, i, qn, W[i], T[i], rot, iw_inv, iw, lw, rhs, dW[i])
+        alpha = angular_acceleration(bf, i, qn, W[i], T[i])
+        for k in range(3):
+            dW[i, k] = alpha[k]
         # dq/dt = 1/2 (0, omega) * q
         wx, wy, wz = W[i, 0], W[i, 1], W[i, 2]
         dQ[i, 0] = 0.5 * (-wx * qn[1] - wy * qn[2] - wz * qn[3])
@@ -189,72 +174,81 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
 
 
 @njit_inline
-def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record, mats, vecs):
+def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record, vecs):
     """Stage "integrate velocities": apply all forces over ``h`` seconds with the chosen ``method``.
 
-    ``F``, ``T`` are scratch (nb, 3) tables, ``mats``, ``vecs`` the stages' scratch (see SCRATCH_MATS); the
-    springs' forces at the sub-step's start are added to their recorded mean with weight ``record``.
+    ``F``, ``T`` are scratch (nb, 3) tables, ``vecs`` the stages' scratch (see SCRATCH_VECS); the springs'
+    forces at the sub-step's start are added to their recorded mean with weight ``record``.
     """
     if method == RK4:
         _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record)
         return
-    accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, bf[:, POS:POS + 3], bf[:, QUAT:QUAT + 4],
-                      bf[:, VEL:VEL + 3], bf[:, OMEGA:OMEGA + 3], F, T, record, vecs)
+    # accumulate_forces on the body table's own state (its column views made only when springs need them)
+    add_applied_forces(bf, bi, nb, gravity, F, T)
+    if nk > 0:
+        add_spring_forces(kf, ki, nk, bf[:, POS:POS + 3], bf[:, QUAT:QUAT + 4], bf[:, VEL:VEL + 3],
+                          bf[:, OMEGA:OMEGA + 3], F, T, record, vecs)
     if method == EXPLICIT_EULER:
-        _explicit_euler_velocities(bf, bi, nb, F, T, h, mats, vecs)
+        _explicit_euler_velocities(bf, bi, nb, F, T, h)
     else:
-        _momentum_velocities(bf, bi, nb, F, T, h, method == VERLET, prev_h, mats, vecs)
+        _momentum_velocities(bf, bi, nb, F, T, h, method == VERLET, prev_h)
 
 
 @njit
-def _rotate_conserving_momentum(bf, i, h, rot, iw_inv, iw, lw, q_mid, w_mid, q_new):
-    """Advance the orientation by the implicit-midpoint rule at constant world angular momentum.
+def _quat(bf, i, col):
+    return bf[i, col], bf[i, col + 1], bf[i, col + 2], bf[i, col + 3]
 
-    The remaining arguments are scratch arrays (3x3, 3x3, 3x3, 3, 4, 3, 4).
-    """
-    q = bf[i, QUAT:QUAT + 4]
-    w = bf[i, OMEGA:OMEGA + 3]
-    body_inverse_inertia_world(bf, i, q, rot, iw_inv)
-    body_inertia_world(bf, i, rot, iw)
-    mat3_vec(iw, w, lw)
-    quat_integrate(q, w, 0.5 * h, q_mid)
-    body_inverse_inertia_world(bf, i, q_mid, rot, iw_inv)
-    mat3_vec(iw_inv, lw, w_mid)
-    quat_integrate(q, w_mid, h, q_new)
+
+@njit
+def _vec(bf, i, col):
+    return bf[i, col], bf[i, col + 1], bf[i, col + 2]
+
+
+@njit
+def _set_quat(bf, i, col, q):
     for k in range(4):
-        q[k] = q_new[k]
-    body_inverse_inertia_world(bf, i, q, rot, iw_inv)
-    mat3_vec(iw_inv, lw, w)
+        bf[i, col + k] = q[k]
+
+
+@njit
+def _rotate_conserving_momentum(bf, i, h):
+    """Advance body ``i``'s orientation by the implicit-midpoint rule at constant world angular momentum:
+
+        L = I_w(q) omega,  q_mid = exp(omega h / 2) q,  q' = exp(I_w(q_mid)^-1 L h) q,  omega' = I_w(q')^-1 L
+    """
+    q = _quat(bf, i, QUAT)
+    w = _vec(bf, i, OMEGA)
+    lw = tensor_vec(inertia_world(bf, i, q), w)
+    w_mid = tensor_vec(inverse_inertia_world(bf, i, quat_step(q, w, 0.5 * h)), lw)
+    q_new = quat_step(q, w_mid, h)
+    _set_quat(bf, i, QUAT, q_new)
+    w_new = tensor_vec(inverse_inertia_world(bf, i, q_new), lw)
+    for k in range(3):
+        bf[i, OMEGA + k] = w_new[k]
 
 
 @njit_inline
-def integrate_positions(method, bf, bi, nb, h, mats, vecs):
+def integrate_positions(method, bf, bi, nb, h):
     """Stage "integrate positions": move every awake dynamic body over ``h`` seconds.
 
     The solver's velocity change ``dv = v - v_free`` is added to the integrator's own prediction for
     explicit Euler and RK4; semi-implicit Euler and Verlet move with the final velocity directly.
-    ``mats``, ``vecs``: the stages' scratch.
     """
-    rot, iw_inv, iw = mats[0], mats[1], mats[2]
-    dw, dq, q_mid, w_mid = vecs[0, :3], vecs[1], vecs[2], vecs[3, :3]
     for i in range(nb):
         if not is_moving(bi, i):
             continue
         if method == EXPLICIT_EULER or method == RK4:
             for k in range(3):
                 bf[i, POS + k] = bf[i, X_PRED + k] + (bf[i, VEL + k] - bf[i, V_FREE + k]) * h
-                dw[k] = bf[i, OMEGA + k] - bf[i, W_FREE + k]
-            quat_integrate(bf[i, Q_PRED:Q_PRED + 4], dw, h, dq)
-            for k in range(4):
-                bf[i, QUAT + k] = dq[k]
+            dw = (bf[i, OMEGA] - bf[i, W_FREE], bf[i, OMEGA + 1] - bf[i, W_FREE + 1],
+                  bf[i, OMEGA + 2] - bf[i, W_FREE + 2])
+            _set_quat(bf, i, QUAT, quat_step(_quat(bf, i, Q_PRED), dw, h))
         else:
             for k in range(3):
                 bf[i, PREV_POS + k] = bf[i, POS + k]
                 bf[i, POS + k] += bf[i, VEL + k] * h
             if (bi[i, FLAGS] & F_ISOTROPIC) != 0:
                 # omega is constant under torque-free rotation of an isotropic body.
-                quat_integrate(bf[i, QUAT:QUAT + 4], bf[i, OMEGA:OMEGA + 3], h, dq)
-                for k in range(4):
-                    bf[i, QUAT + k] = dq[k]
+                _set_quat(bf, i, QUAT, quat_step(_quat(bf, i, QUAT), _vec(bf, i, OMEGA), h))
             else:
-                _rotate_conserving_momentum(bf, i, h, rot, iw_inv, iw, dw, q_mid, w_mid, dq)
+                _rotate_conserving_momentum(bf, i, h)

@@ -1,29 +1,32 @@
 """Rigid-body kinematics shared by the integrators and solvers.
 
 The velocity of a body point at offset ``r`` from the centre of mass is ``v + omega x r``; the world
-inverse inertia is ``I_w^-1 = R I_body^-1 R^T``.
+inverse inertia is ``I_w^-1 = R I_body^-1 R^T``.  Small tensors travel as tuples (no arrays in hot loops).
 """
 import numpy as np
 
 from .._jit import njit
 from ..layout import INV_I, I_BODY, OMEGA, VEL
-from ..math3d import quat_to_matrix, world_inverse_inertia
+from ..math3d import rotate_tensor, rotation_of
 
 
 @njit
-def body_inverse_inertia_world(bf, i, quat, rot, out):
-    """World inverse inertia ``R I_body^-1 R^T`` of body row ``i`` at orientation ``quat`` (1/(kg m^2)).
-
-    ``rot`` is scratch (3, 3) that receives the rotation matrix.
-    """
-    quat_to_matrix(quat, rot)
-    world_inverse_inertia(rot, bf[i, INV_I:INV_I + 9].reshape(3, 3), out)
+def _row9(bf, i, col):
+    """Columns ``col .. col + 8`` of body row ``i`` as a 9-tuple (a row-major 3x3 tensor)."""
+    return (bf[i, col], bf[i, col + 1], bf[i, col + 2], bf[i, col + 3], bf[i, col + 4], bf[i, col + 5],
+            bf[i, col + 6], bf[i, col + 7], bf[i, col + 8])
 
 
 @njit
-def body_inertia_world(bf, i, rot, out):
-    """World inertia ``R I_body R^T`` (kg m^2) for the rotation matrix ``rot`` of body row ``i``."""
-    world_inverse_inertia(rot, bf[i, I_BODY:I_BODY + 9].reshape(3, 3), out)
+def inverse_inertia_world(bf, i, q):
+    """World inverse inertia ``R I_body^-1 R^T`` (1/(kg m^2)) of body row ``i`` at orientation ``q``, 9-tuple."""
+    return rotate_tensor(rotation_of(q), _row9(bf, i, INV_I))
+
+
+@njit
+def inertia_world(bf, i, q):
+    """World inertia ``R I_body R^T`` (kg m^2) of body row ``i`` at orientation ``q``, 9-tuple."""
+    return rotate_tensor(rotation_of(q), _row9(bf, i, I_BODY))
 
 
 def inverse_inertia_np(inertia):

@@ -19,7 +19,7 @@ bodies once, updates them in registers and writes them back once.
 from .._jit import njit
 from ..layout import DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, VEL
 from .forces import is_moving
-from .rigid import body_inverse_inertia_world
+from .rigid import inverse_inertia_world
 
 SB_INV_MASS = 0
 SB_INV_I = 1
@@ -31,10 +31,8 @@ SB_COLS = 24      # 22 used, padded to three 64-byte cache lines
 
 
 @njit
-def prepare_solver_bodies(bf, bi, nb, sb, mats):
-    """Fill ``sb`` from the bodies' current poses and velocities (``mats``: two 3x3 scratch matrices)."""
-    rot = mats[0]
-    iw = mats[1]
+def prepare_solver_bodies(bf, bi, nb, sb):
+    """Fill ``sb`` from the bodies' current poses and velocities."""
     for i in range(nb):
         moving = is_moving(bi, i)
         if moving and (bi[i, FLAGS] & F_ISOTROPIC) != 0:
@@ -44,10 +42,9 @@ def prepare_solver_bodies(bf, bi, nb, sb, mats):
                 sb[i, SB_INV_I + k] = bf[i, INV_I + k]
         elif moving:
             sb[i, SB_INV_MASS] = bf[i, INV_MASS]
-            body_inverse_inertia_world(bf, i, bf[i, QUAT:QUAT + 4], rot, iw)
-            for r in range(3):
-                for c in range(3):
-                    sb[i, SB_INV_I + 3 * r + c] = iw[r, c]
+            iw = inverse_inertia_world(bf, i, (bf[i, QUAT], bf[i, QUAT + 1], bf[i, QUAT + 2], bf[i, QUAT + 3]))
+            for k in range(9):
+                sb[i, SB_INV_I + k] = iw[k]
         else:
             for k in range(10):
                 sb[i, k] = 0.0

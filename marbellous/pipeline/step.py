@@ -28,7 +28,7 @@ from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
                                        solve_contacts, store_friction_state, warm_start_contacts)
 from ..dynamics.forces import is_moving
-from ..dynamics.integrators import SCRATCH_MATS, SCRATCH_VECS, integrate_positions, integrate_velocities
+from ..dynamics.integrators import SCRATCH_VECS, integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
@@ -128,7 +128,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     prof = params_i[P_PROFILE] != 0
     t = cycle_counter() if prof else 0
     # Scratch, allocated here once per step: the stages called per sub-step and per iteration must not
-    # allocate (see dynamics/integrators.py SCRATCH_MATS).
+    # allocate (see dynamics/integrators.py SCRATCH_VECS).
     sweep = np.empty(nb)
     sb = np.empty((nb, SB_COLS))
     F = np.empty((nb, 3))
@@ -138,7 +138,6 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     soft = np.empty((2, 3))
     contact_soft = soft[0]
     joint_soft = soft[1]
-    mats = np.empty((SCRATCH_MATS, 3, 3))
     vecs = np.empty((SCRATCH_VECS, 4))
 
     # --- collide -----------------------------------------------------------------------------------
@@ -171,7 +170,7 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
             bf[i, DTHETA + k] = 0.0
-    prepare_solver_bodies(bf, bi, nb, sb, mats)
+    prepare_solver_bodies(bf, bi, nb, sb)
     if nc > 0:
         prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
 
@@ -188,10 +187,10 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
             add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
                                user_forces)
         integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
-                             1.0 / substeps, mats, vecs)
+                             1.0 / substeps, vecs)
         if solver == PENALTY:
             restore_user_forces(bf, nb, user_forces)
-        prepare_solver_bodies(bf, bi, nb, sb, mats)
+        prepare_solver_bodies(bf, bi, nb, sb)
         t = _lap(stats, ST_INTEGRATE_V, t, prof)
         # (kernels are only called when they have rows to work on: every call passes its arrays' fields)
         if nk > 0:
@@ -224,11 +223,11 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         if solver != LCP:
             store_velocities(bf, bi, nb, sb)
         t = _lap(stats, ST_SOLVE, t, prof)
-        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h, mats, vecs)
+        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
         for i in range(nb):
             for k in range(3):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
-        prepare_solver_bodies(bf, bi, nb, sb, mats)
+        prepare_solver_bodies(bf, bi, nb, sb)
         t = _lap(stats, ST_INTEGRATE_X, t, prof)
         if solver == LCP:
             solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
