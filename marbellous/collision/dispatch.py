@@ -4,8 +4,11 @@ Pair tests exist for the canonical order only (sphere < capsule < box < plane < 
 mesh).  When the caller's a has the higher type code the shapes are swapped, the pair test runs,
 and the rows it added get their normals negated; points, depths and feature ids stay as they are
 (the point is the midpoint between the surfaces, the same seen from either side).
+
+The dispatchers are inlined into their callers (``njit_inline``): each level of calls would pass, and
+reference-count, every array again (a box pair in a stack: 780 -> 550 ns in the narrow phase).
 """
-from .._jit import njit
+from .._jit import njit, njit_inline
 from . import shape_types as st
 from .box_box import collide_box_box
 from .capsule_box import collide_capsule_box
@@ -40,7 +43,7 @@ def sphere_primitive(c, r, type_b, pos_b, m_b, params_b, prediction):
     return sphere_plane(c, r, pn, off, prediction)
 
 
-@njit
+@njit_inline
 def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                          out_f, out_i, n):
     """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
@@ -70,7 +73,7 @@ def flip_normals(out_f, start, stop):
         out_f[row, 5] = -out_f[row, 5]
 
 
-@njit
+@njit_inline
 def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                         out_f, out_i, n):
     """Contacts of two primitives (sphere, capsule, box, plane) in any order; returns the new count.
@@ -88,7 +91,7 @@ def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, pa
     return m
 
 
-@njit
+@njit_inline
 def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
                  off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """Contacts of any two shapes, normals from a to b; returns the new count.
