@@ -10,6 +10,7 @@ counts and a digest of the contacts (equal digests: bit-identical contacts), and
 ``bench/results/<date>-<host>-narrow_phase.json``.
 
 Run:  python -m bench.bench_narrow_phase [--quick] [--scenes pile_1k marble_terrain]
+      python -m bench.bench_narrow_phase --scenes pyramid_20 --warm-steps 20 --no-write   (box pairs, awake)
 """
 import argparse
 import hashlib
@@ -151,12 +152,14 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="smaller scenes: a check of the harness")
     ap.add_argument("--scenes", nargs="*", default=list(DEFAULT_SCENES), help="scene names")
+    ap.add_argument("--warm-steps", type=int, default=None,
+                    help="steps before measuring (default: the scene's warm-up; stacks need few, or they sleep)")
     ap.add_argument("--no-write", action="store_true", help="print only, write no results file")
     args = ap.parse_args(argv)
     rows = []
     print(f"load average {os.getloadavg()[0]:.2f}")
     for name in args.scenes:
-        r = measure(name, quick=args.quick)
+        r = measure(name, quick=args.quick, warm_steps=args.warm_steps)
         rows.append(r)
         print(f"{name:16s} pairs {r['pairs']:6d}  contacts {r['contacts']:6d}  narrow {r['narrow_us']:10.2f} us "
               f"({r['narrow_ns_per_pair']:7.1f} ns/pair)  aabbs {r['aabbs_us']:9.2f} us "
