@@ -28,7 +28,7 @@ from . import shape_types as st
 from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_ray import ray_triangle
-from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C
+from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C, sphere_triangle
 from .vec3 import cross, dot, sub
 
 #: Grid offsets of the corners of triangle k of a cell: ``CORNERS[k][c] = (di, dj)``.
@@ -141,6 +141,8 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                 continue
             for k in range(2):
                 a, b, cc, nrm = cell_triangle(params_b, geom_f, off_f_b, i, j, k)
+                if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
+                    continue                          # missed: decided by values alone (no array call)
                 m0 = m1 = m2 = (0.0, 0.0, 0.0)
                 if type_a == st.BOX:
                     m0 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 0, a, b)
