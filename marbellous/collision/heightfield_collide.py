@@ -47,11 +47,11 @@ def grid_height(params, geom_f, off_f, i, j):
     i0 = min(max(i, 0), nx - 1)
     j0 = min(max(j, 0), nz - 1)
     di, dj = i - i0, j - j0
+    # Straight-line code (inside the grid di = dj = 0 and both terms add an exact 0): a branch here
+    # would make Numba count the references of both arrays at every call, 4x the cost of the rest.
     h = geom_f[off_f + i0 * nz + j0]
-    if di != 0:
-        h += di * (h - geom_f[off_f + (i0 - di) * nz + j0])
-    if dj != 0:
-        h += dj * (geom_f[off_f + i0 * nz + j0] - geom_f[off_f + i0 * nz + j0 - dj])
+    h += di * (h - geom_f[off_f + (i0 - di) * nz + j0])
+    h += dj * (geom_f[off_f + i0 * nz + j0] - geom_f[off_f + i0 * nz + j0 - dj])
     return h
 
 
