@@ -397,3 +397,14 @@ def test_trees_refit_for_small_motion_and_rebuild_when_it_spoils_them(method):
     np.testing.assert_array_equal(bp.pairs(shuffled, flags, groups, masks),
                                   reference_pairs(shuffled, flags, groups, masks))
     assert node_area_sum(bp) == pytest.approx(bp.state_f[F_BUILT_AREA])   # rebuilt
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(0, 2**40), max_size=3000), st.integers(0, 3))
+def test_sort_keys_matches_numpy_sort(values, runs):
+    """The radix sort of pair keys equals NumPy's sort, on random keys and on partly ordered runs."""
+    from marbellous.collision.broadphase._common import sort_keys
+    keys = np.array(values, dtype=np.int64)
+    if runs and keys.size:
+        keys = np.concatenate([np.sort(part) for part in np.array_split(keys, runs + 1)])
+    np.testing.assert_array_equal(sort_keys(keys), np.sort(keys))
