@@ -7,6 +7,7 @@ Row ``i`` of the (nb, SB_COLS) table ``sb`` holds
     SB_V, SB_W   linear and angular velocity            (m/s, rad/s)
     SB_DP        displacement since the step began      (m)
     SB_DTHETA    rotation vector since the step began   (rad)
+    SB_ISO       s when I_w^-1 = s E, else -1: impulses then skip the matrix product
 
 Static and sleeping bodies get zero inverse mass and inertia, so every constraint treats them as
 immovable without a branch.  The sequential-impulse solver works on these rows alone (three cache lines
@@ -27,7 +28,8 @@ SB_V = 10
 SB_W = 13
 SB_DP = 16
 SB_DTHETA = 19
-SB_COLS = 24      # 22 used, padded to three 64-byte cache lines
+SB_ISO = 22       # s if I_w^-1 = s E (spheres, cubes, and every body that cannot move: s = 0), else -1
+SB_COLS = 24      # 23 used, padded to three 64-byte cache lines
 
 
 @njit
@@ -40,14 +42,17 @@ def prepare_solver_bodies(bf, bi, nb, sb):
             sb[i, SB_INV_MASS] = bf[i, INV_MASS]
             for k in range(9):
                 sb[i, SB_INV_I + k] = bf[i, INV_I + k]
+            sb[i, SB_ISO] = bf[i, INV_I]
         elif moving:
             sb[i, SB_INV_MASS] = bf[i, INV_MASS]
             iw = inverse_inertia_world(bf, i, (bf[i, QUAT], bf[i, QUAT + 1], bf[i, QUAT + 2], bf[i, QUAT + 3]))
             for k in range(9):
                 sb[i, SB_INV_I + k] = iw[k]
+            sb[i, SB_ISO] = -1.0
         else:
             for k in range(10):
                 sb[i, k] = 0.0
+            sb[i, SB_ISO] = 0.0
         for k in range(3):
             sb[i, SB_V + k] = bf[i, VEL + k]
             sb[i, SB_W + k] = bf[i, OMEGA + k]
@@ -106,10 +111,16 @@ def relative_velocity_at(ua, ra, ub, rb):
 def push(sb, i, u, r, px, py, pz, sign):
     """``u`` of body ``i`` after the impulse ``sign p`` (N s) at offset ``r``:
     v += sign p / m,  omega += sign I_w^-1 (r x p)."""
+    iso = sb[i, SB_ISO]
+    if iso == 0.0:
+        return u                    # static or sleeping: nothing moves it
     cx = r[1] * pz - r[2] * py
     cy = r[2] * px - r[0] * pz
     cz = r[0] * py - r[1] * px
     im = sign * sb[i, SB_INV_MASS]
+    if iso > 0.0:
+        si = sign * iso
+        return u[0] + im * px, u[1] + im * py, u[2] + im * pz, u[3] + si * cx, u[4] + si * cy, u[5] + si * cz
     return (u[0] + im * px, u[1] + im * py, u[2] + im * pz,
             u[3] + sign * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz),
             u[4] + sign * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz),
