@@ -11,17 +11,15 @@ from .._jit import njit
 
 
 @njit
-def contact_basis(n, t1, t2):
-    """Write unit tangents ``t1``, ``t2`` with ``(n, t1, t2)`` right-handed and orthonormal."""
+def contact_basis(n):
+    """Unit tangents ``(t1, t2)`` (3-tuples) with ``(n, t1, t2)`` right-handed and orthonormal."""
     # n x (0, 0, 1) = (n_y, -n_x, 0); n x (1, 0, 0) = (0, n_z, -n_y)
     if abs(n[2]) < 0.9:
-        t1[0], t1[1], t1[2] = n[1], -n[0], 0.0
+        x, y, z = n[1], -n[0], 0.0
     else:
-        t1[0], t1[1], t1[2] = 0.0, n[2], -n[1]
-    s = 1.0 / math.sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2])
-    t1[0] *= s
-    t1[1] *= s
-    t1[2] *= s
-    t2[0] = n[1] * t1[2] - n[2] * t1[1]
-    t2[1] = n[2] * t1[0] - n[0] * t1[2]
-    t2[2] = n[0] * t1[1] - n[1] * t1[0]
+        x, y, z = 0.0, n[2], -n[1]
+    s = 1.0 / math.sqrt(x * x + y * y + z * z)
+    x *= s
+    y *= s
+    z *= s
+    return (x, y, z), (n[1] * z - n[2] * y, n[2] * x - n[0] * z, n[0] * y - n[1] * x)

@@ -5,8 +5,6 @@ the broad phase's canonical pair order, so one merge pass over the pairs finds e
 pair the few candidates are compared directly.  Matched points inherit the accumulated normal,
 friction (re-projected onto the new tangents) and rolling impulses and the sliding state.
 """
-import numpy as np
-
 from .._jit import njit
 from ..layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1,
                       C_LAMBDA_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED, CP_SLIDING)
@@ -24,8 +22,6 @@ def _pair_key_less(ci_x, x, ci_y, y):
 @njit
 def match_contacts(cf, ci, nc, pcf, pci, npc):
     """Stage "match": copy last step's impulses into this step's contacts with the same features."""
-    t1 = np.empty(3)
-    t2 = np.empty(3)
     start = 0
     for c in range(nc):
         ci[c, C_FLAGS] &= ~(CP_MATCHED | CP_SLIDING)
@@ -42,7 +38,7 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
                     and pci[q, C_FEATURE] == ci[c, C_FEATURE]):
                 cf[c, C_LAMBDA_N] = pcf[q, C_LAMBDA_N]
                 # Friction impulse as a world vector, projected onto the new contact basis.
-                contact_basis(cf[c, C_NORMAL:C_NORMAL + 3], t1, t2)
+                t1, t2 = contact_basis((cf[c, C_NORMAL], cf[c, C_NORMAL + 1], cf[c, C_NORMAL + 2]))
                 p1 = 0.0
                 p2 = 0.0
                 for k in range(3):

@@ -42,12 +42,13 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
         for k in range(3):
             cf[c, C_RA + k] = cf[c, C_POINT + k] - bf[a, POS + k]
             cf[c, C_RB + k] = cf[c, C_POINT + k] - bf[b, POS + k]
-        contact_basis(cf[c, C_NORMAL:C_NORMAL + 3], cf[c, C_T1:C_T1 + 3], cf[c, C_T2:C_T2 + 3])
         ra = _vec3(cf, c, C_RA)
         rb = _vec3(cf, c, C_RB)
         n = _vec3(cf, c, C_NORMAL)
-        t1 = _vec3(cf, c, C_T1)
-        t2 = _vec3(cf, c, C_T2)
+        t1, t2 = contact_basis(n)
+        for k in range(3):
+            cf[c, C_T1 + k] = t1[k]
+            cf[c, C_T2 + k] = t2[k]
         cf[c, C_MASS_N] = effective_mass_along(sb, a, ra, b, rb, n)
         cf[c, C_MASS_T1] = effective_mass_along(sb, a, ra, b, rb, t1)
         cf[c, C_MASS_T2] = effective_mass_along(sb, a, ra, b, rb, t2)
