@@ -1,8 +1,9 @@
 """Benchmark of the collide stage's own kernels: ``update_aabbs`` and ``narrow_phase``.
 
-Each scene (sphere pile 1k and 8k, the marble on the 131k-triangle mesh) is built and stepped into a
-settled state; then the world's own arrays are taken as ``World.step`` sees them (as
-``bench/profile_stages.py`` does) and the two kernels are called on them, ``reps`` times inside one
+Each scene (sphere pile 1k and 8k, the marble on the 131k-triangle mesh, a marble on a 64 x 64 height
+field) is built and stepped into a settled state; then the world's own arrays are taken as
+``World.step`` sees them (as ``bench/profile_stages.py`` does) and the two kernels are called on them,
+``reps`` times inside one
 compiled loop (so the Python-to-Numba dispatch, ~1 us, is not counted), best of ``REPEATS`` rounds:
 the machine is shared, and other processes only ever add time.  Both kernels only read the bodies, so
 every call sees the same input.  Reports us per call, ns per candidate pair, the pair and contact
@@ -31,7 +32,7 @@ from .scenes import DT, SCENES, build_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-DEFAULT_SCENES = ("pile_1k", "pile_8k", "marble_terrain")
+DEFAULT_SCENES = ("pile_1k", "pile_8k", "marble_terrain", "marble_heightfield")
 REPEATS = 7
 #: wall time (s) one round of calls should take at least
 ROUND_SECONDS = 0.05
@@ -114,6 +115,23 @@ class CollideInput:
         return h.hexdigest()[:16]
 
 
+def marble_on_heightfield(cells=64, spacing=0.1):
+    """``(world, meta)``: a marble (r = 0.25 m) rolling on a wavy ``cells`` x ``cells`` height field."""
+    import marbellous as mb
+
+    x = np.linspace(0.0, 6.0, cells)
+    heights = 0.3 * np.sin(x)[:, None] * np.cos(x)[None, :]
+    half = 0.5 * (cells - 1) * spacing
+    world = mb.World()
+    world.add_static(mb.HeightField(heights, spacing=(spacing, spacing), origin=(-half, 0.0, -half)))
+    world.add_body(mb.Sphere(0.25), position=(0.1, 0.6, 0.2), velocity=(1.0, 0.0, 0.5))
+    return world, {}
+
+
+#: scenes of this benchmark only: name -> (builder, warm-up steps)
+EXTRA_SCENES = {"marble_heightfield": (marble_on_heightfield, 60)}
+
+
 def best_seconds(run):
     """Best seconds per call of ``run(reps)`` over ``REPEATS`` rounds of at least ``ROUND_SECONDS``."""
     reps = 1
@@ -135,8 +153,13 @@ def best_seconds(run):
 def measure(name, quick=False, warm_steps=None):
     """The collide-stage timings of scene ``name`` after ``warm_steps`` steps (default: the scene's
     warm-up).  Returns a dict of numbers."""
-    world, _ = build_scene(name, quick=quick)
-    steps = SCENES[name].warmup_steps(quick) if warm_steps is None else warm_steps
+    if name in EXTRA_SCENES:
+        build, default_steps = EXTRA_SCENES[name]
+        world, _ = build()
+    else:
+        world, _ = build_scene(name, quick=quick)
+        default_steps = SCENES[name].warmup_steps(quick)
+    steps = default_steps if warm_steps is None else warm_steps
     for _ in range(steps):
         world.step(DT)
     inp = CollideInput(world, DT)
