@@ -2,8 +2,7 @@
 
 Each scene (sphere pile 1k and 8k, the marble on the 131k-triangle mesh, a marble on a 64 x 64 height
 field) is built and stepped into a settled state; then the world's own arrays are taken as
-``World.step`` sees them (as ``bench/profile_stages.py`` does) and the two kernels are called on them,
-``reps`` times inside one
+``World.step`` sees them and the two kernels are called on them, ``reps`` times inside one
 compiled loop (so the Python-to-Numba dispatch, ~1 us, is not counted), best of ``REPEATS`` rounds:
 the machine is shared, and other processes only ever add time.  Both kernels only read the bodies, so
 every call sees the same input.  Reports us per call, ns per candidate pair, the pair and contact
