@@ -21,12 +21,12 @@ from . import mesh_layout as ml
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
 from . import shape_types as st
-from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes, write_row
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C, sphere_triangle
 
 
-@njit
+@njit_inline
 def vertex_is_true(geom_f, geom_i, off_f, off_i, v, p):
     """Voronoi test of a contact at vertex ``v`` for query point ``p``: ``(P - V).(W - V) <= 0``
     for every welded ring neighbour ``W``."""
@@ -106,15 +106,20 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
         a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
         if (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0) or not boxes_overlap(a, b, cc, lo, hi):
             continue                                  # degenerate, or too far
-        if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
-            continue                                  # missed: decided by values alone, so the arrays of
-                                                      # the call below are not reference counted for it
-        m0 = m1 = m2 = zero
-        if type_a == st.BOX:
-            m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
-            m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
-            m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
-        k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
+        if type_a == st.SPHERE:
+            # convex_triangle's sphere case, by values: a miss costs no call that takes arrays (whose
+            # references Numba would count)
+            feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)
+            if feature < 0:
+                continue
+            k = write_row(scratch, 0, q, normal, depth, feature, c)
+        else:
+            m0 = m1 = m2 = zero
+            if type_a == st.BOX:
+                m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
+                m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
+                m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
+            k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
         for r in range(k):
             if keep_row(geom_f, geom_i, off_f_b, off_i_b, t, scratch, r):
                 n, n_seen = emit_unique(scratch, r, pos_b, rot_b, t, seen, n_seen, out_f, out_i, n)
