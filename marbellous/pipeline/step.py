@@ -170,7 +170,10 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
             bf[i, DTHETA + k] = 0.0
-    prepare_solver_bodies(bf, bi, nb, sb)
+    # Without contacts and rods/cables the solver has nothing to do: its body rows are not even filled.
+    constrained = nc > 0 or nk > 0
+    if constrained:
+        prepare_solver_bodies(bf, bi, nb, sb)
     if nc > 0:
         prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
 
@@ -190,7 +193,8 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
                              1.0 / substeps, vecs)
         if solver == PENALTY:
             restore_user_forces(bf, nb, user_forces)
-        prepare_solver_bodies(bf, bi, nb, sb)
+        if constrained:
+            prepare_solver_bodies(bf, bi, nb, sb)
         t = _lap(stats, ST_INTEGRATE_V, t, prof)
         # (kernels are only called when they have rows to work on: every call passes its arrays' fields)
         if nk > 0:
@@ -215,29 +219,32 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
                 if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs) < params_f[P_TOLERANCE]:
                     break
         else:
-            warm_start_contacts(cf, ci, nc, sb)
-            store_velocities(bf, bi, nb, sb)       # the LCP scheme works on the body table
-            iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft, joint_soft,
-                                         params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR],
-                                         params_f[P_TOLERANCE])
-        if solver != LCP:
+            if constrained:
+                warm_start_contacts(cf, ci, nc, sb)
+                store_velocities(bf, bi, nb, sb)       # the LCP scheme works on the body table
+                iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft,
+                                             joint_soft, params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS],
+                                             params_f[P_LCP_SOR], params_f[P_TOLERANCE])
+        if solver != LCP and constrained:
             store_velocities(bf, bi, nb, sb)
         t = _lap(stats, ST_SOLVE, t, prof)
         integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
         for i in range(nb):
             for k in range(3):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
-        prepare_solver_bodies(bf, bi, nb, sb)
+        if constrained:
+            prepare_solver_bodies(bf, bi, nb, sb)
         t = _lap(stats, ST_INTEGRATE_X, t, prof)
-        if solver == LCP:
+        if solver == LCP and constrained:
             solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
                       params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR], params_f[P_TOLERANCE])
-        else:
+        elif solver != LCP:
             if nk > 0:
                 solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
             if solver == SEQUENTIAL_IMPULSE and nc > 0:
                 solve_contacts(cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
-            store_velocities(bf, bi, nb, sb)
+            if constrained:
+                store_velocities(bf, bi, nb, sb)
         if nc > 0:
             accumulate_applied(cf, ci, nc)
         for c in range(nk):
