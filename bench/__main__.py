@@ -222,7 +222,7 @@ def main(argv=None):
     print()
     print(text)
     for name, row in profiles.items():
-        print(f"profile {name:16s} " + "  ".join(f"{k} {v:.3f}" for k, v in row.items()) + "  (ms/step)")
+        print(f"profile {name:16s} " + "  ".join(f"{k} {1e3 * v:.1f}" for k, v in row.items()) + "  (us/step)")
     record = {"machine": machine, "quick": args.quick, "dt": DT, "warm_up_s": compile_s, "results": results,
               "profile_ms_per_step": profiles}
     path = args.out or os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}"
