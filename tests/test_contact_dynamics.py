@@ -6,54 +6,43 @@ import pytest
 
 import marbellous as mb
 
-G = 9.81
-THETA = math.radians(20.0)
-# An incline through the origin: its normal, and the downhill direction in the x-y plane.
-N_INCLINE = np.array([-math.sin(THETA), math.cos(THETA), 0.0])
-DOWNHILL = np.array([-math.cos(THETA), -math.sin(THETA), 0.0])
-Q_INCLINE = np.array([math.cos(THETA / 2), 0.0, 0.0, math.sin(THETA / 2)])  # rotates +y onto N_INCLINE
+from mechanics import (DOWNHILL, HEAD_ON, G, N_INCLINE, ROLLING_ACCELERATION, acceleration_downhill,
+                       box_on_incline, head_on_collision, sliding_acceleration, sphere_on_incline)
+
+SOLVERS = ["sequential_impulse", "lcp"]   # the penalty scheme has its own tests (test_penalty.py)
 
 
-def acceleration_downhill(w, b, t0=0.5, t1=1.5, dt=1.0 / 60.0):
-    """Mean acceleration along the incline between t0 and t1 (s), from the velocities."""
-    while w.time < t0 - 1e-9:
-        w.step(dt)
-    v0, s0 = b.velocity @ DOWNHILL, w.time
-    while w.time < t1 - 1e-9:
-        w.step(dt)
-    return (b.velocity @ DOWNHILL - v0) / (w.time - s0)
-
-
-@pytest.mark.parametrize("solver", ["sequential_impulse"])
+@pytest.mark.parametrize("solver", SOLVERS)
 def test_sphere_rolls_down_incline_without_slipping(solver):
     # Rolling without slipping: a = 5/7 g sin(theta), omega r = v.
     r = 0.5
     w = mb.World(solver=solver, sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=0.8)
-    b = w.add_body(mb.Sphere(r), position=N_INCLINE * r, friction=0.8)
+    b = sphere_on_incline(w, r)
     a = acceleration_downhill(w, b)
-    assert a == pytest.approx(5.0 / 7.0 * G * math.sin(THETA), rel=0.02)
+    assert a == pytest.approx(ROLLING_ACCELERATION, rel=0.02)
     assert np.linalg.norm(b.angular_velocity) * r == pytest.approx(np.linalg.norm(b.velocity), rel=0.02)
     # It stays on the surface (the soft contact yields far less than a millimetre).
     assert b.position @ N_INCLINE == pytest.approx(r, abs=1e-3)
 
 
-def test_box_slides_with_dynamic_friction():
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_box_slides_with_dynamic_friction(solver):
     mu = 0.2
-    w = mb.World(sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=mu)
-    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=N_INCLINE * 0.5, orientation=Q_INCLINE, friction=mu)
+    w = mb.World(solver=solver, sleeping=False)
+    b = box_on_incline(w, mu)
     a = acceleration_downhill(w, b)
-    assert a == pytest.approx(G * (math.sin(THETA) - mu * math.cos(THETA)), rel=0.02)
+    assert a == pytest.approx(sliding_acceleration(mu), rel=0.02)
+    # Coulomb: the friction impulse of every contact stays inside its cone.
+    for c in w.contacts():
+        assert np.linalg.norm(c.tangent_impulse) <= mu * c.normal_impulse * (1.0 + 1e-9)
 
 
-def test_static_friction_holds_and_dynamic_friction_slides_once_pushed():
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_static_friction_holds_and_dynamic_friction_slides_once_pushed(solver):
     # mu_s = 0.6 > tan(20 deg) = 0.364 > mu_d = 0.2: the box stays put ...
     mu_s, mu_d = 0.6, 0.2
-    w = mb.World(sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=mu_d, static_friction=mu_s)
-    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=N_INCLINE * 0.5, orientation=Q_INCLINE,
-                   friction=mu_d, static_friction=mu_s)
+    w = mb.World(solver=solver, sleeping=False)
+    b = box_on_incline(w, mu_d, mu_s)
     for _ in range(120):
         w.step(1.0 / 60.0)
     start = b.position
@@ -63,7 +52,7 @@ def test_static_friction_holds_and_dynamic_friction_slides_once_pushed():
     # ... and, pushed into sliding, it accelerates at g (sin - mu_d cos).
     b.velocity = DOWNHILL * 1.0
     a = acceleration_downhill(w, b, w.time + 0.25, w.time + 1.25)
-    assert a == pytest.approx(G * (math.sin(THETA) - mu_d * math.cos(THETA)), rel=0.02)
+    assert a == pytest.approx(sliding_acceleration(mu_d), rel=0.02)
 
 
 @pytest.mark.parametrize("e", [0.5, 0.8, 1.0])
@@ -91,15 +80,10 @@ def test_ball_bounces_to_e_squared_h(e):
 
 @pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
 def test_head_on_collision_conserves_momentum(e):
-    w = mb.World(gravity=(0, 0, 0), sleeping=False)
-    m1, m2, u1, u2 = 2.0, 3.0, 4.0, -1.0
-    a = w.add_body(mb.Sphere(0.5), mass=m1, position=(-2, 0, 0), velocity=(u1, 0, 0), restitution=e)
-    b = w.add_body(mb.Sphere(0.5), mass=m2, position=(2, 0, 0), velocity=(u2, 0, 0), restitution=e)
-    p0 = m1 * a.velocity + m2 * b.velocity
-    for _ in range(120):
-        w.step(1.0 / 60.0)
+    a, b = head_on_collision(mb.World(gravity=(0, 0, 0), sleeping=False), e)
+    m1, m2, u1, u2 = HEAD_ON
     p1 = m1 * a.velocity + m2 * b.velocity
-    np.testing.assert_allclose(p1, p0, atol=1e-12)
+    np.testing.assert_allclose(p1, [m1 * u1 + m2 * u2, 0, 0], atol=1e-12)
     # Newton's law of restitution: separation speed = e * approach speed.
     v1, v2 = a.velocity[0], b.velocity[0]
     assert v2 - v1 == pytest.approx(e * (u1 - u2), abs=1e-9)

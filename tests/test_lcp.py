@@ -13,12 +13,7 @@ from marbellous.dynamics.lcp import assemble_matrix
 from marbellous.dynamics.lcp_solve import solve_bounded_lcp
 from marbellous.scenes import box_tower
 
-G = 9.81
-DT = 1.0 / 60.0
-THETA = math.radians(20.0)
-N_INCLINE = np.array([-math.sin(THETA), math.cos(THETA), 0.0])
-DOWNHILL = np.array([-math.cos(THETA), -math.sin(THETA), 0.0])
-Q_INCLINE = np.array([math.cos(THETA / 2), 0.0, 0.0, math.sin(THETA / 2)])  # rotates +y onto N_INCLINE
+from mechanics import DT, HEAD_ON, G, head_on_collision
 
 
 # --- the bounded LCP solver ---------------------------------------------------------------------------
@@ -163,56 +158,8 @@ def test_assembled_matrix_equals_dense_j_minv_jt(seed, nb, m):
     np.testing.assert_allclose(A, Jd @ Minv @ Jd.T, atol=1e-12 * (1.0 + np.abs(Jd).max() ** 2 * 10))
 
 
-# --- World(solver="lcp") against mechanics ---------------------------------------------------------------
-def acceleration_downhill(w, b, t0=0.5, t1=1.5):
-    """Mean acceleration along the incline between t0 and t1 (s), from the velocities."""
-    while w.time < t0 - 1e-9:
-        w.step(DT)
-    v0, s0 = b.velocity @ DOWNHILL, w.time
-    while w.time < t1 - 1e-9:
-        w.step(DT)
-    return (b.velocity @ DOWNHILL - v0) / (w.time - s0)
-
-
-def test_sphere_rolls_down_incline_without_slipping():
-    r = 0.5
-    w = mb.World(solver="lcp", sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=0.8)
-    b = w.add_body(mb.Sphere(r), position=N_INCLINE * r, friction=0.8)
-    a = acceleration_downhill(w, b)
-    assert a == pytest.approx(5.0 / 7.0 * G * math.sin(THETA), rel=0.02)
-    assert np.linalg.norm(b.angular_velocity) * r == pytest.approx(np.linalg.norm(b.velocity), rel=0.02)
-    assert b.position @ N_INCLINE == pytest.approx(r, abs=1e-3)
-
-
-def test_box_slides_with_dynamic_friction_inside_the_cone():
-    mu = 0.2
-    w = mb.World(solver="lcp", sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=mu)
-    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=N_INCLINE * 0.5, orientation=Q_INCLINE, friction=mu)
-    a = acceleration_downhill(w, b)
-    assert a == pytest.approx(G * (math.sin(THETA) - mu * math.cos(THETA)), rel=0.02)
-    for c in w.contacts():
-        assert np.linalg.norm(c.tangent_impulse) <= mu * c.normal_impulse * (1.0 + 1e-9)
-
-
-def test_static_friction_holds_and_dynamic_friction_slides_once_pushed():
-    mu_s, mu_d = 0.6, 0.2          # mu_s > tan(20 deg) = 0.364 > mu_d
-    w = mb.World(solver="lcp", sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=mu_d, static_friction=mu_s)
-    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=N_INCLINE * 0.5, orientation=Q_INCLINE,
-                   friction=mu_d, static_friction=mu_s)
-    for _ in range(120):
-        w.step(DT)
-    start = b.position
-    for _ in range(120):
-        w.step(DT)
-    assert np.linalg.norm(b.position - start) < 1e-4
-    b.velocity = DOWNHILL * 1.0
-    a = acceleration_downhill(w, b, w.time + 0.25, w.time + 1.25)
-    assert a == pytest.approx(G * (math.sin(THETA) - mu_d * math.cos(THETA)), rel=0.02)
-
-
+# --- World(solver="lcp") against mechanics (rolling, sliding and sticking: test_contact_dynamics.py; the rod
+# pendulum: test_stacking_and_joints.py) ------------------------------------------------------------------
 def test_stack_of_five_stays_at_rest():
     w, boxes = box_tower(mb.World(solver="lcp", sleeping=False), height=5)
     for _ in range(60):
@@ -239,33 +186,10 @@ def test_resting_normal_impulses_carry_the_weight():
 
 @pytest.mark.parametrize("e", [0.0, 1.0])
 def test_head_on_collision_conserves_momentum(e):
-    w = mb.World(gravity=(0, 0, 0), solver="lcp", sleeping=False)
-    m1, m2, u1, u2 = 2.0, 3.0, 4.0, -1.0
-    a = w.add_body(mb.Sphere(0.5), mass=m1, position=(-2, 0, 0), velocity=(u1, 0, 0), restitution=e)
-    b = w.add_body(mb.Sphere(0.5), mass=m2, position=(2, 0, 0), velocity=(u2, 0, 0), restitution=e)
-    for _ in range(120):
-        w.step(DT)
+    a, b = head_on_collision(mb.World(gravity=(0, 0, 0), solver="lcp", sleeping=False), e)
+    m1, m2, u1, u2 = HEAD_ON
     np.testing.assert_allclose(m1 * a.velocity + m2 * b.velocity, [m1 * u1 + m2 * u2, 0, 0], atol=1e-12)
     assert b.velocity[0] - a.velocity[0] == pytest.approx(e * (u1 - u2), abs=1e-9)
-
-
-def test_rod_pendulum_keeps_length_and_period():
-    length, amp = 2.0, 0.2
-    w = mb.World(solver="lcp")
-    bob = w.add_body(mb.Sphere(0.1), mass=1.0, position=(length * math.sin(amp), -length * math.cos(amp), 0))
-    w.add_rod(bob, None, anchor_b=(0, 0, 0))
-    xs, worst = [], 0.0
-    for _ in range(600):
-        w.step(DT)
-        worst = max(worst, abs(np.linalg.norm(bob.position) - length))
-        xs.append(bob.position[0])
-    assert worst < 2e-3
-    xs = np.array(xs)
-    t = (np.arange(len(xs)) + 1) * DT
-    i = np.where((xs[:-1] < 0) & (xs[1:] >= 0))[0]
-    crossings = t[i] + DT * (-xs[i]) / (xs[i + 1] - xs[i])
-    exact = 2 * math.pi * math.sqrt(length / G) * (1 + amp ** 2 / 16 + 11 * amp ** 4 / 3072)
-    assert np.diff(crossings).mean() == pytest.approx(exact, rel=1e-3)
 
 
 def test_cable_hangs_a_weight_and_a_ball_rests_on_a_box_in_one_problem():

@@ -12,12 +12,8 @@ import marbellous as mb
 from marbellous.dynamics.penalty import STABLE_FRACTION, damping_ratio, spring_restitution
 from marbellous.scenes import box_tower
 
-G = 9.81
-DT = 1.0 / 60.0
-THETA = math.radians(20.0)
-N_INCLINE = np.array([-math.sin(THETA), math.cos(THETA), 0.0])
-DOWNHILL = np.array([-math.cos(THETA), -math.sin(THETA), 0.0])
-Q_INCLINE = np.array([math.cos(THETA / 2), 0.0, 0.0, math.sin(THETA / 2)])
+from mechanics import (DT, HEAD_ON, G, ROLLING_ACCELERATION, acceleration_downhill, box_on_incline,
+                       head_on_collision, sliding_acceleration, sphere_on_incline)
 
 
 def contact_omega(w, dt=DT):
@@ -117,30 +113,16 @@ def test_stack_stays_at_rest(height):
 def test_sphere_rolls_down_incline_without_slipping():
     r = 0.5
     w = mb.World(solver="penalty", sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=0.8)
-    b = w.add_body(mb.Sphere(r), position=N_INCLINE * r, friction=0.8)
-    for _ in range(30):
-        w.step(DT)
-    v0, t0 = b.velocity @ DOWNHILL, w.time
-    for _ in range(60):
-        w.step(DT)
-    a = (b.velocity @ DOWNHILL - v0) / (w.time - t0)
-    assert a == pytest.approx(5.0 / 7.0 * G * math.sin(THETA), rel=0.02)
+    b = sphere_on_incline(w, r)
+    assert acceleration_downhill(w, b) == pytest.approx(ROLLING_ACCELERATION, rel=0.02)
     assert np.linalg.norm(b.angular_velocity) * r == pytest.approx(np.linalg.norm(b.velocity), rel=0.02)
 
 
 def test_box_slides_with_dynamic_friction():
     mu = 0.2
     w = mb.World(solver="penalty", sleeping=False)
-    w.add_static(mb.Plane(N_INCLINE, 0.0), friction=mu)
-    b = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=N_INCLINE * 0.5, orientation=Q_INCLINE, friction=mu)
-    for _ in range(30):
-        w.step(DT)
-    v0, t0 = b.velocity @ DOWNHILL, w.time
-    for _ in range(60):
-        w.step(DT)
-    a = (b.velocity @ DOWNHILL - v0) / (w.time - t0)
-    assert a == pytest.approx(G * (math.sin(THETA) - mu * math.cos(THETA)), rel=0.02)
+    b = box_on_incline(w, mu)
+    assert acceleration_downhill(w, b) == pytest.approx(sliding_acceleration(mu), rel=0.02)
 
 
 @pytest.mark.parametrize("e", [0.3, 0.5, 0.8, 1.0])
@@ -149,11 +131,8 @@ def test_resolved_collision_has_the_restitution_and_conserves_momentum(e):
     # sub-step, an error of order omega h in the separation speed.
     w = mb.World(gravity=(0, 0, 0), solver="penalty", sleeping=False, substeps=64)
     w.penalty_hertz = 20.0
-    m1, m2, u1, u2 = 2.0, 3.0, 4.0, -1.0
-    a = w.add_body(mb.Sphere(0.5), mass=m1, position=(-2, 0, 0), velocity=(u1, 0, 0), restitution=e)
-    b = w.add_body(mb.Sphere(0.5), mass=m2, position=(2, 0, 0), velocity=(u2, 0, 0), restitution=e)
-    for _ in range(120):
-        w.step(DT)
+    a, b = head_on_collision(w, e)
+    m1, m2, u1, u2 = HEAD_ON
     np.testing.assert_allclose(m1 * a.velocity + m2 * b.velocity, [m1 * u1 + m2 * u2, 0, 0], atol=1e-12)
     omega_h = contact_omega(w) * DT / w.substeps
     assert (b.velocity[0] - a.velocity[0]) / (u1 - u2) == pytest.approx(e, abs=omega_h / 2)
