@@ -1,5 +1,6 @@
 """``World``: owns the state tables of bodies, shapes and constraints and advances them in time."""
 import math
+import platform
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,7 @@ from .dynamics.integrators import INTEGRATORS
 from .dynamics.rigid import inverse_inertia_np
 from .math3d import quat_to_matrix_np
 from .pipeline import step as S
+from .pipeline.clock import AVAILABLE as CLOCK_AVAILABLE
 from .pipeline.profile import step_profile
 from .pipeline.raycast import raycast_world
 from .shapes import Shape
@@ -301,7 +303,11 @@ class World:
 
     @profiling.setter
     def profiling(self, value):
-        self._params_i[S.P_PROFILE] = int(self._check_flag("profiling", value))
+        value = self._check_flag("profiling", value)
+        if value and not CLOCK_AVAILABLE:
+            raise RuntimeError("profiling needs the x86-64 cycle counter; this machine is "
+                               f"{platform.machine()!r}")
+        self._params_i[S.P_PROFILE] = int(value)
 
     @property
     def profile(self):

@@ -1,10 +1,11 @@
 """A clock that compiled code can read: the processor's cycle counter.
 
 ``cycle_counter()`` returns LLVM's ``readcyclecounter`` (the time-stamp counter on x86-64: a constant
-rate, a read costs about 20 cycles) and may be called from any kernel, cached or not.  On a processor
-without such a counter it returns 0, and :func:`cycles_per_second` reports 0 so callers can tell.
-``cycles_per_second`` measures the rate once against ``time.perf_counter`` (about 20 ms).
+rate, a read costs about 20 cycles) and may be called from any kernel, cached or not.  Elsewhere LLVM may
+return 0 or read a register user code is not allowed to read, so :data:`AVAILABLE` is true only on
+x86-64; ``cycles_per_second`` measures the rate once against ``time.perf_counter`` (about 20 ms).
 """
+import platform
 import time
 
 from llvmlite import ir
@@ -30,6 +31,8 @@ def cycle_counter():
     return _read_cycle_counter()
 
 
+#: whether this machine's cycle counter can be read (x86-64)
+AVAILABLE = platform.machine().lower() in ("x86_64", "amd64")
 _RATE = []
 
 
