@@ -18,6 +18,25 @@ def dot3(a, b):
 
 
 @njit
+def row3(table, i, col):
+    """Columns ``col .. col + 2`` of row ``i`` of a 2-D table as a tuple (no array view is made)."""
+    return table[i, col], table[i, col + 1], table[i, col + 2]
+
+
+@njit
+def row4(table, i, col):
+    """Columns ``col .. col + 3`` of row ``i`` as a tuple (a quaternion)."""
+    return table[i, col], table[i, col + 1], table[i, col + 2], table[i, col + 3]
+
+
+@njit
+def row9(table, i, col):
+    """Columns ``col .. col + 8`` of row ``i`` as a 9-tuple (a row-major 3x3 tensor)."""
+    return (table[i, col], table[i, col + 1], table[i, col + 2], table[i, col + 3], table[i, col + 4],
+            table[i, col + 5], table[i, col + 6], table[i, col + 7], table[i, col + 8])
+
+
+@njit
 def cross3(a, b, out):
     """``out = a x b`` (out must not alias a or b)."""
     out[0] = a[1] * b[2] - a[2] * b[1]

@@ -6,6 +6,7 @@ matrices are (3, 3) arrays mapping local to world coordinates (their columns are
 import math
 
 from .._jit import njit
+from ..math3d import tensor_vec
 
 
 @njit
@@ -81,9 +82,7 @@ def mat_column(m, k):
 @njit
 def mat_to_world(m, v):
     """``R v`` for the row-major 9-tuple rotation ``m``."""
-    return (m[0] * v[0] + m[1] * v[1] + m[2] * v[2],
-            m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
-            m[6] * v[0] + m[7] * v[1] + m[8] * v[2])
+    return tensor_vec(m, v)
 
 
 @njit

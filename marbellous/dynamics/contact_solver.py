@@ -16,15 +16,13 @@ A speculative contact (separation s > 0) lets the bodies approach by exactly s i
 """
 import math
 
-import numpy as np
-
 from .._jit import njit
 from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                       C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S,
                       C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
                       CP_MATCHED, CP_SENSOR, CP_SLIDING, FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
+from ..math3d import dot3, row3
 from .contact_basis import contact_basis
-from .rigid import apply_impulse_pair, relative_velocity
 from .solver_bodies import (effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
                             velocity)
 
@@ -42,9 +40,9 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
         for k in range(3):
             cf[c, C_RA + k] = cf[c, C_POINT + k] - bf[a, POS + k]
             cf[c, C_RB + k] = cf[c, C_POINT + k] - bf[b, POS + k]
-        ra = _vec3(cf, c, C_RA)
-        rb = _vec3(cf, c, C_RB)
-        n = _vec3(cf, c, C_NORMAL)
+        ra = row3(cf, c, C_RA)
+        rb = row3(cf, c, C_RB)
+        n = row3(cf, c, C_NORMAL)
         t1, t2 = contact_basis(n)
         for k in range(3):
             cf[c, C_T1 + k] = t1[k]
@@ -58,9 +56,9 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_ROLL] = max(bf[a, ROLLING], bf[b, ROLLING])
         dv = relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb)
-        cf[c, C_VN0] = _dot(dv, n)
-        vt1 = _dot(dv, t1)
-        vt2 = _dot(dv, t2)
+        cf[c, C_VN0] = dot3(dv, n)
+        vt1 = dot3(dv, t1)
+        vt2 = dot3(dv, t2)
         sliding = math.sqrt(vt1 * vt1 + vt2 * vt2) > slide_speed
         if (ci[c, C_FLAGS] & CP_MATCHED) != 0 and (ci[c, C_FLAGS] & CP_SLIDING) != 0:
             sliding = True
@@ -76,17 +74,6 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
 
 
 @njit
-def _vec3(table, row, col):
-    """Columns ``col .. col + 2`` of ``table[row]`` as a tuple."""
-    return table[row, col], table[row, col + 1], table[row, col + 2]
-
-
-@njit
-def _dot(x, y):
-    return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
-
-
-@njit
 def warm_start_contacts(cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
     for c in range(nc):
@@ -98,9 +85,9 @@ def warm_start_contacts(cf, ci, nc, sb):
         px = ln * cf[c, C_NORMAL] + l1 * cf[c, C_T1] + l2 * cf[c, C_T2]
         py = ln * cf[c, C_NORMAL + 1] + l1 * cf[c, C_T1 + 1] + l2 * cf[c, C_T2 + 1]
         pz = ln * cf[c, C_NORMAL + 2] + l1 * cf[c, C_T1 + 2] + l2 * cf[c, C_T2 + 2]
-        ua = push(sb, a, velocity(sb, a), _vec3(cf, c, C_RA), px, py, pz, -1.0)
-        ub = push(sb, b, velocity(sb, b), _vec3(cf, c, C_RB), px, py, pz, 1.0)
-        lr = _vec3(cf, c, C_LAMBDA_R)
+        ua = push(sb, a, velocity(sb, a), row3(cf, c, C_RA), px, py, pz, -1.0)
+        ub = push(sb, b, velocity(sb, b), row3(cf, c, C_RB), px, py, pz, 1.0)
+        lr = row3(cf, c, C_LAMBDA_R)
         if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
             ua = twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
             ub = twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
@@ -117,8 +104,8 @@ def contact_separation(sb, cf, c, a, b):
     with dx, dtheta the bodies' displacement and rotation since the step began (first order in the
     rotation, so a rolling ball's contact stays at its lowest point), read from the solver bodies ``sb``.
     """
-    return cf[c, C_ADJ_SEP] + _dot(relative_velocity_at(motion(sb, a), _vec3(cf, c, C_RA), motion(sb, b),
-                                                        _vec3(cf, c, C_RB)), _vec3(cf, c, C_NORMAL))
+    return cf[c, C_ADJ_SEP] + dot3(relative_velocity_at(motion(sb, a), row3(cf, c, C_RA), motion(sb, b),
+                                                        row3(cf, c, C_RB)), row3(cf, c, C_NORMAL))
 
 
 @njit
@@ -137,9 +124,9 @@ def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        ra = _vec3(cf, c, C_RA)
-        rb = _vec3(cf, c, C_RB)
-        n = _vec3(cf, c, C_NORMAL)
+        ra = row3(cf, c, C_RA)
+        rb = row3(cf, c, C_RB)
+        n = row3(cf, c, C_NORMAL)
         ua = velocity(sb, a)
         ub = velocity(sb, b)
         # --- normal: non-penetration -------------------------------------------------------------
@@ -151,7 +138,7 @@ def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
             mass_scale, impulse_scale = soft[1], soft[2]
         else:
             bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        vn = _dot(relative_velocity_at(ua, ra, ub, rb), n)
+        vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
         mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
         new = max(old - mass_n * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
@@ -170,12 +157,12 @@ def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
         # --- friction: Coulomb disc on the tangent plane -------------------------------------------
         mu = cf[c, C_MU_D] if (flags & CP_SLIDING) != 0 else cf[c, C_MU_S]
         bound = mu * new
-        t1 = _vec3(cf, c, C_T1)
-        t2 = _vec3(cf, c, C_T2)
+        t1 = row3(cf, c, C_T1)
+        t2 = row3(cf, c, C_T2)
         dv = relative_velocity_at(ua, ra, ub, rb)
         o1, o2 = cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
-        n1 = o1 - cf[c, C_MASS_T1] * _dot(dv, t1)
-        n2 = o2 - cf[c, C_MASS_T2] * _dot(dv, t2)
+        n1 = o1 - cf[c, C_MASS_T1] * dot3(dv, t1)
+        n2 = o2 - cf[c, C_MASS_T2] * dot3(dv, t2)
         length = math.sqrt(n1 * n1 + n2 * n2)
         if length > bound:
             scale = bound / length if length > 0.0 else 0.0
@@ -237,12 +224,9 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
 
 
 @njit
-def apply_restitution(bf, cf, ci, nc, sb, threshold):
-    """Stage "restitution": contacts that closed faster than ``threshold`` (m/s) separate at ``-e vn0``."""
-    if nc == 0:
-        return
-    dv = np.empty(3)
-    p = np.empty(3)
+def apply_restitution(cf, ci, nc, sb, threshold):
+    """Stage "restitution", on the solver bodies ``sb``: contacts that closed faster than ``threshold``
+    (m/s) separate at ``-e vn0``."""
     for c in range(nc):
         e = cf[c, C_E]
         if e == 0.0 or (ci[c, C_FLAGS] & CP_SENSOR) != 0:
@@ -251,18 +235,18 @@ def apply_restitution(bf, cf, ci, nc, sb, threshold):
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        ra = cf[c, C_RA:C_RA + 3]
-        rb = cf[c, C_RB:C_RB + 3]
-        n = cf[c, C_NORMAL:C_NORMAL + 3]
-        relative_velocity(bf, a, ra, b, rb, dv)
-        vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
+        ra = row3(cf, c, C_RA)
+        rb = row3(cf, c, C_RB)
+        n = row3(cf, c, C_NORMAL)
+        ua = velocity(sb, a)
+        ub = velocity(sb, b)
+        vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
         old = cf[c, C_LAMBDA_N]
         new = max(old - cf[c, C_MASS_N] * (vn + e * cf[c, C_VN0]), 0.0)
         cf[c, C_LAMBDA_N] = new
         d = new - old
-        for k in range(3):
-            p[k] = d * n[k]
-        apply_impulse_pair(bf, a, sb[a, 0], sb[a, 1:10], ra, b, sb[b, 0], sb[b, 1:10], rb, p)
+        set_velocity(sb, a, push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0))
+        set_velocity(sb, b, push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0))
         cf[c, C_SUM_N] += d
 
 

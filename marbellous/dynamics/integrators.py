@@ -24,7 +24,7 @@ import numpy as np
 from .._jit import njit, njit_inline
 from ..layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT,
                       V_FREE, VEL, W_FREE, X_PRED)
-from ..math3d import quat_integrate, quat_normalize, quat_step, tensor_vec
+from ..math3d import quat_integrate, quat_normalize, quat_step, row3, row4, tensor_vec
 from .forces import accumulate_forces, add_applied_forces, is_moving
 from .springs import add_spring_forces
 from .rigid import inertia_world, inverse_inertia_world
@@ -102,8 +102,8 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
             _store_free_velocity(bf, i)
             continue
         # L = I_w omega + T h, omega = I_w^-1 L
-        q = _quat(bf, i, QUAT)
-        lw = tensor_vec(inertia_world(bf, i, q), _vec(bf, i, OMEGA))
+        q = row4(bf, i, QUAT)
+        lw = tensor_vec(inertia_world(bf, i, q), row3(bf, i, OMEGA))
         w = tensor_vec(inverse_inertia_world(bf, i, q), (lw[0] + T[i, 0] * h, lw[1] + T[i, 1] * h,
                                                           lw[2] + T[i, 2] * h))
         for k in range(3):
@@ -195,17 +195,7 @@ def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_
 
 
 @njit
-def _quat(bf, i, col):
-    return bf[i, col], bf[i, col + 1], bf[i, col + 2], bf[i, col + 3]
-
-
-@njit
-def _vec(bf, i, col):
-    return bf[i, col], bf[i, col + 1], bf[i, col + 2]
-
-
-@njit
-def _set_quat(bf, i, col, q):
+def _setrow4(bf, i, col, q):
     for k in range(4):
         bf[i, col + k] = q[k]
 
@@ -216,12 +206,12 @@ def _rotate_conserving_momentum(bf, i, h):
 
         L = I_w(q) omega,  q_mid = exp(omega h / 2) q,  q' = exp(I_w(q_mid)^-1 L h) q,  omega' = I_w(q')^-1 L
     """
-    q = _quat(bf, i, QUAT)
-    w = _vec(bf, i, OMEGA)
+    q = row4(bf, i, QUAT)
+    w = row3(bf, i, OMEGA)
     lw = tensor_vec(inertia_world(bf, i, q), w)
     w_mid = tensor_vec(inverse_inertia_world(bf, i, quat_step(q, w, 0.5 * h)), lw)
     q_new = quat_step(q, w_mid, h)
-    _set_quat(bf, i, QUAT, q_new)
+    _setrow4(bf, i, QUAT, q_new)
     w_new = tensor_vec(inverse_inertia_world(bf, i, q_new), lw)
     for k in range(3):
         bf[i, OMEGA + k] = w_new[k]
@@ -242,13 +232,13 @@ def integrate_positions(method, bf, bi, nb, h):
                 bf[i, POS + k] = bf[i, X_PRED + k] + (bf[i, VEL + k] - bf[i, V_FREE + k]) * h
             dw = (bf[i, OMEGA] - bf[i, W_FREE], bf[i, OMEGA + 1] - bf[i, W_FREE + 1],
                   bf[i, OMEGA + 2] - bf[i, W_FREE + 2])
-            _set_quat(bf, i, QUAT, quat_step(_quat(bf, i, Q_PRED), dw, h))
+            _setrow4(bf, i, QUAT, quat_step(row4(bf, i, Q_PRED), dw, h))
         else:
             for k in range(3):
                 bf[i, PREV_POS + k] = bf[i, POS + k]
                 bf[i, POS + k] += bf[i, VEL + k] * h
             if (bi[i, FLAGS] & F_ISOTROPIC) != 0:
                 # omega is constant under torque-free rotation of an isotropic body.
-                _set_quat(bf, i, QUAT, quat_step(_quat(bf, i, QUAT), _vec(bf, i, OMEGA), h))
+                _setrow4(bf, i, QUAT, quat_step(row4(bf, i, QUAT), row3(bf, i, OMEGA), h))
             else:
                 _rotate_conserving_momentum(bf, i, h)

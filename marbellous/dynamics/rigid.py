@@ -7,26 +7,19 @@ import numpy as np
 
 from .._jit import njit
 from ..layout import INV_I, I_BODY, OMEGA, VEL
-from ..math3d import rotate_tensor, rotation_of
-
-
-@njit
-def _row9(bf, i, col):
-    """Columns ``col .. col + 8`` of body row ``i`` as a 9-tuple (a row-major 3x3 tensor)."""
-    return (bf[i, col], bf[i, col + 1], bf[i, col + 2], bf[i, col + 3], bf[i, col + 4], bf[i, col + 5],
-            bf[i, col + 6], bf[i, col + 7], bf[i, col + 8])
+from ..math3d import rotate_tensor, rotation_of, row9
 
 
 @njit
 def inverse_inertia_world(bf, i, q):
     """World inverse inertia ``R I_body^-1 R^T`` (1/(kg m^2)) of body row ``i`` at orientation ``q``, 9-tuple."""
-    return rotate_tensor(rotation_of(q), _row9(bf, i, INV_I))
+    return rotate_tensor(rotation_of(q), row9(bf, i, INV_I))
 
 
 @njit
 def inertia_world(bf, i, q):
     """World inertia ``R I_body R^T`` (kg m^2) of body row ``i`` at orientation ``q``, 9-tuple."""
-    return rotate_tensor(rotation_of(q), _row9(bf, i, I_BODY))
+    return rotate_tensor(rotation_of(q), row9(bf, i, I_BODY))
 
 
 def inverse_inertia_np(inertia):
@@ -56,22 +49,3 @@ def relative_velocity(bf, a, ra, b, rb, out):
     out[0] -= bf[a, VEL] + w1 * ra[2] - w2 * ra[1]
     out[1] -= bf[a, VEL + 1] + w2 * ra[0] - w0 * ra[2]
     out[2] -= bf[a, VEL + 2] + w0 * ra[1] - w1 * ra[0]
-
-
-@njit
-def apply_impulse_pair(bf, a, inv_ma, iwa, ra, b, inv_mb, iwb, rb, p):
-    """Apply impulse ``p`` (N s) to b at ``rb`` and ``-p`` to a at ``ra`` (``b < 0``: the world)."""
-    cx = ra[1] * p[2] - ra[2] * p[1]
-    cy = ra[2] * p[0] - ra[0] * p[2]
-    cz = ra[0] * p[1] - ra[1] * p[0]
-    for k in range(3):
-        bf[a, VEL + k] -= inv_ma * p[k]
-        bf[a, OMEGA + k] -= iwa[3 * k] * cx + iwa[3 * k + 1] * cy + iwa[3 * k + 2] * cz
-    if b < 0:
-        return
-    cx = rb[1] * p[2] - rb[2] * p[1]
-    cy = rb[2] * p[0] - rb[0] * p[2]
-    cz = rb[0] * p[1] - rb[1] * p[0]
-    for k in range(3):
-        bf[b, VEL + k] += inv_mb * p[k]
-        bf[b, OMEGA + k] += iwb[3 * k] * cx + iwb[3 * k + 1] * cy + iwb[3 * k + 2] * cz

@@ -256,7 +256,10 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     # --- end of step ---------------------------------------------------------------------------------------
     if nc > 0:
         if solver != PENALTY:     # the penalty springs' damping gives the restitution
-            apply_restitution(bf, cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
+            if solver == LCP:     # its relax pass worked on the body table
+                prepare_solver_bodies(bf, bi, nb, sb)
+            apply_restitution(cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
+            store_velocities(bf, bi, nb, sb)
         store_friction_state(cf, ci, nc)
     if nk > 0:
         record_joint_forces(bf, kf, ki, nk, dt, joint_totals, vecs)
