@@ -19,6 +19,7 @@ from .pipeline import step as S
 from .pipeline.clock import AVAILABLE as CLOCK_AVAILABLE
 from .pipeline.profile import step_profile
 from .pipeline.raycast import raycast_world
+from .pipeline.tables import compiled_entry, pack_tables
 from .shapes import Shape
 
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
@@ -178,6 +179,9 @@ class World:
         self._params_f = np.zeros(S.PF_LEN)
         self._params_i = np.zeros(S.PI_LEN, dtype=np.int64)
         self._params_dt = None  # dt the parameters were last computed for (None: recompute)
+        # The step's record of the tables below (pipeline/tables.py): None whenever one of them is replaced
+        self._tables = None
+        self._step_entry = None
         self.gravity = gravity
         self.solver = solver
         self.integrator = integrator
@@ -208,11 +212,10 @@ class World:
         self._pairs = np.zeros((64, 2), dtype=np.int64)
         self._raw_f = np.zeros((64, 7))
         self._raw_i = np.zeros(64, dtype=np.int64)
-        self._cf = np.zeros((64, L.CF_COLS))
-        self._ci = np.zeros((64, L.CI_COLS), dtype=np.int64)
-        self._pcf = np.zeros((64, L.CF_COLS))
-        self._pci = np.zeros((64, L.CI_COLS), dtype=np.int64)
-        self._npc = 0
+        # The two contact tables (float, int): the step fills one and keeps the other as its warm-start
+        # cache, then they swap roles (stats[S_CACHE_SIDE] says which is the cache): see _pcf, _cf.
+        self._contact_f = [np.zeros((64, L.CF_COLS)), np.zeros((64, L.CF_COLS))]
+        self._contact_i = [np.zeros((64, L.CI_COLS), dtype=np.int64), np.zeros((64, L.CI_COLS), dtype=np.int64)]
 
     # --- properties -------------------------------------------------------------------------------
     @property
@@ -254,6 +257,7 @@ class World:
     def broadphase(self, value):
         self._broadphase = as_choice("broadphase", value, BROADPHASES)
         self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self._broadphase], self._aabbs.shape[0])
+        self._tables = None
         self._params_dt = None
 
     @property
@@ -456,6 +460,7 @@ class World:
         self._aabbs[i] = self._static_box(parts, pos, quat) if static else 0.0
         self._nb += 1
         self._ns += len(parts)
+        self._tables = None
         body = Body(self, i, [(s, p.copy(), q.copy()) for s, p, q in parts])
         self._bodies.append(body)
         return body
@@ -537,6 +542,7 @@ class World:
         row[L.K_BREAKING] = brk
         self._ki[c] = (ctype, ia, ib, L.KF_ALIVE)
         self._nk += 1
+        self._tables = None
         handle = cls(self, c, a, b)
         self._constraints.append(handle)
         self._wake(ia)
@@ -594,26 +600,71 @@ class World:
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt):
         """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps)."""
-        if not (type(dt) is float and 0.0 < dt < math.inf):
+        if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
             dt = as_float("dt", dt, positive=True)
-        if dt != self._params_dt:
-            self._refresh_params(dt)
-        pf, pi = self._params_f, self._params_i
-        while True:
-            status = S.step_world(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
-                                  self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
-                                  self._raw_f, self._raw_i, self._cf, self._ci, self._pcf, self._pci, self._npc,
-                                  self._nb, self._nk, pf, pi, self._stats)
-            if status == S.OK:
-                break
+            if dt != self._params_dt:
+                self._refresh_params(dt)
+        step = self._step_entry if self._tables is not None else self._pack_tables()
+        # (this step's contacts become the cache of the next: the kernel swaps the two contact tables)
+        status = step(self._tables)
+        while status != S.OK:           # a buffer was too small: grow it and run the step again
             if status == S.GROW_PAIRS:
                 self._pairs = _grow(self._pairs, int(self._stats[S.S_PAIRS]))
             else:
                 self._grow_contacts(int(self._stats[S.S_CONTACTS]))
-        # This step's contacts become the warm-start cache of the next.
-        self._cf, self._pcf = self._pcf, self._cf
-        self._ci, self._pci = self._pci, self._ci
-        self._npc = int(self._stats[S.S_CONTACTS])
+            status = self._pack_tables()(self._tables)
+
+    # The contact tables by role: the cache (``_pcf``/``_pci``, ``_npc`` rows: the last step's contacts)
+    # and the table the next step fills (``_cf``/``_ci``).
+    @property
+    def _pcf(self):
+        return self._contact_f[self._stats[S.S_CACHE_SIDE]]
+
+    @_pcf.setter
+    def _pcf(self, table):
+        self._contact_f[self._stats[S.S_CACHE_SIDE]] = table
+
+    @property
+    def _pci(self):
+        return self._contact_i[self._stats[S.S_CACHE_SIDE]]
+
+    @_pci.setter
+    def _pci(self, table):
+        self._contact_i[self._stats[S.S_CACHE_SIDE]] = table
+
+    @property
+    def _cf(self):
+        return self._contact_f[1 - self._stats[S.S_CACHE_SIDE]]
+
+    @_cf.setter
+    def _cf(self, table):
+        self._contact_f[1 - self._stats[S.S_CACHE_SIDE]] = table
+
+    @property
+    def _ci(self):
+        return self._contact_i[1 - self._stats[S.S_CACHE_SIDE]]
+
+    @_ci.setter
+    def _ci(self, table):
+        self._contact_i[1 - self._stats[S.S_CACHE_SIDE]] = table
+
+    @property
+    def _npc(self):
+        return int(self._stats[S.S_CACHED])
+
+    @_npc.setter
+    def _npc(self, n):
+        self._stats[S.S_CACHED] = n
+
+    def _pack_tables(self):
+        """The step's record of the current tables (pipeline/tables.py), kept until a table is replaced;
+        returns the compiled step for it."""
+        self._tables = pack_tables(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
+                                   self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
+                                   self._raw_f, self._raw_i, self._cf, self._ci, self._pcf, self._pci,
+                                   self._params_f, self._params_i, self._stats, self._nb, self._nk)
+        self._step_entry = compiled_entry(S.step_world, self._tables)
+        return self._step_entry
 
     def _refresh_params(self, dt):
         """Fill the kernel parameter arrays for steps of ``dt`` seconds."""
@@ -654,6 +705,7 @@ class World:
         self._ci = _grow(self._ci, n)
         self._pcf = _grow(self._pcf, n)
         self._pci = _grow(self._pci, n)
+        self._tables = None
 
     def contacts(self):
         """The contacts that the last step's collision detection found (at the poses the step began with),
@@ -753,6 +805,7 @@ class World:
         # Buffers sized for the restored tables; the broad phase rebuilds from a fresh state.
         self._grow_contacts(self._pcf.shape[0])
         self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], self._aabbs.shape[0])
+        self._tables = None
 
     def state_hash(self):
         """A hash of the whole state, bit for bit (hex string): equal hashes mean identical worlds."""

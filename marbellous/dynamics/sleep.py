@@ -5,7 +5,6 @@ rested for ``time_to_sleep`` seconds falls asleep (velocities zeroed, no integra
 sleeping island wakes when an awake body touches it, a force or impulse is applied, or its state is set.
 Islands are found with union-find (path halving, union by index) over contacts and constraints.
 """
-import numpy as np
 
 from .._jit import njit
 from ..layout import (C_BODY_A, C_BODY_B, C_FLAGS, CP_SENSOR, F_ALIVE, F_SLEEPING, F_STATIC,
@@ -56,10 +55,10 @@ def wake_touched_islands(bi, bf, ci, nc, nb):
 
 
 @njit
-def update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, linear_tol, angular_tol, time_to_sleep, parent):
+def update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, linear_tol, angular_tol, time_to_sleep, parent, least):
     """Stage "islands and sleep": rest timers, islands, and putting resting islands to sleep.
 
-    ``parent`` is scratch of length ``nb``.
+    ``parent`` (int) and ``least`` (float) are scratch of length ``nb`` or more.
     """
     for i in range(nb):
         parent[i] = i
@@ -83,7 +82,8 @@ def update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, linear_tol, angular_tol, ti
                 and _is_dynamic(bi, a) and _is_dynamic(bi, b):
             _union(parent, a, b)
     # Island rest time = the least rest time of its awake members, kept at the island's root.
-    least = np.full(nb, 1e300)
+    for i in range(nb):
+        least[i] = 1e300
     for i in range(nb):
         if is_moving(bi, i):
             r = _find(parent, i)

@@ -28,14 +28,14 @@ from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
                                        solve_contacts, store_friction_state, warm_start_contacts)
 from ..dynamics.forces import is_moving
-from ..dynamics.integrators import SCRATCH_VECS, integrate_positions, integrate_velocities
+from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.springs import clear_spring_forces
 from ..dynamics.soft import soft_coefficients
-from ..dynamics.solver_bodies import SB_COLS, prepare_solver_bodies, store_velocities
+from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, OMEGA, POS,
                       POS0, TORQUE, W_PREV_DT, W_TIME)
 from .clock import cycle_counter
@@ -76,12 +76,14 @@ LCP = 2
 S_PAIRS = 0             # candidate pairs found by the broad phase
 S_CONTACTS = 1          # contact points found by the narrow phase
 S_ITERATIONS = 2        # velocity iterations used in the step (all sub-steps)
+S_CACHED = 3            # contact points of the last completed step: the rows of the cache table
+S_CACHE_SIDE = 4        # which of the world's two contact tables is the cache (0 or 1); flips every step
 # with P_PROFILE on, the step also adds to these running totals (the World clears them):
-S_PROFILED_STEPS = 3    # steps profiled
-S_SUM_PAIRS = 4         # candidate pairs, summed over the profiled steps
-S_SUM_CONTACTS = 5      # contact points, summed
-S_SUM_ITERATIONS = 6    # velocity iterations, summed
-S_CYCLES = 7            # processor cycles spent in each of STAGES, summed (one slot per stage)
+S_PROFILED_STEPS = 5    # steps profiled
+S_SUM_PAIRS = 6         # candidate pairs, summed over the profiled steps
+S_SUM_CONTACTS = 7      # contact points, summed
+S_SUM_ITERATIONS = 8    # velocity iterations, summed
+S_CYCLES = 9            # processor cycles spent in each of STAGES, summed (one slot per stage)
 #: the step's stages as the profile names them, in step order (sub-step stages summed over sub-steps)
 STAGES = ("aabbs", "broad_phase", "narrow_phase", "match_and_wake", "prepare", "integrate_velocities",
           "warm_start", "solve", "integrate_positions", "relax", "restitution_and_joints", "islands_and_sleep")
@@ -105,21 +107,36 @@ def _lap(stats, stage, since, on):
 
 @njit
 def _needs_pairs(bi, nb):
-    """True if some body is awake and dynamic, or is a sensor: otherwise every pair is resting or static,
-    the narrow phase would skip them all, and the broad phase is skipped too (a sleeping world costs
-    next to nothing)."""
+    """True if some body is awake and dynamic, or is a sensor, and another body lives: otherwise every pair
+    is resting or static, or there is no pair at all, so the narrow phase would have nothing to test and
+    the broad phase is skipped too (a sleeping world, or a lone body, costs next to nothing)."""
+    alive = 0
+    active = False
     for i in range(nb):
-        if is_moving(bi, i) or ((bi[i, FLAGS] & F_ALIVE) != 0 and (bi[i, FLAGS] & F_SENSOR) != 0):
+        f = bi[i, FLAGS]
+        alive += (f & F_ALIVE) != 0
+        active = active or is_moving(bi, i) or ((f & F_ALIVE) != 0 and (f & F_SENSOR) != 0)
+        if active and alive > 1:
             return True
     return False
 
 
 @njit
-def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i,
-               cf, ci, pcf, pci, npc, nb, nk, params_f, params_i, stats):
-    """Advance the world by ``params_f[P_DT]`` seconds.  Returns OK, or GROW_PAIRS / GROW_CONTACTS
-    (with the needed sizes in ``stats``) having changed nothing but scratch, so the caller can grow
-    the buffers and call again."""
+def step_world(tables):
+    """Advance the world in the record ``tables`` (pipeline/tables.py) by ``params_f[P_DT]`` seconds.
+    Returns OK, or GROW_PAIRS / GROW_CONTACTS (with the needed sizes in ``stats``) having changed nothing
+    but scratch, so the caller can grow the buffers and call again.  On OK the contacts found become the
+    cache of the next step: the record's two contact tables swap, and ``stats`` tells the caller which is
+    which (S_CACHE_SIDE) and how many rows the cache holds (S_CACHED)."""
+    bf, bi, sf, si, kf, ki, ws = tables.bf, tables.bi, tables.sf, tables.si, tables.kf, tables.ki, tables.ws
+    geom_f, geom_i, aabbs, pairs = tables.geom_f, tables.geom_i, tables.aabbs, tables.pairs
+    bp_f, bp_i, raw_f, raw_i = tables.bp_f, tables.bp_i, tables.raw_f, tables.raw_i
+    cf, ci, pcf, pci = tables.cf, tables.ci, tables.pcf, tables.pci
+    params_f, params_i, stats = tables.params_f, tables.params_i, tables.stats
+    nb, nk, npc = tables.nb, tables.nk, stats[S_CACHED]
+    sweep, sb, F, T = tables.sweep, tables.solver_bodies, tables.forces, tables.torques
+    user_forces, joint_totals, soft, vecs = tables.user_forces, tables.joint_totals, tables.soft, tables.vecs
+    parent, least_rest = tables.parent, tables.least_rest
     dt = params_f[P_DT]
     substeps = params_i[P_SUBSTEPS]
     h = dt / substeps
@@ -127,18 +144,11 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
     g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
     prof = params_i[P_PROFILE] != 0
     t = cycle_counter() if prof else 0
-    # Scratch, allocated here once per step: the stages called per sub-step and per iteration must not
-    # allocate (see dynamics/integrators.py SCRATCH_VECS).
-    sweep = np.empty(nb)
-    sb = np.empty((nb, SB_COLS))
-    F = np.empty((nb, 3))
-    T = np.empty((nb, 3))
-    user_forces = np.empty((nb, 6))
-    joint_totals = np.zeros(nk)
-    soft = np.empty((2, 3))
+    # Scratch comes with the record (no stage allocates): rows beyond nb / nk are unused.
     contact_soft = soft[0]
     joint_soft = soft[1]
-    vecs = np.empty((SCRATCH_VECS, 4))
+    for c in range(nk):
+        joint_totals[c] = 0.0
 
     # --- collide -----------------------------------------------------------------------------------
     update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
@@ -265,9 +275,8 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         record_joint_forces(bf, kf, ki, nk, dt, joint_totals, vecs)
         break_overloaded(kf, ki, nk)
     t = _lap(stats, ST_RESTITUTION, t, prof)
-    parent = np.empty(nb, dtype=np.int64)
     update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, params_f[P_SLEEP_LINEAR], params_f[P_SLEEP_ANGULAR],
-                 params_f[P_TIME_TO_SLEEP], parent)
+                 params_f[P_TIME_TO_SLEEP], parent, least_rest)
     ws[W_TIME] += dt
     for i in range(nb):
         for k in range(3):
@@ -279,4 +288,8 @@ def step_world(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pa
         stats[S_SUM_PAIRS] += n_pairs
         stats[S_SUM_CONTACTS] += nc
         stats[S_SUM_ITERATIONS] += iterations_used
+    tables.cf, tables.pcf = pcf, cf
+    tables.ci, tables.pci = pci, ci
+    stats[S_CACHED] = nc
+    stats[S_CACHE_SIDE] = 1 - stats[S_CACHE_SIDE]
     return OK

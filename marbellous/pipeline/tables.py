@@ -1,0 +1,117 @@
+"""The step's tables as one compiled record, so that a step is one kernel call with one argument.
+
+A call from Python into a compiled kernel unboxes every array argument (its data pointer, shape and
+strides read and a reference taken): about 35 ns per array through the compiled entry point, 60 ns
+through Numba's dispatcher, which also types each argument first.  The 22 tables of a world plus its
+scratch cost ~1.6 us per step that way, more than a free body's whole physics.  A Numba StructRef
+holding them crosses the boundary as one pointer (~0.17 us per call), and it also owns the step's
+scratch, so the step allocates nothing.
+
+The World keeps its own references to the same arrays (reads from Python cost nothing extra) and builds
+a new record with :func:`pack_tables` whenever it replaces one of them (growth, restore, a new broad
+phase); the record is never written from Python.  The step swaps the two contact tables inside the
+record and says in ``stats`` which one now holds the cache, so the World does no work per step.
+"""
+from types import SimpleNamespace
+
+import numba
+import numpy as np
+from numba import types
+from numba.experimental import structref
+
+from .._jit import njit
+from ..dynamics.integrators import SCRATCH_VECS
+from ..dynamics.solver_bodies import SB_COLS
+
+
+@structref.register
+class StepTablesType(types.StructRef):
+    """Numba type of the step's record (fields as in ``FIELDS``)."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class StepTables(structref.StructRefProxy):
+    """A world's tables, counts and step scratch, as the compiled step sees them (opaque from Python)."""
+
+
+structref.define_boxing(StepTablesType, StepTables)
+
+_F1, _F2 = types.float64[::1], types.float64[:, ::1]
+_I1, _I2 = types.int64[::1], types.int64[:, ::1]
+#: The record's fields: the world's tables (layout.py), the counts, and the step's scratch.
+FIELDS = (
+    ("bf", _F2), ("bi", _I2), ("sf", _F2), ("si", _I2), ("kf", _F2), ("ki", _I2), ("ws", _F1),
+    ("geom_f", _F1), ("geom_i", _I1), ("aabbs", _F2), ("bp_f", _F1), ("bp_i", _I1), ("pairs", _I2),
+    ("raw_f", _F2), ("raw_i", _I1), ("cf", _F2), ("ci", _I2), ("pcf", _F2), ("pci", _I2),
+    ("params_f", _F1), ("params_i", _I1), ("stats", _I1),
+    ("nb", types.int64), ("nk", types.int64),
+    # scratch, one row per body slot (or constraint slot), reused by every step
+    ("sweep", _F1),           # sweep distance of each body over the step (m)
+    ("solver_bodies", _F2),   # solver body rows (dynamics/solver_bodies.py)
+    ("forces", _F2),          # total force on each body in the sub-step (N)
+    ("torques", _F2),         # total torque (N m)
+    ("user_forces", _F2),     # penalty scheme: the user's force and torque, kept while springs are added
+    ("joint_totals", _F1),    # impulse of each constraint summed over the sub-steps (N s)
+    ("soft", _F2),            # soft-constraint coefficients of contacts (row 0) and joints (row 1)
+    ("vecs", _F2),            # small vectors of the per-sub-step stages
+    ("parent", _I1),          # union-find forest of the islands
+    ("least_rest", _F1),      # least rest time of each island (s)
+)
+STEP_TABLES = StepTablesType(list(FIELDS))
+
+_new_record = structref.new
+if numba.config.DISABLE_JIT:          # kernels run as Python: the record is a plain namespace
+    def _new_record(_type):
+        return SimpleNamespace()
+
+
+@njit
+def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
+          params_f, params_i, stats, nb, nk):
+    t = _new_record(STEP_TABLES)
+    t.bf, t.bi, t.sf, t.si, t.kf, t.ki, t.ws = bf, bi, sf, si, kf, ki, ws
+    t.geom_f, t.geom_i, t.aabbs, t.bp_f, t.bp_i, t.pairs = geom_f, geom_i, aabbs, bp_f, bp_i, pairs
+    t.raw_f, t.raw_i, t.cf, t.ci, t.pcf, t.pci = raw_f, raw_i, cf, ci, pcf, pci
+    t.params_f, t.params_i, t.stats = params_f, params_i, stats
+    t.nb, t.nk = nb, nk
+    n_slots = bf.shape[0]
+    t.sweep = np.zeros(n_slots)
+    t.solver_bodies = np.zeros((n_slots, SB_COLS))
+    t.forces = np.zeros((n_slots, 3))
+    t.torques = np.zeros((n_slots, 3))
+    t.user_forces = np.zeros((n_slots, 6))
+    t.joint_totals = np.zeros(kf.shape[0])
+    t.soft = np.zeros((2, 3))
+    t.vecs = np.zeros((SCRATCH_VECS, 4))
+    t.parent = np.zeros(n_slots, dtype=np.int64)
+    t.least_rest = np.zeros(n_slots)
+    return t
+
+
+def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
+                pcf, pci, params_f, params_i, stats, nb, nk):
+    """A record of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
+    constraints, and fresh scratch for as many body and constraint slots as the
+    tables have rows.  Every table must be C-contiguous with the dtype and dimensions of ``FIELDS``."""
+    arrays = locals()
+    for name, typ in FIELDS[:22]:
+        a = arrays[name]
+        if not (isinstance(a, np.ndarray) and a.dtype == typ.dtype.name and a.ndim == typ.ndim
+                and a.flags.c_contiguous):
+            raise TypeError(f"{name} must be a C-contiguous {typ.dtype} array of {typ.ndim} dimensions")
+    return _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
+                 pcf, pci, params_f, params_i, stats, int(nb), int(nk))
+
+
+def compiled_entry(kernel, record):
+    """The compiled entry point of ``kernel`` for ``record``'s type (compiled or loaded from the cache on
+    first use): calling it skips the dispatcher's typing of the argument, ~0.5 us per call for a record.
+    With ``NUMBA_DISABLE_JIT`` the kernel itself."""
+    if numba.config.DISABLE_JIT:
+        return kernel
+    key = (record._numba_type_,)
+    if key not in kernel.overloads:
+        kernel.compile(key)
+    return kernel.overloads[key].entry_point

@@ -1,0 +1,102 @@
+"""The step's record of the tables (pipeline/tables.py): it always holds the world's current arrays, and
+growing a buffer in the middle of a run changes nothing but memory."""
+import numpy as np
+import pytest
+from numba import njit
+
+import marbellous as mb
+from marbellous.pipeline import step as S
+from marbellous.pipeline.tables import FIELDS, pack_tables
+
+TABLE_NAMES = [name for name, _ in FIELDS[:22]]
+
+
+@njit
+def _addresses(t):
+    """Data addresses of the record's tables, in the order of TABLE_NAMES (a slow, test-only reader)."""
+    return np.array([t.bf.ctypes.data, t.bi.ctypes.data, t.sf.ctypes.data, t.si.ctypes.data, t.kf.ctypes.data,
+                     t.ki.ctypes.data, t.ws.ctypes.data, t.geom_f.ctypes.data, t.geom_i.ctypes.data,
+                     t.aabbs.ctypes.data, t.bp_f.ctypes.data, t.bp_i.ctypes.data, t.pairs.ctypes.data,
+                     t.raw_f.ctypes.data, t.raw_i.ctypes.data, t.cf.ctypes.data, t.ci.ctypes.data,
+                     t.pcf.ctypes.data, t.pci.ctypes.data, t.params_f.ctypes.data, t.params_i.ctypes.data,
+                     t.stats.ctypes.data, t.nb, t.nk], dtype=np.int64)
+
+
+def _assert_in_sync(w):
+    """The record the last step ran on holds exactly the world's arrays and counts."""
+    got = _addresses(w._tables)
+    want = [getattr(w, "_" + name).ctypes.data for name in TABLE_NAMES] + [w._nb, w._nk]
+    assert list(got) == want
+
+
+def _pile(n, buffers=None):
+    w = mb.World()
+    w.add_static(mb.Plane())
+    for k in range(n):
+        # layers of 4 x 2 spheres 1 cm apart (speculative contacts with their neighbours), slightly off
+        w.add_body(mb.Sphere(0.25), position=(0.51 * (k % 4) + 0.01 * (k // 8), 0.26 + 0.51 * (k // 8),
+                                              0.51 * ((k // 4) % 2)))
+    if buffers is not None:
+        w._grow_contacts(buffers)
+        w._pairs = np.zeros((buffers, 2), dtype=np.int64)
+        w._tables = None
+    return w
+
+
+def test_record_follows_every_replacement_of_a_table():
+    w = _pile(3)
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    b = w.add_body(mb.Box((0.2, 0.2, 0.2)), position=(3.0, 1.0, 0.0))    # tables grow
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    w.add_rod(b, None, anchor_b=(3.0, 2.0, 0.0))                          # constraint tables grow
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    snap = w.snapshot()
+    w.broadphase = "bvh"                                                 # new broad-phase state
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    w.restore(snap)                                                      # every table replaced
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    for k in range(40):                                                  # contact buffers grow
+        w.add_body(mb.Sphere(0.2), position=(5.0 + 0.3 * k, 0.2, 0.0))
+    w.step(1 / 60)
+    _assert_in_sync(w)
+    assert w._stats[S.S_CONTACTS] > 64
+
+
+def test_growing_buffers_mid_run_changes_no_bit():
+    """A world whose pair and contact buffers start at 64 rows and grow during the run moves exactly as one
+    given room for everything from the start."""
+    small, roomy = _pile(40), _pile(40, buffers=4096)
+    for _ in range(90):
+        small.step(1 / 60)
+        roomy.step(1 / 60)
+    assert small._pcf.shape[0] > 64                # it did grow (from 64 rows), and reran a step
+    n = small._nb
+    assert np.array_equal(small._bf[:n], roomy._bf[:n])
+    assert small._npc == roomy._npc > 64
+    assert np.array_equal(small._pcf[:small._npc], roomy._pcf[:roomy._npc])
+
+
+def test_contacts_are_those_of_the_last_step_after_each_swap():
+    w = _pile(8)
+    for _ in range(30):
+        w.step(1 / 60)
+        assert len(w.contacts()) == w._stats[S.S_CONTACTS] == w._npc
+
+
+def test_pack_tables_refuses_a_table_of_the_wrong_kind():
+    w = _pile(2)
+    w.step(1 / 60)
+    args = [getattr(w, "_" + name) for name in TABLE_NAMES] + [w._nb, w._nk]
+    bad = list(args)
+    bad[TABLE_NAMES.index("bf")] = np.asfortranarray(w._bf)
+    with pytest.raises(TypeError, match="bf must be a C-contiguous float64"):
+        pack_tables(*bad)
+    bad = list(args)
+    bad[TABLE_NAMES.index("ci")] = w._ci.astype(np.int32)
+    with pytest.raises(TypeError, match="ci must be"):
+        pack_tables(*bad)
