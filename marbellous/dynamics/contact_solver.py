@@ -16,7 +16,7 @@ A speculative contact (separation s > 0) lets the bodies approach by exactly s i
 """
 import math
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                       C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S,
                       C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
@@ -73,7 +73,7 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
             cf[c, C_SUM_T + k] = 0.0
 
 
-@njit
+@njit_inline
 def warm_start_contacts(cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
     for c in range(nc):
@@ -250,7 +250,7 @@ def apply_restitution(cf, ci, nc, sb, threshold):
         cf[c, C_SUM_N] += d
 
 
-@njit
+@njit_inline
 def accumulate_applied(cf, ci, nc):
     """After each sub-step: add the impulses that sub-step applied to the step's totals (for reports)."""
     for c in range(nc):

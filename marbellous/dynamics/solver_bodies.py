@@ -17,7 +17,7 @@ writes the solved velocities back.
 The velocity of a body is handled as a 6-tuple ``u = (v, omega)`` so that a constraint reads its two
 bodies once, updates them in registers and writes them back once.
 """
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..layout import DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, VEL
 from .forces import is_moving
 from .rigid import inverse_inertia_world
@@ -32,7 +32,7 @@ SB_ISO = 22       # s if I_w^-1 = s E (spheres, cubes, and every body that canno
 SB_COLS = 24      # 23 used, padded to three 64-byte cache lines
 
 
-@njit
+@njit_inline
 def prepare_solver_bodies(bf, bi, nb, sb):
     """Fill ``sb`` from the bodies' current poses and velocities."""
     for i in range(nb):
@@ -60,7 +60,7 @@ def prepare_solver_bodies(bf, bi, nb, sb):
             sb[i, SB_DTHETA + k] = bf[i, DTHETA + k]
 
 
-@njit
+@njit_inline
 def store_velocities(bf, bi, nb, sb):
     """Write the solved velocities of the moving bodies back to the body table."""
     for i in range(nb):
