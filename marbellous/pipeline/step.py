@@ -21,7 +21,7 @@
 """
 import numpy as np
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_cache import match_contacts
@@ -95,7 +95,7 @@ GROW_PAIRS = 1
 GROW_CONTACTS = 2
 
 
-@njit
+@njit_inline
 def _lap(stats, stage, since, on):
     """With profiling ``on``: add the cycles from ``since`` to now to ``stage``'s total; returns now."""
     if not on:
@@ -134,7 +134,7 @@ def step_world(tables):
     cf, ci, pcf, pci = tables.cf, tables.ci, tables.pcf, tables.pci
     params_f, params_i, stats = tables.params_f, tables.params_i, tables.stats
     nb, nk, npc = tables.nb, tables.nk, stats[S_CACHED]
-    sweep, sb, F, T = tables.sweep, tables.solver_bodies, tables.forces, tables.torques
+    sweep, filters, sb, F, T = tables.sweep, tables.filters, tables.solver_bodies, tables.forces, tables.torques
     user_forces, joint_totals, soft, vecs = tables.user_forces, tables.joint_totals, tables.soft, tables.vecs
     parent, least_rest = tables.parent, tables.least_rest
     dt = params_f[P_DT]
@@ -155,8 +155,14 @@ def step_world(tables):
     t = _lap(stats, ST_AABBS, t, prof)
     n_pairs = 0
     if _needs_pairs(bi, nb):
-        n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, bi[:, FLAGS], bi[:, GROUP], bi[:, MASK], nb,
-                             bp_f, bp_i, pairs)
+        # the filter columns copied to contiguous rows: the broad phase reads them per pair, and columns of
+        # the body table would cost it a cache line per read
+        for i in range(nb):
+            filters[0, i] = bi[i, FLAGS]
+            filters[1, i] = bi[i, GROUP]
+            filters[2, i] = bi[i, MASK]
+        n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, filters[0], filters[1], filters[2], nb, bp_f, bp_i,
+                             pairs)
     stats[S_PAIRS] = n_pairs
     t = _lap(stats, ST_BROAD, t, prof)
     if n_pairs > pairs.shape[0]:

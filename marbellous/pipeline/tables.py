@@ -49,6 +49,7 @@ FIELDS = (
     ("nb", types.int64), ("nk", types.int64),
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
+    ("filters", _I2),         # (3, slots): the bodies' flags, groups and masks as contiguous rows
     ("solver_bodies", _F2),   # solver body rows (dynamics/solver_bodies.py)
     ("forces", _F2),          # total force on each body in the sub-step (N)
     ("torques", _F2),         # total torque (N m)
@@ -78,6 +79,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.nb, t.nk = nb, nk
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
+    t.filters = np.zeros((3, n_slots), dtype=np.int64)
     t.solver_bodies = np.zeros((n_slots, SB_COLS))
     t.forces = np.zeros((n_slots, 3))
     t.torques = np.zeros((n_slots, 3))
