@@ -1,7 +1,7 @@
 """Height fields: height/normal queries against analytic surfaces, agreement with collisions and rays."""
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as hst
+from hypothesis import example, given, settings, strategies as hst
 
 from marbellous.collision import shape_types as st
 from marbellous.collision.heightfield_collide import collide_convex_heightfield
@@ -95,6 +95,10 @@ def test_queries_agree_with_the_collision_surface(cell):
 
 @settings(max_examples=300, deadline=None)
 @given(xz, hst.floats(0.05, 0.6), hst.floats(-0.3, 0.8), hst.sampled_from(["sphere", "capsule", "box"]))
+# A buried box 0.0207 m (> prediction) under triangle 3248, whose cell-mate 3249 reaches into the box's
+# bounding box: the box's 13 axes show no gap above the prediction, so only the triangle's own
+# bounding-box test keeps the one-sided face from pushing it out.
+@example((0.0, 0.103515625), 0.103515625, -0.15234375, "box")
 def test_heightfield_matches_the_same_triangles_as_a_mesh(f, r, lift, kind):
     """Away from the border the height field and a mesh of its triangles give the same contacts
     (the field's border edges are continued flat, the mesh's are open)."""

@@ -3,6 +3,7 @@
 Sphere: ``c +- r``.  Capsule: its segment's end points ``c +- R e_y h`` grown by ``r``.
 Box: ``c +- |R| h`` (the absolute rotation matrix times the half extents).  Planes, height fields and
 meshes are static: their boxes are computed once when they are added (``static_box``).
+``boxes_overlap`` tests a triangle's box against a query box (meshes and height fields).
 """
 import math
 
@@ -50,3 +51,13 @@ def merge_aabb(acc, box):
             acc[k] = box[k]
         if box[3 + k] > acc[3 + k]:
             acc[3 + k] = box[3 + k]
+
+
+@njit
+def boxes_overlap(a, b, c, lo, hi):
+    """True if the bounding box of triangle ``abc`` overlaps the box ``lo..hi``:
+    ``min(a, b, c) <= hi`` and ``max(a, b, c) >= lo`` on every axis."""
+    for ax in range(3):
+        if min(a[ax], min(b[ax], c[ax])) > hi[ax] or max(a[ax], max(b[ax], c[ax])) < lo[ax]:
+            return False
+    return True

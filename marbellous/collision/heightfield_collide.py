@@ -14,6 +14,13 @@ both wound so their normals point up.  Triangle ``k`` of cell ``(i, j)`` has ind
 ``2 (i (nz - 1) + j) + k``.  ``HeightField.height_at``/``normal_at`` use the same triangles, so
 queries and collisions see one surface.
 
+A triangle is tested only if its bounding box overlaps the shape's, grown by the prediction, as in
+``mesh_collide``.  The box's pair test is not exact beyond contact: its 13 axes may all show gaps
+below the prediction while the closest points (vertex against edge) lie farther apart, and a box
+buried under the surface then gets the one-sided face's push-out from a triangle wholly above it.
+The bounding-box test, a necessary condition of a distance within the prediction, settles that
+per triangle, so the contacts do not depend on which two triangles share a cell.
+
 Ghost-free across cells: every edge's neighbour and every vertex's six ring neighbours follow from
 the grid (``triangle_contact``).  Beyond the border the field is continued linearly
 (``h(-1, j) = 2 h(0, j) - h(1, j)``), so a border edge is flat to its virtual neighbour and two
@@ -25,6 +32,7 @@ import numpy as np
 
 from .._jit import njit
 from . import shape_types as st
+from .aabb import boxes_overlap
 from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_ray import ray_triangle
@@ -141,6 +149,8 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                 continue
             for k in range(2):
                 a, b, cc, nrm = cell_triangle(params_b, geom_f, off_f_b, i, j, k)
+                if not boxes_overlap(a, b, cc, lo, hi):
+                    continue                          # too far: the cell's box overlaps, not this triangle's
                 if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
                     continue                          # missed: decided by values alone (no array call)
                 m0 = m1 = m2 = (0.0, 0.0, 0.0)

@@ -18,6 +18,7 @@ import numpy as np
 
 from .._jit import njit, njit_inline
 from . import mesh_layout as ml
+from .aabb import boxes_overlap
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
 from . import shape_types as st
@@ -36,15 +37,6 @@ def vertex_is_true(geom_f, geom_i, off_f, off_i, v, p):
     pv = ml.vertex(geom_f, geom_i, off_f, off_i, v)
     for k in range(geom_i[rs + w], geom_i[rs + w + 1]):
         if not vertex_ring_passes(p, pv, ml.vertex(geom_f, geom_i, off_f, off_i, geom_i[ring + k])):
-            return False
-    return True
-
-
-@njit
-def boxes_overlap(a, b, c, lo, hi):
-    """True if the bounding box of triangle ``abc`` overlaps the box ``lo..hi``."""
-    for ax in range(3):
-        if min(a[ax], min(b[ax], c[ax])) > hi[ax] or max(a[ax], max(b[ax], c[ax])) < lo[ax]:
             return False
     return True
 
