@@ -107,7 +107,11 @@ def test_random_rays_against_sampled_distance(kind, data):
     t, normal = cast(shape, origin, direction, max_distance)
     s = np.linspace(0.0, min(max_distance, 12.0), 4001)
     inside = shape.sdf(origin + s[:, None] * direction) < -1e-9
-    if shape.sdf(origin) <= 0.0:
+    d0 = shape.sdf(origin)
+    # An origin on the surface to within rounding (|sdf| ~ 1e-16 here, 1e-12 allowed) may be inside by this
+    # sdf and just outside by the kernel's arithmetic, which then reports a hit at once (t ~ 2e-16 was seen
+    # for a capsule touched exactly at its radius): both answers are right, the general checks below hold.
+    if d0 <= 0.0 and not (d0 > -1e-12 and t != 0.0):
         assert t == 0.0
         np.testing.assert_allclose(normal, -direction, atol=1e-15)
         return
