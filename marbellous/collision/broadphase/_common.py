@@ -120,10 +120,20 @@ def sort_keys(keys):
 
 
 @njit
+def _ascending(keys, count):
+    """True if ``keys[:count]`` is in ascending order."""
+    for k in range(1, count):
+        if keys[k] < keys[k - 1]:
+            return False
+    return True
+
+
+@njit
 def write_pairs(keys, count, n_bodies, pairs_out):
     """Sort the pair keys and write them as rows ``(i, j)``, ``i < j``, in lexicographic order into
     ``pairs_out`` (at most its length).  Returns the full number of pairs."""
-    ordered = sort_keys(keys[:count])
+    # (brute force and small worlds emit their keys in order already: then nothing is copied or sorted)
+    ordered = keys[:count] if _ascending(keys, count) else sort_keys(keys[:count])
     m = min(count, pairs_out.shape[0])
     # key = i n + j with i non-decreasing along the sorted keys: step i up instead of dividing
     i = 0
