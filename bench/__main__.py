@@ -26,7 +26,8 @@ from .scenes import DT, SCENES
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-ENGINES = ("marbellous", "pybullet", "mujoco")
+#: "marbellous-2t": Marbellous with ``World.threads = 2`` (parallel contact passes; the default is serial)
+ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco")
 
 
 def warm_up():
@@ -53,12 +54,14 @@ def run_world_scene(name, engine, quick, cap, steps=None):
     best = None
     for _ in range(spec.repeats):
         world, meta = spec.build(quick)
-        run = MarbellousRun(world, DT) if engine == "marbellous" else make_peer(engine, world, DT)
+        if engine == "marbellous-2t":
+            world.threads = 2
+        run = MarbellousRun(world, DT) if engine.startswith("marbellous") else make_peer(engine, world, DT)
         try:
             res = timed_run(run, steps, time_cap=cap)
         finally:
             run.close()
-        if engine == "marbellous":
+        if engine.startswith("marbellous"):
             from marbellous.pipeline import step as S
             res["contacts"] = int(world._stats[S.S_CONTACTS])
             res["iterations"] = int(world._stats[S.S_ITERATIONS])
@@ -105,8 +108,10 @@ def run_query_scene(engine, quick):
 def run_one(name, engine, quick, cap, steps=None):
     """A result dict; a missing or unsupported peer, or a failure, becomes a status, never a crash."""
     try:
-        if engine != "marbellous" and version(engine) is None:
+        if not engine.startswith("marbellous") and version(engine) is None:
             return {"status": "not installed"}
+        if engine == "marbellous-2t" and not SCENES[name].world:
+            raise Unsupported("queries do not use the solver's threads (same as marbellous)")
         if SCENES[name].world:
             return run_world_scene(name, engine, quick, cap, steps)
         return run_query_scene(engine, quick)
@@ -124,7 +129,7 @@ def _sanity_text(s):
 
 def table(results, engines):
     """The results as a text table: ms/step, steps/s, ratio to PyBullet's steps/s, sanity."""
-    lines = [f"{'scene':24s} {'engine':10s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    "
+    lines = [f"{'scene':24s} {'engine':13s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    "
              f"sanity"]
     for name, per in results.items():
         ref = per.get("pybullet", {}).get("steps_per_s")
@@ -133,12 +138,12 @@ def table(results, engines):
             if r is None:
                 continue
             if "steps_per_s" not in r:
-                lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['status']}")
+                lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['status']}")
                 continue
             ratio = f"{r['steps_per_s'] / ref:.2f}x" if ref else "-"
             ok = "yes" if r["sanity"].get("ok") else "NO"
             note = "" if r["status"] == "ok" else f"  [{r['status']}]"
-            lines.append(f"{SCENES[name].label:24s} {engine:10s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
+            lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
                          f"{r['steps_per_s']:10.1f} "
                          f"{ratio:>11s}  {ok:5s} {_sanity_text(r['sanity'])}{note}")
     return "\n".join(lines)
@@ -154,7 +159,7 @@ def plot(results, engines, machine, path):
     names = list(results)
     fig, ax = plt.subplots(figsize=(max(6.0, 1.6 * len(names)), 4.5))
     width = 0.8 / len(engines)
-    colours = {"marbellous": "#c0392b", "pybullet": "#2c3e50", "mujoco": "#7f8c8d"}
+    colours = {"marbellous": "#c0392b", "marbellous-2t": "#e67e22", "pybullet": "#2c3e50", "mujoco": "#7f8c8d"}
     for k, engine in enumerate(engines):
         xs, ys, hatches = [], [], []
         for i, name in enumerate(names):
@@ -190,7 +195,7 @@ def main(argv=None):
     ap.add_argument("--no-plot", action="store_true", help="skip the plot")
     args = ap.parse_args(argv)
 
-    machine = describe(ROOT, {e: version(e) for e in ENGINES if e != "marbellous"})
+    machine = describe(ROOT, {e: version(e) for e in ENGINES if not e.startswith("marbellous")})
     print(f"{machine['cpu']}, {machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, "
           f"Numba {machine['numba']}, peers {machine['peers']}")
     compile_s = warm_up()
@@ -204,7 +209,7 @@ def main(argv=None):
             results[name][engine] = r = run_one(name, engine, args.quick, args.cap, steps)
             if r["status"].startswith("partial"):
                 steps = r["steps"]
-            print(f"  {name:16s} {engine:10s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
+            print(f"  {name:16s} {engine:13s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
                   f"({time.perf_counter() - t:.0f} s)", flush=True)
     profiles = {}
     if args.profile:

@@ -14,3 +14,6 @@ njit = numba.njit(cache=True, nogil=True, fastmath=False)
 #: sub-step or iteration, where the call itself (every array argument's fields passed and reference
 #: counted) would cost more than the work.
 njit_inline = numba.njit(cache=True, nogil=True, fastmath=False, inline="always")
+
+#: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).
+njit_parallel = numba.njit(cache=True, nogil=True, fastmath=False, parallel=True)

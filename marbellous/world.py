@@ -19,7 +19,7 @@ from .pipeline import step as S
 from .pipeline.clock import AVAILABLE as CLOCK_AVAILABLE
 from .pipeline.profile import step_profile
 from .pipeline.raycast import raycast_world
-from .pipeline.tables import compiled_entry, pack_tables
+from .pipeline.tables import MAX_THREADS, compiled_entry, pack_tables
 from .shapes import Shape
 
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
@@ -146,7 +146,8 @@ class World:
     ``gravity`` (m/s^2); ``solver`` in ``"sequential_impulse"``, ``"penalty"``, ``"lcp"``; ``iterations``
     and ``substeps`` (None: defaults chosen so stacks stand at 60 Hz); ``integrator`` in
     ``"explicit_euler"``, ``"semi_implicit_euler"``, ``"verlet"``, ``"rk4"``; ``broadphase`` in
-    ``"brute"``, ``"sap"``, ``"grid"``, ``"bvh"``, ``"octree"``, ``"kdtree"``, ``"bsp"``.
+    ``"brute"``, ``"sap"``, ``"grid"``, ``"bvh"``, ``"octree"``, ``"kdtree"``, ``"bsp"``; ``threads`` for the
+    contact passes of large scenes (1: serial, the default; see :attr:`threads`).
     """
 
     # Physical tunables: validated on assignment; docs/architecture.md explains each in physical terms.
@@ -175,7 +176,8 @@ class World:
                                    "(0, 2)", positive=True, hi=1.99)
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
-                 substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True):
+                 substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
+                 threads=1):
         self._params_f = np.zeros(S.PF_LEN)
         self._params_i = np.zeros(S.PI_LEN, dtype=np.int64)
         self._params_dt = None  # dt the parameters were last computed for (None: recompute)
@@ -187,6 +189,7 @@ class World:
         self.integrator = integrator
         self.iterations = DEFAULT_ITERATIONS if iterations is None else iterations
         self.substeps = DEFAULT_SUBSTEPS if substeps is None else substeps
+        self.threads = threads
         self.ccd = ccd
         self.sleeping = sleeping
         self._bf = np.zeros((8, L.BF_COLS))
@@ -268,6 +271,23 @@ class World:
     @iterations.setter
     def iterations(self, value):
         self._iterations = as_int("iterations", value, lo=1, hi=10000)
+        self._params_dt = None
+
+    @property
+    def threads(self):
+        """Threads of the sequential-impulse contact passes (1 to 64; default 1, serial).
+
+        With ``threads = n > 1`` a step with at least 256 contacts solves them in ``n`` regions of the scene
+        at once (dynamics/contact_regions.py): deterministic, the same bit for bit on every run, but not
+        bit-identical to the serial solver, as contacts are visited in another order.  Needs Numba's
+        OpenMP or TBB threading layer to pay (a thread launch costs ~1 us there, ~80 us with its
+        fallback "workqueue"); ``NUMBA_NUM_THREADS`` caps the threads actually used.
+        """
+        return self._threads
+
+    @threads.setter
+    def threads(self, value):
+        self._threads = as_int("threads", value, lo=1, hi=MAX_THREADS)
         self._params_dt = None
 
     @property
@@ -692,6 +712,7 @@ class World:
         pi[S.P_ITERATIONS] = self.iterations
         pi[S.P_BROADPHASE] = BROADPHASE_CODES[self.broadphase]
         pi[S.P_SOLVER] = SOLVERS.index(self.solver)
+        pi[S.P_THREADS] = self.threads
         pf[S.P_PENALTY_HERTZ] = self.penalty_hertz
         pi[S.P_LCP_SWEEPS] = int(self.lcp_sweeps)
         pf[S.P_LCP_SOR] = self.lcp_relaxation

@@ -23,7 +23,7 @@ from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LA
                       CP_MATCHED, CP_SENSOR, CP_SLIDING, FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
 from ..math3d import dot3, row3
 from .contact_basis import contact_basis
-from .solver_bodies import (effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
+from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
                             velocity)
 
 
@@ -109,16 +109,19 @@ def contact_separation(sb, cf, c, a, b):
 
 
 @njit
-def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
-    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over all contacts.
+def solve_contacts(cf, ci, order, first, last, sb, h, use_bias, soft, max_push):
+    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over the contacts
+    ``order[first:last]``, in that order.
 
     ``soft`` = (bias_rate, mass_scale, impulse_scale) of the contact softness; ``max_push`` (m/s) caps
     the speed at which overlap is removed.  Returns the largest velocity change made (m/s), for the
     adaptive iteration count.  Each contact's two bodies are read once, updated in registers through
-    the normal, friction and rolling impulses, and written back once.
+    the normal, friction and rolling impulses, and written back once; bodies that cannot move are never
+    written, so passes over contacts that share no movable body may run at the same time.
     """
     largest = 0.0
-    for c in range(nc):
+    for k in range(first, last):
+        c = order[k]
         flags = ci[c, C_FLAGS]
         if (flags & CP_SENSOR) != 0:
             continue
@@ -181,8 +184,10 @@ def solve_contacts(cf, ci, nc, sb, h, use_bias, soft, max_push):
         rho = cf[c, C_ROLL]
         if rho > 0.0:
             ua, ub = _solve_rolling(cf, c, sb, a, b, ua, ub, rho * new)
-        set_velocity(sb, a, ua)
-        set_velocity(sb, b, ub)
+        if sb[a, SB_ISO] != 0.0:
+            set_velocity(sb, a, ua)
+        if sb[b, SB_ISO] != 0.0:
+            set_velocity(sb, b, ub)
     return largest
 
 

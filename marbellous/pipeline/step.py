@@ -25,8 +25,9 @@ from .._jit import njit, njit_inline
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_cache import match_contacts
+from ..dynamics.contact_regions import order_contacts, solve_contact_pass
 from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
-                                       solve_contacts, store_friction_state, warm_start_contacts)
+                                       store_friction_state, warm_start_contacts)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -68,7 +69,8 @@ P_BROADPHASE = 3
 P_SOLVER = 4            # SEQUENTIAL_IMPULSE, PENALTY or LCP (the order of world.SOLVERS)
 P_LCP_SWEEPS = 5        # LCP scheme: most projected Gauss-Seidel sweeps per solve
 P_PROFILE = 6           # 1: add each stage's processor cycles to stats (World.profiling)
-PI_LEN = 7
+P_THREADS = 7           # threads of the sequential-impulse contact passes (dynamics/contact_regions.py)
+PI_LEN = 8
 SEQUENTIAL_IMPULSE = 0
 PENALTY = 1
 LCP = 2
@@ -137,6 +139,7 @@ def step_world(tables):
     sweep, filters, sb, F, T = tables.sweep, tables.filters, tables.solver_bodies, tables.forces, tables.torques
     user_forces, joint_totals, soft, vecs = tables.user_forces, tables.joint_totals, tables.soft, tables.vecs
     parent, least_rest = tables.parent, tables.least_rest
+    slab, order, starts, region_change = tables.slab, tables.contact_order, tables.region_starts, tables.region_change
     dt = params_f[P_DT]
     substeps = params_i[P_SUBSTEPS]
     h = dt / substeps
@@ -190,8 +193,13 @@ def step_world(tables):
     constrained = nc > 0 or nk > 0
     if constrained:
         prepare_solver_bodies(bf, bi, nb, sb)
+    solver = params_i[P_SOLVER]
+    regions = 1
     if nc > 0:
         prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
+        # the contacts in the order of the passes: in regions for several threads (sequential impulses only)
+        threads = params_i[P_THREADS] if solver == SEQUENTIAL_IMPULSE else 1
+        regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -199,7 +207,6 @@ def step_world(tables):
     if nk > 0:
         clear_spring_forces(kf, ki, nk)
     iterations_used = 0
-    solver = params_i[P_SOLVER]
     t = _lap(stats, ST_PREPARE, t, prof)
     for _ in range(substeps):
         if solver == PENALTY:
@@ -225,8 +232,8 @@ def step_world(tables):
                 if nk > 0:
                     change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
                 if nc > 0:
-                    change = max(change, solve_contacts(cf, ci, nc, sb, h, True, contact_soft,
-                                                        params_f[P_MAX_PUSH]))
+                    change = max(change, solve_contact_pass(cf, ci, order, starts, regions, sb, h, True,
+                                                            contact_soft, params_f[P_MAX_PUSH], region_change))
                 if change < params_f[P_TOLERANCE]:
                     break
         elif solver == PENALTY:
@@ -258,7 +265,8 @@ def step_world(tables):
             if nk > 0:
                 solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
             if solver == SEQUENTIAL_IMPULSE and nc > 0:
-                solve_contacts(cf, ci, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+                solve_contact_pass(cf, ci, order, starts, regions, sb, h, False, contact_soft, params_f[P_MAX_PUSH],
+                                   region_change)
             if constrained:
                 store_velocities(bf, bi, nb, sb)
         if nc > 0:

@@ -23,6 +23,9 @@ from .._jit import njit
 from ..dynamics.integrators import SCRATCH_VECS
 from ..dynamics.solver_bodies import SB_COLS
 
+#: most threads of the contact passes (World.threads)
+MAX_THREADS = 64
+
 
 @structref.register
 class StepTablesType(types.StructRef):
@@ -59,6 +62,10 @@ FIELDS = (
     ("vecs", _F2),            # small vectors of the per-sub-step stages
     ("parent", _I1),          # union-find forest of the islands
     ("least_rest", _F1),      # least rest time of each island (s)
+    ("slab", _I1),            # slab of each body for the parallel contact passes (dynamics/contact_regions.py)
+    ("contact_order", _I1),   # the contacts in the order of the step's passes
+    ("region_starts", _I1),   # where each region's contacts start in that order
+    ("region_change", _F1),   # largest velocity change of each region in a pass (m/s)
 )
 STEP_TABLES = StepTablesType(list(FIELDS))
 
@@ -89,6 +96,10 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.vecs = np.zeros((SCRATCH_VECS, 4))
     t.parent = np.zeros(n_slots, dtype=np.int64)
     t.least_rest = np.zeros(n_slots)
+    t.slab = np.zeros(n_slots, dtype=np.int64)
+    t.contact_order = np.zeros(cf.shape[0], dtype=np.int64)
+    t.region_starts = np.zeros(MAX_THREADS + 2, dtype=np.int64)
+    t.region_change = np.zeros(MAX_THREADS)
     return t
 
 

@@ -1,0 +1,90 @@
+"""Contact passes on several threads (dynamics/contact_regions.py): regions that share no movable body,
+the same result on every run, and the same physics as the serial solver."""
+import numpy as np
+import pytest
+from numba import njit
+
+import marbellous as mb
+from marbellous import layout as L
+from marbellous.dynamics.contact_regions import MIN_PARALLEL_CONTACTS
+from marbellous.scenes import sphere_pile
+
+DT = 1 / 60
+
+
+@njit
+def _regions(t):
+    """The step's contact order and region starts (test-only reader of the record)."""
+    return t.contact_order.copy(), t.region_starts.copy(), t.slab.copy()
+
+
+def _settled_pile(threads, steps=240):
+    w, spheres = sphere_pile(count=400, seed=3)
+    w.threads = threads
+    for _ in range(steps):
+        w.step(DT)
+    return w, spheres
+
+
+@pytest.fixture(scope="module")
+def piles():
+    return _settled_pile(1), _settled_pile(2)
+
+
+def test_regions_share_no_movable_body(piles):
+    w, _ = piles[1]
+    assert w._npc >= MIN_PARALLEL_CONTACTS
+    order, starts, slab = _regions(w._tables)
+    n = w._npc
+    assert sorted(order[:n]) == list(range(n))          # every contact once
+    assert starts[0] == 0 and starts[3] == n
+    moving = [bool(w._bi[i, L.FLAGS] & L.F_ALIVE) and not w._bi[i, L.FLAGS] & (L.F_STATIC | L.F_SLEEPING)
+              for i in range(w._nb)]
+    ci = w._pci        # the cache now holds the contacts the step's passes ran over
+    for r in range(2):
+        rows = order[starts[r]:starts[r + 1]]
+        assert len(rows) > n // 4                          # both regions have work
+        for c in rows:
+            for body in (ci[c, L.C_BODY_A], ci[c, L.C_BODY_B]):
+                assert not moving[body] or slab[body] == r
+    for c in order[starts[2]:starts[3]]:                   # the boundary joins the two slabs
+        assert {slab[ci[c, L.C_BODY_A]], slab[ci[c, L.C_BODY_B]]} == {0, 1}
+
+
+def test_threads_give_the_same_result_on_every_run(piles):
+    again, _ = _settled_pile(2)
+    assert again.state_hash() == piles[1][0].state_hash()
+
+
+def test_threads_visit_contacts_in_another_order_with_the_same_physics(piles):
+    """Momentum: over one step the floor and walls give the pile the vertical impulse  M g dt + dP_y  (the
+    contacts between spheres cancel in pairs), to round-off, whichever order the contacts were solved in."""
+    for w, spheres in piles:
+        mass = sum(s.mass for s in spheres)
+        p0 = sum(s.mass * s.velocity[1] for s in spheres)
+        w.step(DT)
+        p1 = sum(s.mass * s.velocity[1] for s in spheres)
+        support = 0.0
+        for c in w.contacts():
+            j = c.normal_impulse * c.normal + c.tangent_impulse      # on b, from a
+            if c.body_a.is_static and not c.body_b.is_static:
+                support += j[1]
+            elif c.body_b.is_static and not c.body_a.is_static:
+                support -= j[1]
+        weight = mass * 9.81 * DT
+        assert support - weight == pytest.approx(p1 - p0, abs=1e-12 * weight * len(spheres))
+        assert max(c.depth for c in w.contacts()) < 2e-3     # no sinking
+    serial, parallel = piles[0][0], piles[1][0]
+    assert serial.state_hash() != parallel.state_hash()     # the parallel path did run
+    heights = [np.mean([s.position[1] for s in spheres]) for _, spheres in piles]
+    assert heights[0] == pytest.approx(heights[1], abs=0.01)
+
+
+def test_threads_is_validated():
+    w = mb.World()
+    for bad, err in ((0, ValueError), (65, ValueError), (1.5, TypeError), (True, TypeError)):
+        with pytest.raises(err, match="threads"):
+            w.threads = bad
+    assert w.threads == 1
+    with pytest.raises(ValueError, match="threads"):
+        mb.World(threads=0)
