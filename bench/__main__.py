@@ -191,7 +191,8 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="small scenes, few steps (a check, not numbers)")
     ap.add_argument("--cap", type=float, default=150.0, help="most seconds of stepping per engine and scene")
     ap.add_argument("--profile", action="store_true", help="add Marbellous' per-stage profile of each scene")
-    ap.add_argument("--out", default=None, help="results file (default bench/results/<date>-<host>.json)")
+    ap.add_argument("--out", default=None, help="results file (default bench/results/<date>-<host>.json, "
+                    "which also updates docs/bench/latest.md)")
     ap.add_argument("--no-plot", action="store_true", help="skip the plot")
     args = ap.parse_args(argv)
 
@@ -236,7 +237,7 @@ def main(argv=None):
     with open(path, "w") as f:
         json.dump(record, f, indent=1)
     print("written", os.path.relpath(path, ROOT))
-    if not args.quick:
+    if not args.quick and args.out is None:      # a run written elsewhere (--out) is a side run
         md = os.path.join(ROOT, "docs", "bench", "latest.md")
         os.makedirs(os.path.dirname(md), exist_ok=True)
         with open(md, "w") as f:
