@@ -430,6 +430,7 @@ class World:
 
     def _insert(self, parts, pos, quat, vel, omega, mass, inertia, material, *, static, sensor):
         """Write a validated body and its shapes into the tables (nothing here can fail on user input)."""
+        self._tables = None
         i = self._nb
         self._bf = _grow(self._bf, i + 1)
         self._bi = _grow(self._bi, i + 1)
@@ -480,7 +481,6 @@ class World:
         self._aabbs[i] = self._static_box(parts, pos, quat) if static else 0.0
         self._nb += 1
         self._ns += len(parts)
-        self._tables = None
         body = Body(self, i, [(s, p.copy(), q.copy()) for s, p, q in parts])
         self._bodies.append(body)
         return body
@@ -719,14 +719,16 @@ class World:
         self._params_dt = dt
 
     def _grow_contacts(self, n):
-        """Room for ``n`` contact points in the narrow-phase buffer and both contact tables."""
+        """Room for ``n`` contact points in the narrow-phase buffer and both contact tables, all grown to one
+        capacity (the tables swap roles every step, so the step's scratch is sized by either)."""
+        self._tables = None
+        n = max(n, self._cf.shape[0], self._pcf.shape[0], self._raw_f.shape[0])
         self._raw_f = _grow(self._raw_f, n)
         self._raw_i = _grow(self._raw_i, n)
         self._cf = _grow(self._cf, n)
         self._ci = _grow(self._ci, n)
         self._pcf = _grow(self._pcf, n)
         self._pci = _grow(self._pci, n)
-        self._tables = None
 
     def contacts(self):
         """The contacts that the last step's collision detection found (at the poses the step began with),
@@ -805,6 +807,12 @@ class World:
         if not np.array_equal(snapshot.tables["_si"][:ns], self._si[:ns]):
             raise ValueError("snapshot's shapes differ from this world's: it was taken of a world built "
                              "differently")
+        # A body removed since the snapshot cannot come back (its handle is gone): refused before any change.
+        for k in range(nb):
+            if snapshot.tables["_bi"][k, L.FLAGS] & L.F_ALIVE and self._bodies[k] is None:
+                raise ValueError("snapshot holds a body that was removed since; restore it into a world "
+                                 "built the same way")
+        self._tables = None
         for name in self._TABLES:
             setattr(self, name, snapshot.tables[name].copy())
         for k in range(nb, self._nb):
@@ -815,18 +823,11 @@ class World:
                 self._constraints[k]._world = None
         del self._bodies[nb:]
         del self._constraints[nk:]
-        # Handles removed after the snapshot come back to life with their rows.
-        for k in range(nb):
-            alive = bool(self._bi[k, L.FLAGS] & L.F_ALIVE)
-            if alive and self._bodies[k] is None:
-                raise ValueError("snapshot holds a body that was removed since; restore it into a world "
-                                 "built the same way")
         self._nb, self._ns, self._nk, self._npc = nb, ns, nk, npc
         self._accumulator = snapshot.accumulator
         # Buffers sized for the restored tables; the broad phase rebuilds from a fresh state.
         self._grow_contacts(self._pcf.shape[0])
         self._bp_f, self._bp_i = make_broadphase_state(BROADPHASE_CODES[self.broadphase], self._aabbs.shape[0])
-        self._tables = None
 
     def state_hash(self):
         """A hash of the whole state, bit for bit (hex string): equal hashes mean identical worlds."""

@@ -100,3 +100,33 @@ def test_pack_tables_refuses_a_table_of_the_wrong_kind():
     bad[TABLE_NAMES.index("ci")] = w._ci.astype(np.int32)
     with pytest.raises(TypeError, match="ci must be"):
         pack_tables(*bad)
+
+
+def test_both_contact_tables_keep_one_capacity_through_restore():
+    """The tables swap roles every step, so the step's scratch is sized for either: a snapshot taken while
+    they were small, restored into a world whose tables grew, leaves them at one capacity."""
+    w = _pile(4)
+    w.step(1 / 60)
+    snap = w.snapshot()                      # 64-row tables
+    for k in range(60):
+        w.add_body(mb.Sphere(0.2), position=(5.0 + 0.3 * k, 0.2, 0.0))
+    w.step(1 / 60)
+    assert w._pcf.shape[0] > 64
+    for _ in range(3):
+        w.restore(snap)
+        assert w._cf.shape[0] == w._pcf.shape[0] == w._raw_f.shape[0]
+        w.step(1 / 60)
+        _assert_in_sync(w)
+
+
+def test_a_refused_restore_changes_nothing():
+    w = _pile(3)
+    snap = w.snapshot()
+    w.remove(w.bodies[-1])
+    w.step(1 / 60)
+    before = w.state_hash()
+    with pytest.raises(ValueError, match="removed since"):
+        w.restore(snap)
+    assert w.state_hash() == before
+    w.step(1 / 60)
+    _assert_in_sync(w)

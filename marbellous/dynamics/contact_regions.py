@@ -52,7 +52,7 @@ def order_contacts(bf, bi, ci, nc, nb, regions, slab, order, starts):
         if not is_moving(bi, i):
             slab[i] = -1                     # cannot move: shared by every region
         elif width > 0.0:
-            slab[i] = min(regions - 1, int((bf[i, POS + axis] - lo[axis]) / width))
+            slab[i] = min(regions - 1, max(0, int((bf[i, POS + axis] - lo[axis]) / width)))
         else:
             slab[i] = 0
     # counting sort of the contacts by region (boundary last), stable

@@ -5,7 +5,7 @@ strides read and a reference taken): about 35 ns per array through the compiled 
 through Numba's dispatcher, which also types each argument first.  The 22 tables of a world plus its
 scratch cost ~1.6 us per step that way, more than a free body's whole physics.  A Numba StructRef
 holding them crosses the boundary as one pointer (~0.17 us per call), and it also owns the step's
-scratch, so the step allocates nothing.
+per-body and per-contact scratch, so the step allocates none of it.
 
 The World keeps its own references to the same arrays (reads from Python cost nothing extra) and builds
 a new record with :func:`pack_tables` whenever it replaces one of them (growth, restore, a new broad
@@ -97,7 +97,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.parent = np.zeros(n_slots, dtype=np.int64)
     t.least_rest = np.zeros(n_slots)
     t.slab = np.zeros(n_slots, dtype=np.int64)
-    t.contact_order = np.zeros(cf.shape[0], dtype=np.int64)
+    t.contact_order = np.zeros(max(cf.shape[0], pcf.shape[0]), dtype=np.int64)   # (they swap roles)
     t.region_starts = np.zeros(MAX_THREADS + 2, dtype=np.int64)
     t.region_change = np.zeros(MAX_THREADS)
     return t
