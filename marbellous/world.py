@@ -99,6 +99,28 @@ class _Tunable:
         obj._params_dt = None
 
 
+class _ContactTable:
+    """One of a world's two contact tables (pair ``kind``: ``"_contact_f"`` or ``"_contact_i"``) by its role:
+    the warm-start cache (``cache``), or the table the next step fills.  The step swaps the roles;
+    ``stats[S_CACHE_SIDE]`` says which table is the cache."""
+
+    def __init__(self, kind, cache):
+        self.kind = kind
+        self.cache = cache
+
+    def _side(self, obj):
+        side = int(obj._stats[S.S_CACHE_SIDE])
+        return side if self.cache else 1 - side
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        return getattr(obj, self.kind)[self._side(obj)]
+
+    def __set__(self, obj, table):
+        getattr(obj, self.kind)[self._side(obj)] = table
+
+
 def _grow(arr, needed):
     """``arr`` with at least ``needed`` rows (capacity doubling); new rows are zero."""
     cap = arr.shape[0]
@@ -634,39 +656,12 @@ class World:
                 self._grow_contacts(int(self._stats[S.S_CONTACTS]))
             status = self._pack_tables()(self._tables)
 
-    # The contact tables by role: the cache (``_pcf``/``_pci``, ``_npc`` rows: the last step's contacts)
-    # and the table the next step fills (``_cf``/``_ci``).
-    @property
-    def _pcf(self):
-        return self._contact_f[self._stats[S.S_CACHE_SIDE]]
-
-    @_pcf.setter
-    def _pcf(self, table):
-        self._contact_f[self._stats[S.S_CACHE_SIDE]] = table
-
-    @property
-    def _pci(self):
-        return self._contact_i[self._stats[S.S_CACHE_SIDE]]
-
-    @_pci.setter
-    def _pci(self, table):
-        self._contact_i[self._stats[S.S_CACHE_SIDE]] = table
-
-    @property
-    def _cf(self):
-        return self._contact_f[1 - self._stats[S.S_CACHE_SIDE]]
-
-    @_cf.setter
-    def _cf(self, table):
-        self._contact_f[1 - self._stats[S.S_CACHE_SIDE]] = table
-
-    @property
-    def _ci(self):
-        return self._contact_i[1 - self._stats[S.S_CACHE_SIDE]]
-
-    @_ci.setter
-    def _ci(self, table):
-        self._contact_i[1 - self._stats[S.S_CACHE_SIDE]] = table
+    # The contact tables by role: the cache (the last step's contacts, ``_npc`` rows) and the one the next
+    # step fills.
+    _pcf = _ContactTable("_contact_f", cache=True)
+    _pci = _ContactTable("_contact_i", cache=True)
+    _cf = _ContactTable("_contact_f", cache=False)
+    _ci = _ContactTable("_contact_i", cache=False)
 
     @property
     def _npc(self):
