@@ -6,9 +6,9 @@ from numba import njit
 
 import marbellous as mb
 from marbellous.pipeline import step as S
-from marbellous.pipeline.tables import FIELDS, pack_tables
+from marbellous.pipeline.tables import TABLE_FIELDS, pack_tables
 
-TABLE_NAMES = [name for name, _ in FIELDS[:22]]
+TABLE_NAMES = [name for name, _ in TABLE_FIELDS]
 
 
 @njit

@@ -23,8 +23,8 @@ from ..layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LA
                       CP_MATCHED, CP_SENSOR, CP_SLIDING, FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
 from ..math3d import dot3, row3
 from .contact_basis import contact_basis
-from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
-                            velocity)
+from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative_velocity_at, set_velocity,
+                            twist, velocity)
 
 
 @njit

@@ -147,7 +147,7 @@ def step_world(tables):
     g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
     prof = params_i[P_PROFILE] != 0
     t = cycle_counter() if prof else 0
-    # Scratch comes with the record (no stage allocates): rows beyond nb / nk are unused.
+    # The per-body and per-contact scratch comes with the record: rows beyond nb / nk are unused.
     contact_soft = soft[0]
     joint_soft = soft[1]
     for c in range(nk):

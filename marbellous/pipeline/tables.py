@@ -43,12 +43,15 @@ structref.define_boxing(StepTablesType, StepTables)
 
 _F1, _F2 = types.float64[::1], types.float64[:, ::1]
 _I1, _I2 = types.int64[::1], types.int64[:, ::1]
-#: The record's fields: the world's tables (layout.py), the counts, and the step's scratch.
-FIELDS = (
+#: The world's tables (layout.py) the record holds, in the order ``pack_tables`` takes them.
+TABLE_FIELDS = (
     ("bf", _F2), ("bi", _I2), ("sf", _F2), ("si", _I2), ("kf", _F2), ("ki", _I2), ("ws", _F1),
     ("geom_f", _F1), ("geom_i", _I1), ("aabbs", _F2), ("bp_f", _F1), ("bp_i", _I1), ("pairs", _I2),
     ("raw_f", _F2), ("raw_i", _I1), ("cf", _F2), ("ci", _I2), ("pcf", _F2), ("pci", _I2),
     ("params_f", _F1), ("params_i", _I1), ("stats", _I1),
+)
+#: The record's fields: the tables, the counts, and the step's scratch.
+FIELDS = TABLE_FIELDS + (
     ("nb", types.int64), ("nk", types.int64),
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
@@ -106,10 +109,10 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
 def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
                 pcf, pci, params_f, params_i, stats, nb, nk):
     """A record of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
-    constraints, and fresh scratch for as many body and constraint slots as the
-    tables have rows.  Every table must be C-contiguous with the dtype and dimensions of ``FIELDS``."""
+    constraints, and fresh scratch for as many body and constraint slots as the tables have rows.  Every
+    table must be C-contiguous with the dtype and dimensions of ``TABLE_FIELDS``."""
     arrays = locals()
-    for name, typ in FIELDS[:22]:
+    for name, typ in TABLE_FIELDS:
         a = arrays[name]
         if not (isinstance(a, np.ndarray) and a.dtype == typ.dtype.name and a.ndim == typ.ndim
                 and a.flags.c_contiguous):
