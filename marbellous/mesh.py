@@ -21,7 +21,7 @@ from ._validate import as_choice, as_float, as_vec3
 from .collision import mesh_layout as ml
 from .collision import shape_types as st
 from .collision.bvh_static import build_bvh
-from .collision.grid2d import build_grid
+from .collision.grid2d import FAT_MARGIN, build_grid
 from .collision.mesh_check import MeshReport, check_mesh
 from .collision.raycast_static import raycast_static
 from .collision.triangle_adjacency import build_adjacency
@@ -78,7 +78,9 @@ class TriangleMesh(Shape):
     """A static triangle mesh (a level).  ``vertices`` (V, 3) in metres, ``triangles`` (T, 3) indices.
 
     ``accel``: ``"brute"`` (test every triangle), ``"grid2d"`` (the lecture's 2D grid in x-z,
-    cell side ``cell_size`` m, default about two triangle sizes) or ``"bvh"`` (for overhangs).
+    cell side ``cell_size`` m, default about two triangle sizes; each cell lists its triangles, and
+    again those within half a cell of it, so a marble-sized query reads one list) or ``"bvh"``
+    (for overhangs).
     All three give bit-identical contacts.  ``weld_tolerance`` (m, default 1e-7 of the mesh's
     diagonal): vertices closer than this count as one for adjacency.
 
@@ -117,7 +119,7 @@ class TriangleMesh(Shape):
     def _build_accel(self, cell_size):
         v, t, adj = self.vertices, self.triangles, self._adj
         empty_i = np.zeros(0, np.int64)
-        cell_start = cell_tris = order = empty_i
+        cell_start = cell_tris = fat_start = fat_tris = order = empty_i
         nodes = np.zeros((0, ml.NODE_RECORD))
         if self.accel == "grid2d":
             ex = max(self._hi[0] - self._lo[0], 0.0)
@@ -131,17 +133,19 @@ class TriangleMesh(Shape):
                 cell *= 1.5
             nx, nz = int(math.floor(ex / cell)) + 1, int(math.floor(ez / cell)) + 1
             x0, z0 = float(self._lo[0]), float(self._lo[2])
-            cell_start, cell_tris = build_grid(v, t, adj.degenerate, x0, z0, cell, nx, nz)
+            cell_start, cell_tris = build_grid(v, t, adj.degenerate, x0, z0, cell, nx, nz, 0.0)
+            fat_start, fat_tris = build_grid(v, t, adj.degenerate, x0, z0, cell, nx, nz, FAT_MARGIN * cell)
             self._grid = (x0, z0, cell, nx, nz)
         elif self.accel == "bvh":
             nodes, order = build_bvh(v, t, adj.degenerate)
         records = np.concatenate([v[t[:, 0]], v[t[:, 1]], v[t[:, 2]], adj.normals], axis=1)
-        sections_i = [t.reshape(-1), adj.weld, adj.ring_start, adj.ring, cell_start, cell_tris, order]
+        sections_i = [t.reshape(-1), adj.weld, adj.ring_start, adj.ring, cell_start, cell_tris, order, fat_start,
+                      fat_tris]
         sections_f = [v.reshape(-1), records.reshape(-1), adj.m2.reshape(-1), nodes.reshape(-1)]
         header = np.zeros(ml.HEADER, np.int64)
         pos = ml.HEADER
         for slot, arr in zip((ml.I_TRIS, ml.I_WELD, ml.I_RING_START, ml.I_RING, ml.I_CELL_START,
-                              ml.I_CELL_TRIS, ml.I_ORDER), sections_i):
+                              ml.I_CELL_TRIS, ml.I_ORDER, ml.I_FAT_START, ml.I_FAT_TRIS), sections_i):
             header[slot] = pos
             pos += arr.shape[0]
         header[ml.I_N_NODES] = nodes.shape[0]

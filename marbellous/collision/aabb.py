@@ -18,39 +18,31 @@ def sphere_aabb(c, r):
 
 
 @njit
-def shape_aabb(stype, pos, rot, params, out):
-    """Write the world AABB of a primitive (sphere, capsule, box) at pose ``(pos, rot)`` into ``out``;
-    unbounded (+-inf) for any other type."""
+def shape_bounds(stype, pos, rot, params):
+    """Corners ``(lo, hi)`` (3-tuples, m) of the world AABB of a primitive (sphere, capsule, box) at pose
+    ``(pos, rot)``; unbounded (+-inf) for any other type."""
     if stype == st.SPHERE:
-        lo, hi = sphere_aabb((pos[0], pos[1], pos[2]), params[0])
-        for k in range(3):
-            out[k] = lo[k]
-            out[3 + k] = hi[k]
-    elif stype == st.CAPSULE:
+        return sphere_aabb((pos[0], pos[1], pos[2]), params[0])
+    if stype == st.CAPSULE:
         r, hh = params[0], params[1]
-        for k in range(3):
-            e = abs(rot[k, 1]) * hh + r
-            out[k] = pos[k] - e
-            out[3 + k] = pos[k] + e
+        e = (abs(rot[0, 1]) * hh + r, abs(rot[1, 1]) * hh + r, abs(rot[2, 1]) * hh + r)
     elif stype == st.BOX:
-        for k in range(3):
-            e = abs(rot[k, 0]) * params[0] + abs(rot[k, 1]) * params[1] + abs(rot[k, 2]) * params[2]
-            out[k] = pos[k] - e
-            out[3 + k] = pos[k] + e
+        e = (abs(rot[0, 0]) * params[0] + abs(rot[0, 1]) * params[1] + abs(rot[0, 2]) * params[2],
+             abs(rot[1, 0]) * params[0] + abs(rot[1, 1]) * params[1] + abs(rot[1, 2]) * params[2],
+             abs(rot[2, 0]) * params[0] + abs(rot[2, 1]) * params[1] + abs(rot[2, 2]) * params[2])
     else:
-        for k in range(3):
-            out[k] = -math.inf
-            out[3 + k] = math.inf
+        return (-math.inf, -math.inf, -math.inf), (math.inf, math.inf, math.inf)
+    return (pos[0] - e[0], pos[1] - e[1], pos[2] - e[2]), (pos[0] + e[0], pos[1] + e[1], pos[2] + e[2])
 
 
 @njit
-def merge_aabb(acc, box):
-    """Grow ``acc`` to contain ``box`` (both rows of 6)."""
+def shape_aabb(stype, pos, rot, params, out):
+    """Write the world AABB of a primitive (sphere, capsule, box) at pose ``(pos, rot)`` into ``out``;
+    unbounded (+-inf) for any other type."""
+    lo, hi = shape_bounds(stype, pos, rot, params)
     for k in range(3):
-        if box[k] < acc[k]:
-            acc[k] = box[k]
-        if box[3 + k] > acc[3 + k]:
-            acc[3 + k] = box[3 + k]
+        out[k] = lo[k]
+        out[3 + k] = hi[k]
 
 
 @njit
@@ -61,3 +53,24 @@ def boxes_overlap(a, b, c, lo, hi):
         if min(a[ax], min(b[ax], c[ax])) > hi[ax] or max(a[ax], max(b[ax], c[ax])) < lo[ax]:
             return False
     return True
+
+
+#: Relative allowance of ``sphere_misses_box``: a sphere closer to the box than ``(1 + 1e-9)`` times its
+#: reach is left to the exact test, so rounding in the box distance never drops a contact.
+SPHERE_BOX_ROUNDING = 1e-9
+
+
+@njit
+def sphere_misses_box(c, reach, a, b, cc):
+    """True if the sphere of centre ``c`` (m) and radius ``reach`` (m) misses the bounding box of
+    triangle ``a b cc``: the box distance ``d`` with ``d_k = max(min_k - c_k, 0, c_k - max_k)`` has
+    ``|d| > reach``.  Every point of the triangle is then farther than ``reach``, so an exact test would
+    find no contact either (tighter than :func:`boxes_overlap` with the sphere's box near its corners)."""
+    d2 = 0.0
+    for ax in range(3):
+        lo = min(a[ax], min(b[ax], cc[ax]))
+        hi = max(a[ax], max(b[ax], cc[ax]))
+        e = max(lo - c[ax], c[ax] - hi, 0.0)
+        d2 += e * e
+    limit = reach * (1.0 + SPHERE_BOX_ROUNDING)
+    return d2 > limit * limit

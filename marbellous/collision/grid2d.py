@@ -11,8 +11,15 @@ the triangle's x extent is the minimum and maximum of the x where its edges cros
 grid lines and of its corners inside the row; every cell between them gets the triangle.  Extents
 are widened by ``PAD`` cells so rounding never loses a triangle (extra candidates cost only time).
 
-Queries: a shape's x-z bounding box gives a rectangle of cells, whose lists are merged into one
-ascending, duplicate-free candidate list; a ray walks the cells it crosses (2D DDA).
+Each cell also keeps a second, *grown* list: the triangles that come within ``FAT_MARGIN`` cells of
+it (the same rasterisation with the rows and extents widened by the margin ``d``).  A triangle that
+meets a box whose centre lies in cell ``k`` and which reaches at most ``d`` beyond that cell on each
+side is in cell ``k``'s grown list, because every point of the box lies in the cell grown by ``d``.
+
+Queries: a shape's x-z bounding box that fits its centre's grown cell takes that one list as it is
+(ascending, no repeats: the marble's case, with no merging at all).  A larger box gives a rectangle of
+cells, whose lists are merged into one ascending, duplicate-free candidate list.  A ray walks the cells
+it crosses (2D DDA) through the plain lists.
 """
 import math
 
@@ -24,6 +31,11 @@ from .triangle_ray import ray_triangle
 
 #: Query rectangles of up to this many cells merge their sorted lists; larger ones gather and sort.
 MERGE_CELLS = 16
+#: Margin of the grown cell lists, in cells: a query box reaching at most this far beyond its centre's
+#: cell reads that cell's grown list alone.
+FAT_MARGIN = 0.5
+#: Next-triangle mark of a used-up cell list in the merge (above every triangle index).
+ENDED = np.iinfo(np.int64).max
 #: Widening of every rasterised extent, as a fraction of a cell (rounding allowance).
 PAD = 1e-9
 
@@ -56,9 +68,10 @@ def _cell_range(v, origin, cell, count):
 
 
 @njit
-def _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, cell_start, cell_tris, fill):
-    """Count (``fill`` False: into ``cell_start[1:]``) or write (``fill`` True) each triangle's cells."""
-    pad = PAD * cell
+def _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, margin, cell_start, cell_tris, fill):
+    """Count (``fill`` False: into ``cell_start[1:]``) or write (``fill`` True) each triangle's cells,
+    every cell grown by ``margin`` (m) on each side."""
+    pad = PAD * cell + margin
     cursor = cell_start.copy()
     for t in range(tris.shape[0]):
         if degenerate[t]:
@@ -89,15 +102,16 @@ def _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, cell_start, cell_t
 
 
 @njit
-def build_grid(verts, tris, degenerate, x0, z0, cell, nx, nz):
-    """CSR cell lists ``(cell_start, cell_tris)`` of the grid; triangles ascending in each cell."""
+def build_grid(verts, tris, degenerate, x0, z0, cell, nx, nz, margin):
+    """CSR cell lists ``(cell_start, cell_tris)`` of the grid, each cell grown by ``margin`` (m; 0 for
+    the plain lists); triangles ascending in each cell."""
     cell_start = np.zeros(nx * nz + 1, np.int64)
     dummy = np.zeros(0, np.int64)
-    _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, cell_start, dummy, False)
+    _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, margin, cell_start, dummy, False)
     for k in range(nx * nz):
         cell_start[k + 1] += cell_start[k]
     cell_tris = np.empty(cell_start[nx * nz], np.int64)
-    _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, cell_start, cell_tris, True)
+    _rasterise(verts, tris, degenerate, x0, z0, cell, nx, nz, margin, cell_start, cell_tris, True)
     return cell_start, cell_tris
 
 
@@ -126,12 +140,21 @@ def sorted_unique(buf, count):
 def grid_candidates(params, geom_i, off_i, lo, hi):
     """Ascending, duplicate-free triangle indices of the cells under the x-z box ``lo..hi``.
 
-    Returns ``(array, count)``; only ``array[:count]`` is meaningful.
+    Returns ``(array, first, count)``: the candidates are ``array[first:first + count]``.
     """
     x0, z0, cell = params[3], params[4], params[5]
     nx, nz = int(params[6]), int(params[7])
     if hi[0] < x0 or hi[2] < z0 or lo[0] > x0 + nx * cell or lo[2] > z0 + nz * cell:
-        return np.empty(0, np.int64), 0
+        return geom_i, 0, 0
+    # the box inside its centre's cell grown by the margin: that cell's grown list holds every candidate
+    ix = _cell_range(0.5 * (lo[0] + hi[0]), x0, cell, nx)
+    iz = _cell_range(0.5 * (lo[2] + hi[2]), z0, cell, nz)
+    margin = FAT_MARGIN * cell
+    if (lo[0] >= x0 + ix * cell - margin and hi[0] <= x0 + (ix + 1) * cell + margin
+            and lo[2] >= z0 + iz * cell - margin and hi[2] <= z0 + (iz + 1) * cell + margin):
+        k = off_i + geom_i[off_i + ml.I_FAT_START] + iz * nx + ix
+        first = geom_i[k]
+        return geom_i, off_i + geom_i[off_i + ml.I_FAT_TRIS] + first, geom_i[k + 1] - first
     c0 = _cell_range(lo[0], x0, cell, nx)
     c1 = _cell_range(hi[0], x0, cell, nx)
     r0 = _cell_range(lo[2], z0, cell, nz)
@@ -150,31 +173,33 @@ def grid_candidates(params, geom_i, off_i, lo, hi):
             for k in range(geom_i[starts + r * nx + c0], geom_i[starts + r * nx + c1 + 1]):
                 buf[m] = geom_i[tris + k]
                 m += 1
-        return buf, sorted_unique(buf, m)
-    # k-way merge of the (ascending) cell lists, dropping repeats
-    head = np.empty(MERGE_CELLS, np.int64)
-    end = np.empty(MERGE_CELLS, np.int64)
+        return buf, 0, sorted_unique(buf, m)
+    # k-way merge of the (ascending) cell lists, dropping repeats; each list's next triangle is kept in
+    # ``lists[0]`` (ENDED once the list is used up), its read position in ``lists[1]``, its end in ``lists[2]``
+    lists = np.empty((3, MERGE_CELLS), np.int64)
     k = 0
     for r in range(r0, r1 + 1):
         for col in range(c0, c1 + 1):
-            head[k] = geom_i[starts + r * nx + col]
-            end[k] = geom_i[starts + r * nx + col + 1]
+            first, stop = geom_i[starts + r * nx + col], geom_i[starts + r * nx + col + 1]
+            lists[0, k] = geom_i[tris + first] if first < stop else ENDED
+            lists[1, k] = first
+            lists[2, k] = stop
             k += 1
     m = 0
     while True:
-        best = -1
-        low = 0
-        for q in range(k):
-            if head[q] < end[q]:
-                t = geom_i[tris + head[q]]
-                if best < 0 or t < low:
-                    best, low = q, t
-        if best < 0:
-            return buf, m
+        best = 0
+        for q in range(1, k):
+            if lists[0, q] < lists[0, best]:
+                best = q
+        low = lists[0, best]
+        if low == ENDED:
+            return buf, 0, m
         if m == 0 or buf[m - 1] != low:
             buf[m] = low
             m += 1
-        head[best] += 1
+        nxt = lists[1, best] + 1
+        lists[1, best] = nxt
+        lists[0, best] = geom_i[tris + nxt] if nxt < lists[2, best] else ENDED
 
 
 @njit

@@ -6,9 +6,10 @@
    (``"grid2d"``) or the BVH's overlapping leaves (``"bvh"``).  Every structure yields the
    candidates in ascending triangle order without repeats, and the exact test below decides, so
    all three give the same contacts in the same order, bit for bit.
-3. Each live candidate triangle whose box overlaps: the pair test (``triangle_convex``), then edge
-   contacts filtered by the neighbour directions and vertex contacts by the vertex's ring
-   (``triangle_contact``), so there are no ghost contacts on internal edges anywhere in the mesh.
+3. Each live candidate triangle whose box overlaps (for a sphere: whose box is within its reach): the
+   pair test (``triangle_convex``), then edge contacts filtered by the neighbour directions and vertex
+   contacts by the vertex's ring (``triangle_contact``), so there are no ghost contacts on internal
+   edges anywhere in the mesh.
 4. Contacts go back to world coordinates with feature id ``triangle * 16 + code``; a contact that
    repeats an earlier one bit for bit (a sphere right over a vertex of a flat grid touches six
    coplanar faces at the same point) is reported once.
@@ -18,7 +19,7 @@ import numpy as np
 
 from .._jit import njit, njit_inline
 from . import mesh_layout as ml
-from .aabb import boxes_overlap
+from .aabb import boxes_overlap, sphere_misses_box
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
 from . import shape_types as st
@@ -43,12 +44,14 @@ def vertex_is_true(geom_f, geom_i, off_f, off_i, v, p):
 
 @njit_inline
 def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
-    """Candidate triangles under the box ``lo..hi`` (mesh frame), ascending: ``(array, count)``."""
+    """Candidate triangles under the box ``lo..hi`` (mesh frame), ascending: ``(array, first, count)``,
+    the candidates being ``array[first:first + count]``."""
     accel = int(params_b[2])
     if accel == ml.ACCEL_GRID2D:
         return grid_candidates(params_b, geom_i, off_i, lo, hi)
     if accel == ml.ACCEL_BVH:
-        return bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi)
+        buf, m = bvh_candidates(geom_f, geom_i, off_f, off_i, lo, hi)
+        return buf, 0, m
     n_tri = int(params_b[1])
     buf = np.empty(n_tri, np.int64)
     m = 0
@@ -57,7 +60,7 @@ def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
         if boxes_overlap(a, b, c, lo, hi):
             buf[m] = t
             m += 1
-    return buf, m
+    return buf, 0, m
 
 
 @njit_inline
@@ -88,17 +91,20 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     """
     c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
-    cand, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
+    cand, first, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
     scratch = np.empty((MAX_ROWS, N_COLS))
     seen = np.empty((SEEN_ROWS, 7))
     n_seen = 0
     zero = (0.0, 0.0, 0.0)
-    for j in range(count):
+    reach = params_a[0] + prediction
+    for j in range(first, first + count):
         t = cand[j]
         a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
-        if (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0) or not boxes_overlap(a, b, cc, lo, hi):
-            continue                                  # degenerate, or too far
+        if nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0:
+            continue                                  # degenerate
         if type_a == st.SPHERE:
+            if sphere_misses_box(c, reach, a, b, cc):
+                continue                              # too far
             # convex_triangle's sphere case, by values: a miss costs no call that takes arrays (whose
             # references Numba would count)
             feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)
@@ -106,6 +112,8 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
                 continue
             k = write_row(scratch, 0, q, normal, depth, feature, c)
         else:
+            if not boxes_overlap(a, b, cc, lo, hi):
+                continue                              # too far
             m0 = m1 = m2 = zero
             if type_a == st.BOX:
                 m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)

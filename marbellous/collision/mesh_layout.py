@@ -19,6 +19,8 @@ section            blob   content
 ``I_RING``         int    ring members (vertex indices)
 ``I_CELL_START``   int    (nx * nz + 1,) CSR start of each grid cell (cell ``iz * nx + ix``)
 ``I_CELL_TRIS``    int    triangle indices of each cell, ascending
+``I_FAT_START``    int    (nx * nz + 1,) CSR start of each grid cell grown by ``grid2d.FAT_MARGIN`` cells
+``I_FAT_TRIS``     int    triangle indices of each grown cell, ascending
 ``I_ORDER``        int    (T,) triangle indices in BVH leaf order
 ``I_N_NODES``      int    the number N of BVH nodes (not an offset)
 ``F_VERTS``        float  (V, 3) vertex positions in the mesh's frame, m
@@ -50,7 +52,9 @@ F_VERTS = 8
 F_TRIS = 9
 F_M2 = 10
 F_NODES = 11
-HEADER = 12
+I_FAT_START = 12
+I_FAT_TRIS = 13
+HEADER = 14
 #: Floats per triangle record and per BVH node record.
 TRI_RECORD = 12
 NODE_RECORD = 8
