@@ -24,7 +24,7 @@ from marbellous import layout as L
 from marbellous._jit import njit
 from marbellous.collision.broadphase import find_pairs
 from marbellous.pipeline import step as S
-from marbellous.pipeline.collide import narrow_phase, update_aabbs
+from marbellous.pipeline.collide import narrow_phase, pose_tables, update_aabbs
 
 from .machine import describe
 from .scenes import DT, SCENES, build_scene
@@ -38,19 +38,21 @@ ROUND_SECONDS = 0.05
 
 
 @njit
-def _repeat_narrow(reps, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci):
+def _repeat_narrow(reps, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                   pos_t, rot_t, state, q):
     """``narrow_phase`` called ``reps`` times; returns the last count."""
     n = 0
     for _ in range(reps):
-        n = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci)
+        n = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                         pos_t, rot_t, state, q)
     return n
 
 
 @njit
-def _repeat_aabbs(reps, bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative):
+def _repeat_aabbs(reps, bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
     """``update_aabbs`` called ``reps`` times."""
     for _ in range(reps):
-        update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
+        update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q)
 
 
 class CollideInput:
@@ -71,8 +73,10 @@ class CollideInput:
         self.speculative = float(pf[S.P_SPECULATIVE])
         self.aabbs = w._aabbs.copy()
         self.sweep = np.empty(self.nb)
+        self.poses = pose_tables(self.sf.shape[0])   # the step's scratch (the record's, in a world)
+        pos_t, rot_t, _, q = self.poses
         update_aabbs(self.bf, self.bi, self.sf, self.si, self.nb, self.aabbs, self.sweep, self.dt, self.g_mag,
-                     self.speculative)
+                     self.speculative, pos_t, rot_t, q)
         pairs = np.zeros_like(w._pairs)
         while True:
             n_pairs = find_pairs(pi[S.P_BROADPHASE], self.aabbs, self.bi[:, L.FLAGS], self.bi[:, L.GROUP],
@@ -94,12 +98,14 @@ class CollideInput:
     def narrow(self, reps):
         """Run the narrow phase ``reps`` times; the number of contact points."""
         return _repeat_narrow(reps, self.bf, self.bi, self.sf, self.si, self.geom_f, self.geom_i, self.pairs,
-                              self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci)
+                              self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci,
+                              *self.poses)
 
     def aabbs_update(self, reps):
         """Run ``update_aabbs`` ``reps`` times."""
+        pos_t, rot_t, _, q = self.poses
         _repeat_aabbs(reps, self.bf, self.bi, self.sf, self.si, self.nb, self.aabbs, self.sweep, self.dt,
-                      self.g_mag, self.speculative)
+                      self.g_mag, self.speculative, pos_t, rot_t, q)
 
     def contacts(self):
         """``(raw_f, raw_i, ci)`` rows of the last narrow phase."""

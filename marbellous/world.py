@@ -19,8 +19,10 @@ from .pipeline import step as S
 from .pipeline.clock import AVAILABLE as CLOCK_AVAILABLE
 from .pipeline.profile import step_profile
 from .pipeline.raycast import raycast_world
-from .pipeline.tables import MAX_THREADS, compiled_entry, pack_tables
+from .pipeline.tables import MAX_THREADS, compiled_entry, pack_tables, record_address
 from .shapes import Shape
+
+_STEP_OK = S.OK
 
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
 BROADPHASES = tuple(BROADPHASE_CODES)
@@ -205,7 +207,7 @@ class World:
         self._params_dt = None  # dt the parameters were last computed for (None: recompute)
         # The step's record of the tables below (pipeline/tables.py): None whenever one of them is replaced
         self._tables = None
-        self._step_entry = None
+        self._step_entry = self._step_argument = None
         self.gravity = gravity
         self.solver = solver
         self.integrator = integrator
@@ -646,15 +648,17 @@ class World:
             dt = as_float("dt", dt, positive=True)
             if dt != self._params_dt:
                 self._refresh_params(dt)
-        step = self._step_entry if self._tables is not None else self._pack_tables()
+        if self._tables is None:
+            self._pack_tables()
         # (this step's contacts become the cache of the next: the kernel swaps the two contact tables)
-        status = step(self._tables)
-        while status != S.OK:           # a buffer was too small: grow it and run the step again
+        status = self._step_entry(self._step_argument)
+        while status != _STEP_OK:       # a buffer was too small: grow it and run the step again
             if status == S.GROW_PAIRS:
                 self._pairs = _grow(self._pairs, int(self._stats[S.S_PAIRS]))
             else:
                 self._grow_contacts(int(self._stats[S.S_CONTACTS]))
-            status = self._pack_tables()(self._tables)
+            self._pack_tables()
+            status = self._step_entry(self._step_argument)
 
     # The contact tables by role: the cache (the last step's contacts, ``_npc`` rows) and the one the next
     # step fills.
@@ -672,14 +676,14 @@ class World:
         self._stats[S.S_CACHED] = n
 
     def _pack_tables(self):
-        """The step's record of the current tables (pipeline/tables.py), kept until a table is replaced;
-        returns the compiled step for it."""
+        """The step's record of the current tables (pipeline/tables.py), kept until a table is replaced, and
+        the compiled step with its argument: the record's address, valid while ``_tables`` holds it."""
         self._tables = pack_tables(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
                                    self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
                                    self._raw_f, self._raw_i, self._cf, self._ci, self._pcf, self._pci,
                                    self._params_f, self._params_i, self._stats, self._nb, self._nk)
-        self._step_entry = compiled_entry(S.step_world, self._tables)
-        return self._step_entry
+        self._step_argument = record_address(self._tables)
+        self._step_entry = compiled_entry(S.step_world_at, self._step_argument)
 
     def _refresh_params(self, dt):
         """Fill the kernel parameter arrays for steps of ``dt`` seconds."""

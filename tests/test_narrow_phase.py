@@ -23,7 +23,7 @@ from marbellous.collision.plane_pairs import collide_box_plane, collide_capsule_
 from marbellous.collision.sphere_box import collide_sphere_box
 from marbellous.collision.sphere_capsule import collide_sphere_capsule
 from marbellous.collision.sphere_sphere import collide_sphere_sphere
-from marbellous.pipeline.collide import narrow_phase, shape_pose, update_aabbs
+from marbellous.pipeline.collide import narrow_phase, pose_tables, shape_pose, update_aabbs
 
 DT = 1.0 / 60.0
 SPECULATIVE = 0.02
@@ -142,7 +142,8 @@ def collide_input(w):
     nb = w._nb
     aabbs = np.zeros((nb, 6))
     sweep = np.empty(nb)
-    update_aabbs(w._bf, w._bi, w._sf, w._si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE)
+    pos_t, rot_t, _, q = pose_tables(w._sf.shape[0])
+    update_aabbs(w._bf, w._bi, w._sf, w._si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
     pairs = np.array([(a, b) for a in range(nb) for b in range(a + 1, nb)], dtype=np.int64)
     return pairs, sweep
 
@@ -152,7 +153,7 @@ def run_narrow_phase(w, pairs, sweep, capacity):
     raw_i = np.zeros(capacity, np.int64)
     ci = np.zeros((capacity, w._ci.shape[1]), np.int64)
     n = narrow_phase(w._bf, w._bi, w._sf, w._si, w._geom_f, w._geom_i, pairs, len(pairs), sweep, SPECULATIVE,
-                     raw_f, raw_i, ci)
+                     raw_f, raw_i, ci, *pose_tables(w._sf.shape[0]))
     return n, raw_f, raw_i, ci
 
 

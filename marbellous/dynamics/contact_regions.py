@@ -15,7 +15,7 @@ it saves.
 import numpy as np
 from numba import prange
 
-from .._jit import njit, njit_parallel
+from .._jit import njit, njit_inline, njit_parallel
 from ..layout import C_BODY_A, C_BODY_B, POS
 from .contact_solver import solve_contacts
 from .forces import is_moving
@@ -95,7 +95,7 @@ def _solve_regions(cf, ci, order, starts, regions, sb, h, use_bias, soft, max_pu
     return change
 
 
-@njit
+@njit_inline
 def solve_contact_pass(cf, ci, order, starts, regions, sb, h, use_bias, soft, max_push, largest):
     """One pass of sequential impulses over the contacts in the step's order (``order_contacts``), on
     ``regions`` threads; returns the largest velocity change (m/s).  ``largest`` is scratch of

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._jit import njit
 from ..collision import shape_types as st
-from ..collision.aabb import merge_aabb, shape_aabb, sphere_aabb
+from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.contact_output import contact_point
 from ..collision.dispatch import collide_pair, sphere_primitive
 from ..collision.shape_types import N_SHAPE_PARAMS
@@ -97,12 +97,9 @@ def _row_matrix(rot_t, s):
 
 
 @njit
-def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative):
-    """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs."""
-    pos = np.empty(3)
-    rot = np.empty((3, 3))
-    q = np.empty(4)
-    box = np.empty(6)
+def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
+    """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs.
+    ``pos_t, rot_t, q`` are the scratch of :func:`pose_tables` (each shape posed into its rows)."""
     for i in range(nb):
         if (bi[i, FLAGS] & F_ALIVE) == 0 or (bi[i, FLAGS] & F_STATIC) != 0:
             sweep[i] = 0.0
@@ -117,19 +114,16 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
                 # A centred sphere's box from its body's position (no call that takes arrays here:
                 # they would be reference counted, which costs more than the box)
                 lo, hi = sphere_aabb((bf[i, POS], bf[i, POS + 1], bf[i, POS + 2]), sf[s, S_PARAMS])
-                for k in range(3):
-                    box[k] = lo[k]
-                    box[3 + k] = hi[k]
             else:
-                shape_position(bf, sf, s, i, pos)
+                shape_position(bf, sf, s, i, pos_t[s])
                 if si[s, S_TYPE] != st.SPHERE:        # a sphere's box needs no rotation
-                    shape_rotation(bf, sf, s, i, q, rot)
-                shape_aabb(si[s, S_TYPE], pos, rot, sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], box)
-            if s == s0:
-                for k in range(6):
-                    aabbs[i, k] = box[k]
-            else:
-                merge_aabb(aabbs[i], box)
+                    shape_rotation(bf, sf, s, i, q, rot_t[s])
+                lo, hi = shape_bounds(si[s, S_TYPE], pos_t[s], rot_t[s], sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS])
+            for k in range(3):
+                if s == s0 or lo[k] < aabbs[i, k]:
+                    aabbs[i, k] = lo[k]
+                if s == s0 or hi[k] > aabbs[i, 3 + k]:
+                    aabbs[i, 3 + k] = hi[k]
         if is_moving(bi, i):
             v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
             w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
@@ -143,18 +137,24 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative)
 
 
 @njit
-def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci):
+def pose_tables(n_shapes):
+    """Scratch of the narrow phase for ``n_shapes`` shape rows: ``(pos_t, rot_t, state, q)``, world
+    positions (n, 3) m and rotations (n, 3, 3) of the shapes, each row's ``POSE_*`` state, and a quaternion."""
+    return np.empty((n_shapes, 3)), np.empty((n_shapes, 3, 3)), np.zeros(n_shapes, np.int8), np.empty(4)
+
+
+@njit
+def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                 pos_t, rot_t, state, q):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
-    (bodies, shapes, sensor flag).  Returns the number of points (it may exceed the capacity)."""
+    (bodies, shapes, sensor flag).  Returns the number of points (it may exceed the capacity).
+    ``pos_t, rot_t, state, q`` are the scratch of :func:`pose_tables` for at least ``sf``'s rows."""
     if n_pairs == 0:
         return 0
     n = 0
     cap = raw_f.shape[0]
-    n_shapes = sf.shape[0]
-    pos_t = np.empty((n_shapes, 3))         # world poses, each shape's computed once, when first needed
-    rot_t = np.empty((n_shapes, 3, 3))
-    state = np.zeros(n_shapes, np.int8)
-    q = np.empty(4)
+    for s in range(sf.shape[0]):             # world poses, each shape's computed once, when first needed
+        state[s] = POSE_NONE
     for p in range(n_pairs):
         a = pairs[p, 0]
         b = pairs[p, 1]

@@ -9,7 +9,7 @@ from .._jit import njit
 from ..collision.broadphase import query_ray, update
 from ..collision.raycast import raycast_shape
 from ..layout import FLAGS, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
-from .collide import shape_pose, update_aabbs
+from .collide import pose_tables, shape_pose, update_aabbs
 
 
 @njit
@@ -20,7 +20,8 @@ def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb,
     ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
     """
     sweep = np.empty(nb)
-    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0)
+    pos_t, rot_t, _, q = pose_tables(sf.shape[0])
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0, pos_t, rot_t, q)
     update(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i)
     count = query_ray(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, origin, direction, max_distance, candidates)
     best = max_distance

@@ -21,7 +21,7 @@
 """
 import numpy as np
 
-from .._jit import njit, njit_inline
+from .._jit import borrow, njit, njit_inline
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_cache import match_contacts
@@ -41,6 +41,7 @@ from ..layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K
                       POS0, TORQUE, W_PREV_DT, W_TIME)
 from .clock import cycle_counter
 from .collide import narrow_phase, update_aabbs
+from .tables import record_at
 
 # params_f layout (tunables travel as arguments, never as globals)
 P_DT = 0
@@ -130,16 +131,24 @@ def step_world(tables):
     but scratch, so the caller can grow the buffers and call again.  On OK the contacts found become the
     cache of the next step: the record's two contact tables swap, and ``stats`` tells the caller which is
     which (S_CACHE_SIDE) and how many rows the cache holds (S_CACHED)."""
-    bf, bi, sf, si, kf, ki, ws = tables.bf, tables.bi, tables.sf, tables.si, tables.kf, tables.ki, tables.ws
-    geom_f, geom_i, aabbs, pairs = tables.geom_f, tables.geom_i, tables.aabbs, tables.pairs
-    bp_f, bp_i, raw_f, raw_i = tables.bp_f, tables.bp_i, tables.raw_f, tables.raw_i
-    cf, ci, pcf, pci = tables.cf, tables.ci, tables.pcf, tables.pci
-    params_f, params_i, stats = tables.params_f, tables.params_i, tables.stats
+    # Every table borrowed (_jit.borrow): the record keeps them alive through the step, and the stages
+    # then pass them on without counting references (about a quarter of a small scene's step otherwise).
+    bf, bi, sf, si = borrow(tables.bf), borrow(tables.bi), borrow(tables.sf), borrow(tables.si)
+    kf, ki, ws = borrow(tables.kf), borrow(tables.ki), borrow(tables.ws)
+    geom_f, geom_i = borrow(tables.geom_f), borrow(tables.geom_i)
+    aabbs, pairs = borrow(tables.aabbs), borrow(tables.pairs)
+    bp_f, bp_i, raw_f, raw_i = borrow(tables.bp_f), borrow(tables.bp_i), borrow(tables.raw_f), borrow(tables.raw_i)
+    cf, ci, pcf, pci = borrow(tables.cf), borrow(tables.ci), borrow(tables.pcf), borrow(tables.pci)
+    params_f, params_i, stats = borrow(tables.params_f), borrow(tables.params_i), borrow(tables.stats)
     nb, nk, npc = tables.nb, tables.nk, stats[S_CACHED]
-    sweep, filters, sb, F, T = tables.sweep, tables.filters, tables.solver_bodies, tables.forces, tables.torques
-    user_forces, joint_totals, soft, vecs = tables.user_forces, tables.joint_totals, tables.soft, tables.vecs
-    parent, least_rest = tables.parent, tables.least_rest
-    slab, order, starts, region_change = tables.slab, tables.contact_order, tables.region_starts, tables.region_change
+    sweep, filters, sb = borrow(tables.sweep), borrow(tables.filters), borrow(tables.solver_bodies)
+    F, T, user_forces = borrow(tables.forces), borrow(tables.torques), borrow(tables.user_forces)
+    joint_totals, soft, vecs = borrow(tables.joint_totals), borrow(tables.soft), borrow(tables.vecs)
+    parent, least_rest, slab = borrow(tables.parent), borrow(tables.least_rest), borrow(tables.slab)
+    order, starts = borrow(tables.contact_order), borrow(tables.region_starts)
+    region_change = borrow(tables.region_change)
+    pose_pos, pose_rot = borrow(tables.pose_pos), borrow(tables.pose_rot)
+    pose_state, pose_quat = borrow(tables.pose_state), borrow(tables.pose_quat)
     dt = params_f[P_DT]
     substeps = params_i[P_SUBSTEPS]
     h = dt / substeps
@@ -154,7 +163,8 @@ def step_world(tables):
         joint_totals[c] = 0.0
 
     # --- collide -----------------------------------------------------------------------------------
-    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE])
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE],
+                 pose_pos, pose_rot, pose_quat)
     t = _lap(stats, ST_AABBS, t, prof)
     n_pairs = 0
     if _needs_pairs(bi, nb):
@@ -171,7 +181,7 @@ def step_world(tables):
     if n_pairs > pairs.shape[0]:
         return GROW_PAIRS
     nc = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, params_f[P_SPECULATIVE],
-                      raw_f, raw_i, ci)
+                      raw_f, raw_i, ci, pose_pos, pose_rot, pose_state, pose_quat)
     stats[S_CONTACTS] = nc
     t = _lap(stats, ST_NARROW, t, prof)
     if nc > cf.shape[0]:
@@ -302,8 +312,16 @@ def step_world(tables):
         stats[S_SUM_PAIRS] += n_pairs
         stats[S_SUM_CONTACTS] += nc
         stats[S_SUM_ITERATIONS] += iterations_used
-    tables.cf, tables.pcf = pcf, cf
-    tables.ci, tables.pci = pci, ci
+    # (the record's own references swap, not the borrowed views)
+    tables.cf, tables.pcf = tables.pcf, tables.cf
+    tables.ci, tables.pci = tables.pci, tables.ci
     stats[S_CACHED] = nc
     stats[S_CACHE_SIDE] = 1 - stats[S_CACHE_SIDE]
     return OK
+
+
+@njit
+def step_world_at(address):
+    """:func:`step_world` on the record at ``address`` (``tables.record_address``): the World's entry,
+    which passes an int rather than the record (~0.1 us less per call)."""
+    return step_world(record_at(address))

@@ -28,7 +28,7 @@ grows (a fresh state makes the next update rebuild from scratch).
 """
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._jit import njit, njit_inline
 from marbellous.collision.broadphase._common import (
     HEADER_F, HEADER_I, I_CAPACITY, I_METHOD, I_N_PREV, keep_alive, write_indices, write_pairs,
     write_ray_hits)
@@ -105,7 +105,7 @@ def make_state(method, capacity):
     return state_f, state_i
 
 
-@njit
+@njit_inline
 def _check(method, aabbs, flags, n_bodies, state_i):
     """Reject a state made for another method or too small, and arrays shorter than ``n_bodies``."""
     if state_i[I_METHOD] != method:
@@ -127,7 +127,7 @@ def _build_tree(method, aabbs, flags, n_bodies, state_f, state_i):
         bsp_build(aabbs, flags, n_bodies, state_f, state_i)
 
 
-@njit
+@njit_inline
 def update(method, aabbs, flags, n_bodies, state_f, state_i):
     """Bring ``method``'s structure up to date with the first ``n_bodies`` boxes."""
     _check(method, aabbs, flags, n_bodies, state_i)
@@ -141,7 +141,7 @@ def update(method, aabbs, flags, n_bodies, state_f, state_i):
         state_i[I_N_PREV] = n_bodies
 
 
-@njit
+@njit_inline
 def _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, keys):
     """Pair keys of the up-to-date structure into ``keys`` (while it has room); returns the count."""
     if method == BRUTE or (method == GRID and n_bodies <= GRID_MIN_SLOTS):
@@ -157,7 +157,7 @@ def _collect_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state
                       aabbs, flags, groups, masks, n_bodies, keys)
 
 
-@njit
+@njit_inline
 def find_pairs(method, aabbs, flags, groups, masks, n_bodies, state_f, state_i, pairs_out):
     """Every overlapping, filter-passing pair among the first ``n_bodies`` slots, in canonical order,
     into ``pairs_out``; returns the full number of pairs (see the module docstring)."""
