@@ -6,7 +6,8 @@ from numba import njit
 
 import marbellous as mb
 from marbellous.pipeline import step as S
-from marbellous.pipeline.tables import TABLE_FIELDS, pack_tables
+from marbellous._jit import borrow
+from marbellous.pipeline.tables import TABLE_FIELDS, pack_tables, record_at
 
 TABLE_NAMES = [name for name, _ in TABLE_FIELDS]
 
@@ -22,11 +23,33 @@ def _addresses(t):
                      t.stats.ctypes.data, t.nb, t.nk], dtype=np.int64)
 
 
+@njit
+def _addresses_at(address):
+    """``_addresses`` of the record at ``address``, as the World's step entry reads it."""
+    return _addresses(record_at(address))
+
+
 def _assert_in_sync(w):
-    """The record the last step ran on holds exactly the world's arrays and counts."""
+    """The record the last step ran on holds exactly the world's arrays and counts, and the address the
+    World passes to the step is that record's."""
     got = _addresses(w._tables)
     want = [getattr(w, "_" + name).ctypes.data for name in TABLE_NAMES] + [w._nb, w._nk]
     assert list(got) == want
+    assert list(_addresses_at(w._step_argument)) == want
+
+
+@njit
+def _borrowed_view(a):
+    b = borrow(a)
+    b[1] = 7.0
+    return b.shape[0], b.strides[0], b.ctypes.data, b[:, 2].sum()
+
+
+def test_a_borrowed_array_is_the_same_array():
+    a = np.arange(12.0).reshape(4, 3)
+    n, stride, data, column = _borrowed_view(a)
+    assert (n, stride, data, column) == (4, 24, a.ctypes.data, 2.0 + 7.0 + 8.0 + 11.0)
+    assert np.array_equal(a[1], [7.0, 7.0, 7.0])
 
 
 def _pile(n, buffers=None):
