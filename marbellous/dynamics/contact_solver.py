@@ -27,7 +27,7 @@ from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative
                             twist, velocity)
 
 
-@njit
+@njit_inline
 def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
     """Stage "prepare": offsets, contact basis, effective masses, combined materials, approach speed.
 
@@ -228,7 +228,7 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
             twist(sb, b, ub, n0 - o0, n1 - o1, n2 - o2, 1.0))
 
 
-@njit
+@njit_inline
 def apply_restitution(cf, ci, nc, sb, threshold):
     """Stage "restitution", on the solver bodies ``sb``: contacts that closed faster than ``threshold``
     (m/s) separate at ``-e vn0``."""
@@ -264,7 +264,7 @@ def accumulate_applied(cf, ci, nc):
             cf[c, C_SUM_T + k] += cf[c, C_LAMBDA_T1] * cf[c, C_T1 + k] + cf[c, C_LAMBDA_T2] * cf[c, C_T2 + k]
 
 
-@njit
+@njit_inline
 def store_friction_state(cf, ci, nc):
     """Stage "store impulses": a contact whose friction reached the cone slides in the next step."""
     for c in range(nc):

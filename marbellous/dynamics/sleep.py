@@ -6,7 +6,7 @@ sleeping island wakes when an awake body touches it, a force or impulse is appli
 Islands are found with union-find (path halving, union by index) over contacts and constraints.
 """
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..layout import (C_BODY_A, C_BODY_B, C_FLAGS, CP_SENSOR, F_ALIVE, F_SLEEPING, F_STATIC,
                       FLAGS, ISLAND, K_BODY_A, K_BODY_B, K_FLAGS, KF_ALIVE, KF_BROKEN, OMEGA, SLEEP_TIME,
                       VEL)
@@ -37,7 +37,7 @@ def _is_dynamic(bi, i):
     return (f & F_ALIVE) != 0 and (f & F_STATIC) == 0
 
 
-@njit
+@njit_inline
 def wake_touched_islands(bi, bf, ci, nc, nb):
     """Stage "wake": an awake body touching a sleeping one wakes that body's whole island."""
     for c in range(nc):

@@ -12,10 +12,10 @@ impulse_scale 0) takes the correction velocity out again, so position correction
 """
 import math
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 
 
-@njit
+@njit_inline
 def soft_coefficients(hertz, zeta, h, out):
     """Write ``(bias_rate (1/s), mass_scale, impulse_scale)`` of a soft constraint into ``out``."""
     if hertz <= 0.0:

@@ -108,7 +108,7 @@ def _lap(stats, stage, since, on):
     return now
 
 
-@njit
+@njit_inline
 def _needs_pairs(bi, nb):
     """True if some body is awake and dynamic, or is a sensor, and another body lives: otherwise every pair
     is resting or static, or there is no pair at all, so the narrow phase would have nothing to test and
