@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from .._jit import njit
+from .._jit import njit, njit_inline
 from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.contact_output import contact_point
@@ -143,7 +143,7 @@ def pose_tables(n_shapes):
     return np.empty((n_shapes, 3)), np.empty((n_shapes, 3, 3)), np.zeros(n_shapes, np.int8), np.empty(4)
 
 
-@njit
+@njit_inline
 def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
                  pos_t, rot_t, state, q):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
