@@ -24,7 +24,7 @@ from .forces import is_moving
 MIN_PARALLEL_CONTACTS = 256
 
 
-@njit
+@njit_inline
 def order_contacts(bf, bi, ci, nc, nb, regions, slab, order, starts):
     """Contact order for the step's passes: ``order[starts[r]:starts[r + 1]]`` are region ``r``'s contacts
     (ascending) for ``r < R``, ``order[starts[R]:starts[R + 1]]`` the boundary's.  ``regions`` is the thread

@@ -96,7 +96,7 @@ def _row_matrix(rot_t, s):
             rot_t[s, 2, 0], rot_t[s, 2, 1], rot_t[s, 2, 2])
 
 
-@njit
+@njit_inline
 def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
     """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs.
     ``pos_t, rot_t, q`` are the scratch of :func:`pose_tables` (each shape posed into its rows)."""
