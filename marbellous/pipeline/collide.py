@@ -12,9 +12,10 @@ again from the same state.
 The narrow phase poses each shape once per call, when a pair first needs it, into scratch tables (a
 sphere at its body's centre needs no pose at all: its centre is the body's position, and no pair test
 reads a sphere's rotation).  A sphere against a sphere, capsule, box or plane, nearly every pair of a
-pile, runs its pair test with every pose in registers and the row is written here: Numba counts the
-references of each array handed to a function that branches (an atomic increment and decrement, about
-as costly as the pair test itself), so the hot loop hands none.  Other pairs go through
+pile, runs its pair test with every pose in registers and the row is written here: a call passes each
+array as a struct of 7 to 9 words, and counts its references unless the array is borrowed
+(``_jit.borrow``, as the step's are), about as costly as the pair test itself, so the hot loop hands
+none.  Other pairs go through
 ``collide_pair``.  Contacts, their order and their bits are those of posing both shapes of every pair
 and calling ``collide_pair`` (tests/test_narrow_phase.py).
 """
@@ -112,7 +113,7 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative,
             reach = max(reach, offset + turning)
             if si[s, S_TYPE] == st.SPHERE and at_body_origin(sf, s):
                 # A centred sphere's box from its body's position (no call that takes arrays here:
-                # they would be reference counted, which costs more than the box)
+                # passing them costs more than the box)
                 lo, hi = sphere_aabb((bf[i, POS], bf[i, POS + 1], bf[i, POS + 2]), sf[s, S_PARAMS])
             else:
                 shape_position(bf, sf, s, i, pos_t[s])
@@ -178,7 +179,7 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                     s1, b1, s2, b2, t2 = (sb, b, sa, a, ta) if flip else (sa, a, sb, b, tb)
                     # Poses: a centred sphere is at its body's centre; any other shape's pose is
                     # computed once, into the tables (inline here: a call per pair with the arrays
-                    # would count their references, which costs more than the pair test).
+                    # would pass them all, which costs more than the pair test).
                     c1 = (bf[b1, POS], bf[b1, POS + 1], bf[b1, POS + 2])
                     if not at_body_origin(sf, s1):
                         if state[s1] == POSE_NONE:
@@ -196,7 +197,7 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                     m = n + 1 if hit else n
                     if hit and n < cap:
                         # The row add_contact writes, stored here: passing the buffers to a function in
-                        # this loop would count their references, which costs more than the pair test.
+                        # this loop costs more than the pair test.
                         point = contact_point(p_on_a, normal, depth)
                         side = -1.0 if flip else 1.0     # normals from a to b (collide_convex_pair)
                         for k in range(3):
