@@ -74,25 +74,38 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
 
 
 @njit_inline
+def _warm_start_contact(cf, ci, c, sb):
+    """Apply contact ``c``'s accumulated impulses (normal, friction, rolling) to its two bodies."""
+    if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+        return
+    a = ci[c, C_BODY_A]
+    b = ci[c, C_BODY_B]
+    ln, l1, l2 = cf[c, C_LAMBDA_N], cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
+    px = ln * cf[c, C_NORMAL] + l1 * cf[c, C_T1] + l2 * cf[c, C_T2]
+    py = ln * cf[c, C_NORMAL + 1] + l1 * cf[c, C_T1 + 1] + l2 * cf[c, C_T2 + 1]
+    pz = ln * cf[c, C_NORMAL + 2] + l1 * cf[c, C_T1 + 2] + l2 * cf[c, C_T2 + 2]
+    ua = push(sb, a, velocity(sb, a), row3(cf, c, C_RA), px, py, pz, -1.0)
+    ub = push(sb, b, velocity(sb, b), row3(cf, c, C_RB), px, py, pz, 1.0)
+    lr = row3(cf, c, C_LAMBDA_R)
+    if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
+        ua = twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
+        ub = twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
+    set_velocity(sb, a, ua)
+    set_velocity(sb, b, ub)
+
+
+@njit_inline
 def warm_start_contacts(cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""
     for c in range(nc):
-        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
-            continue
-        a = ci[c, C_BODY_A]
-        b = ci[c, C_BODY_B]
-        ln, l1, l2 = cf[c, C_LAMBDA_N], cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
-        px = ln * cf[c, C_NORMAL] + l1 * cf[c, C_T1] + l2 * cf[c, C_T2]
-        py = ln * cf[c, C_NORMAL + 1] + l1 * cf[c, C_T1 + 1] + l2 * cf[c, C_T2 + 1]
-        pz = ln * cf[c, C_NORMAL + 2] + l1 * cf[c, C_T1 + 2] + l2 * cf[c, C_T2 + 2]
-        ua = push(sb, a, velocity(sb, a), row3(cf, c, C_RA), px, py, pz, -1.0)
-        ub = push(sb, b, velocity(sb, b), row3(cf, c, C_RB), px, py, pz, 1.0)
-        lr = row3(cf, c, C_LAMBDA_R)
-        if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
-            ua = twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
-            ub = twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
-        set_velocity(sb, a, ua)
-        set_velocity(sb, b, ub)
+        _warm_start_contact(cf, ci, c, sb)
+
+
+@njit
+def warm_start_listed(cf, ci, order, n, sb):
+    """Stage "warm start" for the contacts ``order[:n]`` only."""
+    for k in range(n):
+        _warm_start_contact(cf, ci, order[k], sb)
 
 
 @njit
@@ -256,12 +269,25 @@ def apply_restitution(cf, ci, nc, sb, threshold):
 
 
 @njit_inline
+def _accumulate_contact(cf, c):
+    """Add contact ``c``'s sub-step impulses to its step totals."""
+    cf[c, C_SUM_N] += cf[c, C_LAMBDA_N]
+    for k in range(3):
+        cf[c, C_SUM_T + k] += cf[c, C_LAMBDA_T1] * cf[c, C_T1 + k] + cf[c, C_LAMBDA_T2] * cf[c, C_T2 + k]
+
+
+@njit_inline
 def accumulate_applied(cf, ci, nc):
     """After each sub-step: add the impulses that sub-step applied to the step's totals (for reports)."""
     for c in range(nc):
-        cf[c, C_SUM_N] += cf[c, C_LAMBDA_N]
-        for k in range(3):
-            cf[c, C_SUM_T + k] += cf[c, C_LAMBDA_T1] * cf[c, C_T1 + k] + cf[c, C_LAMBDA_T2] * cf[c, C_T2 + k]
+        _accumulate_contact(cf, c)
+
+
+@njit
+def accumulate_listed(cf, order, n):
+    """:func:`accumulate_applied` for the contacts ``order[:n]`` only."""
+    for k in range(n):
+        _accumulate_contact(cf, order[k])
 
 
 @njit_inline

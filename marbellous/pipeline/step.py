@@ -3,7 +3,8 @@
     collide                 AABBs, broad phase, narrow phase at the poses the step began with
     match                   warm-start contacts from last step's by (bodies, shapes, feature)
     wake                    awake bodies touching sleeping islands wake them
-    prepare                 contact basis, effective masses, materials
+    prepare                 contact basis, effective masses, materials; contacts coloured into bundles
+                            (one thread, many contacts: dynamics/contact_bundles.py)
     for each sub-step of h = dt / substeps:
         integrate velocities    forces (gravity, user, springs) -> velocities, by the chosen integrator
         warm start              apply last sub-step's impulses (joints, contacts)
@@ -13,6 +14,7 @@
         integrate positions     velocities -> poses, quaternions renormalised
         relax                   sequential impulses without position bias (removes correction velocity)
         store impulses          add the sub-step's impulses to the step's totals
+    store bundles           the bundles' impulses back to the contact table
     restitution             closing contacts bounce with -e times their approach speed
     store friction state    contacts at the friction cone slide in the next step
     break constraints       springs, rods and cables over their breaking force snap
@@ -24,10 +26,12 @@ import numpy as np
 from .._jit import borrow, njit, njit_inline
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
+from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_contacts,
+                                        load_bundle_bodies, solve_bundles, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_regions import order_contacts, solve_contact_pass
-from ..dynamics.contact_solver import (accumulate_applied, apply_restitution, prepare_contacts,
-                                       store_friction_state, warm_start_contacts)
+from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, prepare_contacts,
+                                       store_friction_state, warm_start_contacts, warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -147,6 +151,9 @@ def step_world(tables):
     parent, least_rest, slab = borrow(tables.parent), borrow(tables.least_rest), borrow(tables.slab)
     order, starts = borrow(tables.contact_order), borrow(tables.region_starts)
     region_change = borrow(tables.region_change)
+    wide_f, wide_i, wide_change = borrow(tables.wide_f), borrow(tables.wide_i), borrow(tables.wide_change)
+    colour_used, colour_of = borrow(tables.colour_used), borrow(tables.colour_of)
+    colour_fill = borrow(tables.colour_fill)
     pose_pos, pose_rot = borrow(tables.pose_pos), borrow(tables.pose_rot)
     pose_state, pose_quat = borrow(tables.pose_state), borrow(tables.pose_quat)
     dt = params_f[P_DT]
@@ -205,11 +212,21 @@ def step_world(tables):
         prepare_solver_bodies(bf, bi, nb, sb)
     solver = params_i[P_SOLVER]
     regions = 1
+    threads = params_i[P_THREADS] if solver == SEQUENTIAL_IMPULSE else 1
+    # Sequential impulses on one thread solve many contacts in coloured bundles, LANES at a time; the
+    # contacts no bundle takes (the overflow) are then order[:starts[1]], solved by the scalar pass.
+    wide = solver == SEQUENTIAL_IMPULSE and threads == 1 and nc >= MIN_BUNDLED_CONTACTS
+    bundles = 0
     if nc > 0:
         prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
-        # the contacts in the order of the passes: in regions for several threads (sequential impulses only)
-        threads = params_i[P_THREADS] if solver == SEQUENTIAL_IMPULSE else 1
-        regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
+        if wide:
+            bundles, starts[1] = bundle_contacts(cf, ci, nc, sb, colour_used, colour_of, colour_fill, wide_f,
+                                                 wide_i, order)
+            starts[0] = 0
+            load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
+        else:
+            # the contacts in the order of the passes: in regions for several threads
+            regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -233,7 +250,11 @@ def step_world(tables):
         if nk > 0:
             warm_start_joints(bf, kf, ki, nk, sb, vecs)
         if solver == SEQUENTIAL_IMPULSE:
-            if nc > 0:
+            if wide:
+                load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
+                warm_start_bundles(wide_f, wide_i, bundles, sb)
+                warm_start_listed(cf, ci, order, starts[1], sb)
+            elif nc > 0:
                 warm_start_contacts(cf, ci, nc, sb)
             t = _lap(stats, ST_WARM, t, prof)
             for _ in range(params_i[P_ITERATIONS]):
@@ -241,6 +262,9 @@ def step_world(tables):
                 change = 0.0
                 if nk > 0:
                     change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
+                if wide:
+                    change = max(change, solve_bundles(wide_f, wide_i, bundles, sb, h, True, contact_soft,
+                                                       params_f[P_MAX_PUSH], wide_change))
                 if nc > 0:
                     change = max(change, solve_contact_pass(cf, ci, order, starts, regions, sb, h, True,
                                                             contact_soft, params_f[P_MAX_PUSH], region_change))
@@ -274,12 +298,18 @@ def step_world(tables):
         elif solver != LCP:
             if nk > 0:
                 solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
+            if wide:
+                load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
+                solve_bundles(wide_f, wide_i, bundles, sb, h, False, contact_soft, params_f[P_MAX_PUSH], wide_change)
             if solver == SEQUENTIAL_IMPULSE and nc > 0:
                 solve_contact_pass(cf, ci, order, starts, regions, sb, h, False, contact_soft, params_f[P_MAX_PUSH],
                                    region_change)
             if constrained:
                 store_velocities(bf, bi, nb, sb)
-        if nc > 0:
+        if wide:
+            accumulate_bundles(wide_f, bundles)
+            accumulate_listed(cf, order, starts[1])
+        elif nc > 0:
             accumulate_applied(cf, ci, nc)
         for c in range(nk):
             joint_totals[c] += kf[c, K_IMPULSE]
@@ -288,6 +318,8 @@ def step_world(tables):
     stats[S_ITERATIONS] = iterations_used
 
     # --- end of step ---------------------------------------------------------------------------------------
+    if wide:
+        store_bundles(wide_f, wide_i, bundles, cf)
     if nc > 0:
         if solver != PENALTY:     # the penalty springs' damping gives the restitution
             if solver == LCP:     # its relax pass worked on the body table

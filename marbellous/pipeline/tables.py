@@ -22,6 +22,8 @@ from numba.extending import intrinsic
 from numba.experimental import structref
 
 from .._jit import njit
+from .._wide import LANES
+from ..dynamics.contact_bundles import BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
 from ..dynamics.solver_bodies import SB_COLS
 from .collide import pose_tables
@@ -59,7 +61,7 @@ FIELDS = TABLE_FIELDS + (
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
     ("filters", _I2),         # (3, slots): the bodies' flags, groups and masks as contiguous rows
-    ("solver_bodies", _F2),   # solver body rows (dynamics/solver_bodies.py)
+    ("solver_bodies", _F2),   # solver body rows (dynamics/solver_bodies.py), and the bundles' pad and sink rows
     ("forces", _F2),          # total force on each body in the sub-step (N)
     ("torques", _F2),         # total torque (N m)
     ("user_forces", _F2),     # penalty scheme: the user's force and torque, kept while springs are added
@@ -72,6 +74,12 @@ FIELDS = TABLE_FIELDS + (
     ("contact_order", _I1),   # the contacts in the order of the step's passes
     ("region_starts", _I1),   # where each region's contacts start in that order
     ("region_change", _F1),   # largest velocity change of each region in a pass (m/s)
+    ("wide_f", _F1),          # the contact bundles (dynamics/contact_bundles.py)
+    ("wide_i", _I1),          # their body rows and contacts
+    ("colour_used", _I1),     # colours taken at each solver-body row (bit masks)
+    ("colour_of", _I1),       # colour of each contact
+    ("colour_fill", _I1),     # contacts (then next slot) of each colour
+    ("wide_change", _F1),     # largest velocity change of each lane in a pass (m/s)
     ("pose_pos", _F2),        # narrow phase: world position of each shape row (m)
     ("pose_rot", types.float64[:, :, ::1]),   # and its rotation matrix
     ("pose_state", types.int8[::1]),          # which of the two each row holds (pipeline/collide.py)
@@ -97,7 +105,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
     t.filters = np.zeros((3, n_slots), dtype=np.int64)
-    t.solver_bodies = np.zeros((n_slots, SB_COLS))
+    t.solver_bodies = np.zeros((n_slots + 2, SB_COLS))
     t.forces = np.zeros((n_slots, 3))
     t.torques = np.zeros((n_slots, 3))
     t.user_forces = np.zeros((n_slots, 6))
@@ -107,9 +115,16 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.parent = np.zeros(n_slots, dtype=np.int64)
     t.least_rest = np.zeros(n_slots)
     t.slab = np.zeros(n_slots, dtype=np.int64)
-    t.contact_order = np.zeros(max(cf.shape[0], pcf.shape[0]), dtype=np.int64)   # (they swap roles)
+    contacts = max(cf.shape[0], pcf.shape[0])      # (the two contact tables swap roles)
+    t.contact_order = np.zeros(contacts, dtype=np.int64)
     t.region_starts = np.zeros(MAX_THREADS + 2, dtype=np.int64)
     t.region_change = np.zeros(MAX_THREADS)
+    t.wide_f = np.zeros(bundle_capacity(contacts) * BUNDLE_FIELDS * LANES)
+    t.wide_i = np.zeros(bundle_capacity(contacts) * BUNDLE_ROWS * LANES, dtype=np.int64)
+    t.colour_used = np.zeros(n_slots + 2, dtype=np.int64)
+    t.colour_of = np.zeros(contacts, dtype=np.int64)
+    t.colour_fill = np.zeros(MAX_COLOURS + 1, dtype=np.int64)
+    t.wide_change = np.zeros(LANES)
     t.pose_pos, t.pose_rot, t.pose_state, t.pose_quat = pose_tables(sf.shape[0])
     return t
 

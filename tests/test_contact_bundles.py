@@ -1,0 +1,154 @@
+"""The wide contact solver (dynamics/contact_bundles.py): no colour has two contacts on one movable body,
+every solved contact is in exactly one lane or the overflow, and a pass over the bundles gives bit for
+bit what the scalar pass (contact_solver.solve_contacts) gives visiting the same contacts in bundle
+order: for spheres (isotropic inertia) and for flat boxes (the inertia turns with the body)."""
+import numpy as np
+import pytest
+from numba import njit
+
+import marbellous as mb
+from marbellous import layout as L
+from marbellous._wide import LANES
+from marbellous.dynamics.contact_bundles import (BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS,
+                                                 WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A,
+                                                 WI_WRITE_B, accumulate_bundles, bundle_capacity, bundle_contacts,
+                                                 load_bundle_bodies, solve_bundles, store_bundles,
+                                                 warm_start_bundles)
+from marbellous.dynamics.contact_solver import accumulate_applied, solve_contacts, warm_start_listed
+from marbellous.dynamics.solver_bodies import SB_COLS, SB_ISO, prepare_solver_bodies
+from marbellous.scenes import sphere_pile
+
+DT = 1 / 60
+H = DT / 4
+SOFT = np.array([30.0, 0.9, 0.1])      # (bias rate, mass scale, impulse scale) of a soft contact
+MAX_PUSH = 3.0
+
+
+@njit
+def _solver_bodies(bf, bi, nb):
+    sb = np.zeros((nb + 2, SB_COLS))   # the pad and sink rows last
+    prepare_solver_bodies(bf, bi, nb, sb)
+    return sb
+
+
+@njit
+def _accumulate(cf, ci, nc):
+    accumulate_applied(cf, ci, nc)
+
+
+class Bundled:
+    """The last step's contacts of a world laid out in bundles, with the solver bodies they were made from."""
+
+    def __init__(self, world, rolling=()):
+        self.nc = world._npc
+        self.cf = world._pcf[:self.nc].copy()
+        self.ci = world._pci[:self.nc].copy()
+        for c in rolling:
+            self.cf[c, L.C_ROLL] = 0.01
+        self.sb = _solver_bodies(world._bf, world._bi, world._nb)
+        capacity = bundle_capacity(self.nc)
+        self.wide_f = np.zeros(capacity * BUNDLE_FIELDS * LANES)
+        self.wide_i = np.zeros(capacity * BUNDLE_ROWS * LANES, dtype=np.int64)
+        self.overflow = np.zeros(self.nc, dtype=np.int64)
+        used = np.zeros(self.sb.shape[0], dtype=np.int64)
+        self.colour = np.zeros(self.nc, dtype=np.int64)
+        self.bundles, self.n_over = bundle_contacts(self.cf, self.ci, self.nc, self.sb, used, self.colour,
+                                                    np.zeros(MAX_COLOURS + 1, dtype=np.int64),
+                                                    self.wide_f, self.wide_i, self.overflow)
+        load_bundle_bodies(self.wide_f, self.wide_i, self.bundles, self.sb, True)
+
+    def block(self, bundle, kind):
+        start = (bundle * BUNDLE_ROWS + kind) * LANES
+        return self.wide_i[start:start + LANES]
+
+    def lane_order(self):
+        """The contacts in the order the bundles visit them."""
+        lanes = np.concatenate([self.block(k, WI_CONTACT) for k in range(self.bundles)])
+        return lanes[lanes >= 0]
+
+
+def _settle(world, steps):
+    for _ in range(steps):
+        world.step(DT)
+    return world
+
+
+@pytest.fixture(scope="module")
+def pile():
+    return _settle(sphere_pile(count=400, seed=3)[0], 240)
+
+
+@pytest.fixture(scope="module")
+def slabs():
+    """Two layers of flat boxes (not cubes: their world inertia turns with them) on the ground."""
+    w = mb.World()
+    w.add_static(mb.Plane())
+    for layer in range(2):
+        for i in range(4):
+            for j in range(4):
+                x, z = i * 1.0 + 0.3 * layer, j * 0.8 + 0.2 * layer
+                w.add_body(mb.Box((0.45, 0.2, 0.35)), position=(x, 0.2 + 0.41 * layer, z), friction=0.6)
+    return _settle(w, 30)
+
+
+def test_a_colour_shares_no_movable_body_and_every_contact_has_one_place(pile):
+    b = Bundled(pile, rolling=(5, 17))
+    assert b.nc >= MIN_BUNDLED_CONTACTS
+    assert b.bundles * LANES < 1.2 * b.nc                       # bundles are mostly full
+    pad, sink = b.sb.shape[0] - 2, b.sb.shape[0] - 1
+    seen = list(b.overflow[:b.n_over])
+    assert sorted(seen) == [5, 17]                              # rolling resistance: the scalar pass
+    for k in range(b.bundles):
+        contacts = b.block(k, WI_CONTACT)
+        for lane, c in enumerate(contacts):
+            rows = [b.block(k, kind)[lane] for kind in (WI_READ_A, WI_READ_B, WI_WRITE_A, WI_WRITE_B)]
+            if c < 0:
+                assert rows == [pad, pad, sink, sink]
+                continue
+            seen.append(c)
+            for read, write, side in ((rows[0], rows[2], L.C_BODY_A), (rows[1], rows[3], L.C_BODY_B)):
+                assert read == b.ci[c, side]
+                movable = b.sb[read, SB_ISO] != 0.0
+                assert write == (read if movable else sink)
+        real = contacts[contacts >= 0]
+        assert len(set(b.colour[real])) == 1                    # a bundle holds one colour
+    assert sorted(seen) == list(range(b.nc))
+    lanes = b.lane_order()
+    assert np.all(np.diff(b.colour[lanes]) >= 0)                # colour by colour
+    for colour in set(b.colour[lanes]):
+        movable = [body for c in lanes[b.colour[lanes] == colour] for body in b.ci[c, :2]
+                   if b.sb[body, SB_ISO] != 0.0]
+        assert len(movable) == len(set(movable))                # no movable body twice in a colour
+
+
+def _compare_passes(world):
+    """Warm start, three solve passes and a relax pass, wide and scalar in the same contact order."""
+    b = Bundled(world)
+    order = b.lane_order()
+    assert b.n_over == 0 and len(order) == b.nc and b.bundles >= 4
+    cf, sb = b.cf.copy(), b.sb[:-2].copy()
+    warm_start_listed(cf, b.ci, order, len(order), sb)
+    warm_start_bundles(b.wide_f, b.wide_i, b.bundles, b.sb)
+    assert np.array_equal(b.sb[:-2], sb)
+    largest = np.zeros(LANES)
+    for use_bias in (True, True, True, False):
+        wide = solve_bundles(b.wide_f, b.wide_i, b.bundles, b.sb, H, use_bias, SOFT, MAX_PUSH, largest)
+        scalar = solve_contacts(cf, b.ci, order, 0, len(order), sb, H, use_bias, SOFT, MAX_PUSH)
+        assert wide == scalar
+        assert np.array_equal(b.sb[:-2], sb)
+    _accumulate(cf, b.ci, b.nc)
+    accumulate_bundles(b.wide_f, b.bundles)
+    stored = b.cf.copy()
+    store_bundles(b.wide_f, b.wide_i, b.bundles, stored)
+    assert np.array_equal(stored, cf)
+    return b
+
+
+def test_bundles_solve_spheres_as_the_scalar_pass(pile):
+    b = _compare_passes(pile)
+    assert not any(b.block(k, WI_TURNING)[0] for k in range(b.bundles))
+
+
+def test_bundles_solve_turning_boxes_as_the_scalar_pass(slabs):
+    b = _compare_passes(slabs)
+    assert all(b.block(k, WI_TURNING)[0] for k in range(b.bundles))
