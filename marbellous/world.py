@@ -313,6 +313,7 @@ class World:
     def threads(self, value):
         self._threads = as_int("threads", value, lo=1, hi=MAX_THREADS)
         self._params_dt = None
+        self._tables = None           # (the record's scratch is sized for the threads)
 
     @property
     def substeps(self):
@@ -681,7 +682,7 @@ class World:
         self._tables = pack_tables(self._bf, self._bi, self._sf, self._si, self._kf, self._ki, self._ws,
                                    self._geom_f, self._geom_i, self._aabbs, self._bp_f, self._bp_i, self._pairs,
                                    self._raw_f, self._raw_i, self._cf, self._ci, self._pcf, self._pci,
-                                   self._params_f, self._params_i, self._stats, self._nb, self._nk)
+                                   self._params_f, self._params_i, self._stats, self._nb, self._nk, self._threads)
         self._step_argument = record_address(self._tables)
         self._step_entry = compiled_entry(S.step_world_at, self._step_argument)
 

@@ -46,15 +46,15 @@ class Bundled:
         for c in rolling:
             self.cf[c, L.C_ROLL] = 0.01
         self.sb = _solver_bodies(world._bf, world._bi, world._nb)
-        capacity = bundle_capacity(self.nc)
+        capacity = bundle_capacity(self.nc, 1)
         self.wide_f = np.zeros(capacity * BUNDLE_FIELDS * LANES)
         self.wide_i = np.zeros(capacity * BUNDLE_ROWS * LANES, dtype=np.int64)
         self.overflow = np.zeros(self.nc, dtype=np.int64)
         used = np.zeros(self.sb.shape[0], dtype=np.int64)
         self.colour = np.zeros(self.nc, dtype=np.int64)
-        self.bundles, self.n_over = bundle_contacts(self.cf, self.ci, self.nc, self.sb, used, self.colour,
-                                                    np.zeros(MAX_COLOURS + 1, dtype=np.int64),
-                                                    self.wide_f, self.wide_i, self.overflow)
+        self.bundles, self.n_over = bundle_contacts(self.cf, self.ci, np.arange(self.nc), 0, self.nc, self.sb,
+                                                    used, self.colour, np.zeros(MAX_COLOURS + 1, dtype=np.int64),
+                                                    self.wide_f, self.wide_i, 0, self.overflow, 0)
         load_bundle_bodies(self.wide_f, self.wide_i, self.bundles, self.sb, True)
 
     def block(self, bundle, kind):
@@ -132,7 +132,7 @@ def _compare_passes(world):
     assert np.array_equal(b.sb[:-2], sb)
     largest = np.zeros(LANES)
     for use_bias in (True, True, True, False):
-        wide = solve_bundles(b.wide_f, b.wide_i, b.bundles, b.sb, H, use_bias, SOFT, MAX_PUSH, largest)
+        wide = solve_bundles(b.wide_f, b.wide_i, 0, b.bundles, b.sb, H, use_bias, SOFT, MAX_PUSH, largest)
         scalar = solve_contacts(cf, b.ci, order, 0, len(order), sb, H, use_bias, SOFT, MAX_PUSH)
         assert wide == scalar
         assert np.array_equal(b.sb[:-2], sb)

@@ -1,11 +1,14 @@
 """Contact passes on several threads (dynamics/contact_regions.py): regions that share no movable body,
-the same result on every run, and the same physics as the serial solver."""
+bundles of a region that write only its bodies, the same result on every run, and the same physics as
+the serial solver."""
 import numpy as np
 import pytest
 from numba import njit
 
 import marbellous as mb
 from marbellous import layout as L
+from marbellous._wide import LANES
+from marbellous.dynamics.contact_bundles import BUNDLE_ROWS, WI_CONTACT, WI_WRITE_A, WI_WRITE_B
 from marbellous.dynamics.contact_regions import MIN_PARALLEL_CONTACTS
 from marbellous.scenes import sphere_pile
 
@@ -16,6 +19,12 @@ DT = 1 / 60
 def _regions(t):
     """The step's contact order and region starts (test-only reader of the record)."""
     return t.contact_order.copy(), t.region_starts.copy(), t.slab.copy()
+
+
+@njit
+def _parts(t):
+    """Each region's bundles and overflow, and the bundles' body rows (test-only reader of the record)."""
+    return t.part_bundles.copy(), t.part_overflow.copy(), t.wide_i.copy(), t.overflow.copy()
 
 
 def _settled_pile(threads, steps=240):
@@ -49,6 +58,28 @@ def test_regions_share_no_movable_body(piles):
                 assert not moving[body] or slab[body] == r
     for c in order[starts[2]:starts[3]]:                   # the boundary joins the two slabs
         assert {slab[ci[c, L.C_BODY_A]], slab[ci[c, L.C_BODY_B]]} == {0, 1}
+
+
+def test_each_region_has_bundles_that_write_only_its_own_bodies(piles):
+    w, _ = piles[1]
+    _, _, slab = _regions(w._tables)
+    part_bundles, part_overflow, wide_i, overflow = _parts(w._tables)
+    sink = w._bf.shape[0] + 1                      # the solver bodies' last row
+    solved = []
+    for part in range(3):                          # two regions, then the boundary
+        first, last = part_bundles[part], part_bundles[part + 1]
+        assert last > first
+        for bundle in range(first, last):
+            rows = bundle * BUNDLE_ROWS * LANES
+            contacts = wide_i[rows + WI_CONTACT * LANES:rows + (WI_CONTACT + 1) * LANES]
+            solved += [c for c in contacts if c >= 0]
+            for kind in (WI_WRITE_A, WI_WRITE_B):
+                written = [r for r in wide_i[rows + kind * LANES:rows + (kind + 1) * LANES] if r != sink]
+                assert len(written) == len(set(written))
+                if part < 2:
+                    assert all(slab[r] == part for r in written)
+        solved += list(overflow[part_overflow[part]:part_overflow[part + 1]])
+    assert sorted(solved) == list(range(w._npc))   # every contact in one lane or one overflow list
 
 
 def test_threads_give_the_same_result_on_every_run(piles):

@@ -12,7 +12,7 @@ of a colour touch the same movable body.
     bundle        ``LANES`` contacts of one colour; the last bundle of a colour is filled with pad lanes
                   that read an all-zero solver-body row and write a row nothing reads
     overflow      contacts with rolling resistance and those beyond the last colour: solved by the scalar
-                  pass after the bundles, in ascending order
+                  pass after the bundles
 
 Per bundle the table ``wide_f`` holds ``BUNDLE_FIELDS`` blocks of ``LANES`` values (field ``f`` of lane
 ``l`` at ``bundle * BUNDLE_FIELDS * LANES + f * LANES + l``), and ``wide_i`` holds ``BUNDLE_ROWS`` blocks of
@@ -70,9 +70,10 @@ BUNDLE_ROWS = 6
 
 
 @njit
-def bundle_capacity(contacts):
-    """Most bundles ``contacts`` contacts can need: full bundles plus one part-filled bundle per colour."""
-    return contacts // LANES + MAX_COLOURS + 1
+def bundle_capacity(contacts, parts):
+    """Most bundles ``contacts`` contacts laid out in ``parts`` parts (regions) can need: full bundles plus
+    one part-filled bundle per colour of each part."""
+    return contacts // LANES + parts * (MAX_COLOURS + 1)
 
 
 @njit_inline
@@ -82,19 +83,22 @@ def _at(bundle, field):
 
 
 @njit
-def bundle_contacts(cf, ci, nc, sb, used, colour_of, colour_fill, wide_f, wide_i, overflow):
-    """Stage "prepare", wide part: colour the contacts, lay them out in bundles and copy what the passes
-    need from the contact table.  Writes the overflow contacts to ``overflow`` (ascending) and returns
-    ``(bundles, overflow count)``.  Scratch: ``used`` (``sb.shape[0]`` ints, colour masks of the bodies),
-    ``colour_of`` (``nc`` ints), ``colour_fill`` (``MAX_COLOURS + 1`` ints)."""
+def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill, wide_f, wide_i, first_bundle,
+                    overflow, first_overflow):
+    """Stage "prepare", wide part: colour the contacts ``order[first:last]``, lay them out in bundles from
+    bundle ``first_bundle`` on, and copy what the passes need from the contact table.  Writes the
+    overflow contacts to ``overflow`` from ``first_overflow`` on (in the order given) and returns
+    ``(bundles, overflow count)`` written.  Scratch: ``used`` (``sb.shape[0]`` ints, colour masks of the
+    bodies), ``colour_of`` (one int per contact), ``colour_fill`` (``MAX_COLOURS + 1`` ints)."""
     pad, sink = sb.shape[0] - 2, sb.shape[0] - 1
-    for c in range(nc):
-        used[ci[c, C_BODY_A]] = 0
-        used[ci[c, C_BODY_B]] = 0
+    for k in range(first, last):
+        used[ci[order[k], C_BODY_A]] = 0
+        used[ci[order[k], C_BODY_B]] = 0
     for k in range(MAX_COLOURS + 1):
         colour_fill[k] = 0
     n_over = 0
-    for c in range(nc):
+    for k in range(first, last):
+        c = order[k]
         colour = MAX_COLOURS                         # the overflow, unless a colour is free
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             colour = -1                              # sensors are reported, not solved
@@ -112,7 +116,7 @@ def bundle_contacts(cf, ci, nc, sb, used, colour_of, colour_fill, wide_f, wide_i
                     used[b] |= 1 << colour
         colour_of[c] = colour
         if colour == MAX_COLOURS:
-            overflow[n_over] = c
+            overflow[first_overflow + n_over] = c
             n_over += 1
         elif colour >= 0:
             colour_fill[colour] += 1
@@ -120,9 +124,9 @@ def bundle_contacts(cf, ci, nc, sb, used, colour_of, colour_fill, wide_f, wide_i
     bundles = 0
     for k in range(MAX_COLOURS):
         count = colour_fill[k]
-        colour_fill[k] = bundles * LANES
+        colour_fill[k] = (first_bundle + bundles) * LANES
         bundles += (count + LANES - 1) // LANES
-    for j in range(bundles * LANES):
+    for j in range(first_bundle * LANES, (first_bundle + bundles) * LANES):
         bundle, lane = j // LANES, j % LANES
         i0 = bundle * BUNDLE_ROWS * LANES + lane
         wide_i[i0 + WI_READ_A * LANES] = pad
@@ -131,7 +135,8 @@ def bundle_contacts(cf, ci, nc, sb, used, colour_of, colour_fill, wide_f, wide_i
         wide_i[i0 + WI_WRITE_B * LANES] = sink
         wide_i[i0 + WI_CONTACT * LANES] = -1
         wide_i[i0 + WI_TURNING * LANES] = 0
-    for c in range(nc):
+    for k in range(first, last):
+        c = order[k]
         colour = colour_of[c]
         if colour < 0 or colour == MAX_COLOURS:
             continue
@@ -168,7 +173,7 @@ def bundle_contacts(cf, ci, nc, sb, used, colour_of, colour_fill, wide_f, wide_i
         wide_f[_at(bundle, WB_ADJ_SEP) + lane] = cf[c, C_ADJ_SEP]
         for k in range(4):
             wide_f[_at(bundle, WB_SUM_N + k) + lane] = 0.0
-    for j in range(bundles * LANES):       # pad lanes: all zero (no mass, no normal, no impulse)
+    for j in range(first_bundle * LANES, (first_bundle + bundles) * LANES):   # pad lanes: all zero
         bundle, lane = j // LANES, j % LANES
         if wide_i[bundle * BUNDLE_ROWS * LANES + WI_CONTACT * LANES + lane] < 0:
             for f in range(BUNDLE_FIELDS):
@@ -287,18 +292,18 @@ def warm_start_bundles(wide_f, wide_i, bundles, sb):
 
 
 @njit
-def solve_bundles(wide_f, wide_i, bundles, sb, h, use_bias, soft, max_push, largest):
-    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over the bundles, as
-    ``contact_solver.solve_contacts`` (normal impulse with soft position correction or speculative gap,
-    then Coulomb friction on the tangent disc).  Returns the largest velocity change (m/s); ``largest``
-    is scratch of ``LANES`` floats."""
+def solve_bundles(wide_f, wide_i, first, last, sb, h, use_bias, soft, max_push, largest):
+    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over the bundles
+    ``first:last``, as ``contact_solver.solve_contacts`` (normal impulse with soft position correction or
+    speculative gap, then Coulomb friction on the tangent disc).  Returns the largest velocity change
+    (m/s); ``largest`` is scratch of ``LANES`` floats."""
     zero, one = splat_w(0.0), splat_w(1.0)
     if use_bias:
         bias_rate, soft_mass, soft_impulse = soft[0], splat_w(soft[1]), splat_w(soft[2])
     else:
         bias_rate, soft_mass, soft_impulse = 0.0, one, zero
     store_w(largest, 0, zero)
-    for bundle in range(bundles):
+    for bundle in range(first, last):
         rows = bundle * BUNDLE_ROWS * LANES
         ua = _gather_u(sb, wide_i, rows + WI_READ_A * LANES, SB_V)
         ub = _gather_u(sb, wide_i, rows + WI_READ_B * LANES, SB_V)

@@ -3,8 +3,10 @@
 At the start of each step the movable (awake, dynamic) bodies are cut into ``R`` slabs of equal width
 along the axis on which their centres spread most.  A contact belongs to region ``r`` when each of its
 two bodies lies in slab ``r`` or cannot move (static and sleeping bodies: the solver reads them and never
-writes them); otherwise it belongs to the boundary.  A pass solves the ``R`` regions at the same time,
-each in the step's contact order, then the boundary contacts, so no two threads ever write one body.
+writes them); otherwise it belongs to the boundary.  Each region and then the boundary is laid out in
+coloured bundles of its own (dynamics/contact_bundles.py); a pass solves the ``R`` regions' bundles (and
+overflow contacts) at the same time, then the boundary's, so no two threads ever write one body.  With
+one thread there is one region: all the contacts, and an empty boundary.
 
 Sequential impulses converge whatever order the contacts are visited in; this order differs from the
 serial pass (``threads = 1``), so the results differ from it by round-off and iteration order, and they
@@ -16,7 +18,9 @@ import numpy as np
 from numba import prange
 
 from .._jit import njit, njit_inline, njit_parallel
+from .._wide import LANES
 from ..layout import C_BODY_A, C_BODY_B, POS
+from .contact_bundles import bundle_contacts, solve_bundles
 from .contact_solver import solve_contacts
 from .forces import is_moving
 
@@ -84,22 +88,56 @@ def _region(slab, ci, c, regions):
     return regions
 
 
+@njit_inline
+def bundle_regions(cf, ci, order, starts, regions, sb, used, colour_of, colour_fill, wide_f, wide_i, part_bundles,
+                   overflow, part_overflow):
+    """Coloured bundles (``contact_bundles.bundle_contacts``) of each region and then of the boundary:
+    part ``p``'s bundles are ``part_bundles[p]:part_bundles[p + 1]`` and its overflow contacts
+    ``overflow[part_overflow[p]:part_overflow[p + 1]]``, for ``p <= regions``.  Returns the bundles in all."""
+    part_bundles[0] = 0
+    part_overflow[0] = 0
+    for part in range(regions + 1):
+        bundles, n_over = bundle_contacts(cf, ci, order, starts[part], starts[part + 1], sb, used, colour_of,
+                                          colour_fill, wide_f, wide_i, part_bundles[part], overflow,
+                                          part_overflow[part])
+        part_bundles[part + 1] = part_bundles[part] + bundles
+        part_overflow[part + 1] = part_overflow[part] + n_over
+    return part_bundles[regions + 1]
+
+
+@njit
+def _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, part, sb, h, use_bias, soft,
+                max_push, lane_change):
+    """One pass over part ``part``: its bundles, then its overflow by the scalar pass; the largest velocity
+    change (m/s).  ``lane_change`` is scratch of ``LANES`` floats."""
+    change = solve_bundles(wide_f, wide_i, part_bundles[part], part_bundles[part + 1], sb, h, use_bias, soft,
+                           max_push, lane_change)
+    return max(change, solve_contacts(cf, ci, overflow, part_overflow[part], part_overflow[part + 1], sb, h,
+                                      use_bias, soft, max_push))
+
+
 @njit_parallel
-def _solve_regions(cf, ci, order, starts, regions, sb, h, use_bias, soft, max_push, largest):
+def _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias, soft,
+                   max_push, lane_change, largest):
     """One pass: the regions at the same time, then the boundary; the largest velocity change (m/s)."""
     for r in prange(regions):
-        largest[r] = solve_contacts(cf, ci, order, starts[r], starts[r + 1], sb, h, use_bias, soft, max_push)
-    change = solve_contacts(cf, ci, order, starts[regions], starts[regions + 1], sb, h, use_bias, soft, max_push)
+        largest[r] = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, r, sb, h, use_bias,
+                                 soft, max_push, lane_change[r * LANES:(r + 1) * LANES])
+    change = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias,
+                         soft, max_push, lane_change[regions * LANES:(regions + 1) * LANES])
     for r in range(regions):
         change = max(change, largest[r])
     return change
 
 
 @njit_inline
-def solve_contact_pass(cf, ci, order, starts, regions, sb, h, use_bias, soft, max_push, largest):
-    """One pass of sequential impulses over the contacts in the step's order (``order_contacts``), on
-    ``regions`` threads; returns the largest velocity change (m/s).  ``largest`` is scratch of
-    ``regions`` floats."""
+def solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias, soft,
+                      max_push, lane_change, largest):
+    """One pass of sequential impulses over the bundles and overflow of every part (``bundle_regions``), the
+    regions on ``regions`` threads; returns the largest velocity change (m/s).  Scratch: ``lane_change``
+    (``LANES`` floats per part), ``largest`` (one float per region)."""
     if regions > 1:
-        return _solve_regions(cf, ci, order, starts, regions, sb, h, use_bias, soft, max_push, largest)
-    return solve_contacts(cf, ci, order, starts[0], starts[1], sb, h, use_bias, soft, max_push)
+        return _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h,
+                              use_bias, soft, max_push, lane_change, largest)
+    return _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, 0, sb, h, use_bias, soft,
+                       max_push, lane_change)

@@ -3,8 +3,8 @@
     collide                 AABBs, broad phase, narrow phase at the poses the step began with
     match                   warm-start contacts from last step's by (bodies, shapes, feature)
     wake                    awake bodies touching sleeping islands wake them
-    prepare                 contact basis, effective masses, materials; contacts coloured into bundles
-                            (one thread, many contacts: dynamics/contact_bundles.py)
+    prepare                 contact basis, effective masses, materials; many contacts are coloured into
+                            bundles (dynamics/contact_bundles.py), in regions for several threads
     for each sub-step of h = dt / substeps:
         integrate velocities    forces (gravity, user, springs) -> velocities, by the chosen integrator
         warm start              apply last sub-step's impulses (joints, contacts)
@@ -26,12 +26,14 @@ import numpy as np
 from .._jit import borrow, njit, njit_inline
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
-from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_contacts,
-                                        load_bundle_bodies, solve_bundles, store_bundles, warm_start_bundles)
+from .._wide import LANES
+from ..dynamics.contact_bundles import (BUNDLE_ROWS, MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
+                                        load_bundle_bodies, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
-from ..dynamics.contact_regions import order_contacts, solve_contact_pass
+from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, prepare_contacts,
-                                       store_friction_state, warm_start_contacts, warm_start_listed)
+                                       solve_contacts, store_friction_state, warm_start_contacts,
+                                       warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -151,6 +153,8 @@ def step_world(tables):
     parent, least_rest, slab = borrow(tables.parent), borrow(tables.least_rest), borrow(tables.slab)
     order, starts = borrow(tables.contact_order), borrow(tables.region_starts)
     region_change = borrow(tables.region_change)
+    part_bundles, overflow = borrow(tables.part_bundles), borrow(tables.overflow)
+    part_overflow = borrow(tables.part_overflow)
     wide_f, wide_i, wide_change = borrow(tables.wide_f), borrow(tables.wide_i), borrow(tables.wide_change)
     colour_used, colour_of = borrow(tables.colour_used), borrow(tables.colour_of)
     colour_fill = borrow(tables.colour_fill)
@@ -211,22 +215,23 @@ def step_world(tables):
     if constrained:
         prepare_solver_bodies(bf, bi, nb, sb)
     solver = params_i[P_SOLVER]
+    # Sequential impulses solve many contacts in coloured bundles, LANES at a time, in regions on several
+    # threads (dynamics/contact_regions.py); the bundles' overflow, fewer contacts and the other schemes
+    # go through the scalar pass.
+    wide = solver == SEQUENTIAL_IMPULSE and nc >= MIN_BUNDLED_CONTACTS
+    threads = params_i[P_THREADS] if wide else 1
+    if bundle_capacity(nc, threads + 1) * BUNDLE_ROWS * LANES > wide_i.shape[0]:
+        threads = 1                  # (the record was sized for fewer threads: one fits always)
     regions = 1
-    threads = params_i[P_THREADS] if solver == SEQUENTIAL_IMPULSE else 1
-    # Sequential impulses on one thread solve many contacts in coloured bundles, LANES at a time; the
-    # contacts no bundle takes (the overflow) are then order[:starts[1]], solved by the scalar pass.
-    wide = solver == SEQUENTIAL_IMPULSE and threads == 1 and nc >= MIN_BUNDLED_CONTACTS
     bundles = 0
     if nc > 0:
         prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
+        regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
         if wide:
-            bundles, starts[1] = bundle_contacts(cf, ci, nc, sb, colour_used, colour_of, colour_fill, wide_f,
-                                                 wide_i, order)
-            starts[0] = 0
+            bundles = bundle_regions(cf, ci, order, starts, regions, sb, colour_used, colour_of, colour_fill,
+                                     wide_f, wide_i, part_bundles, overflow, part_overflow)
             load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
-        else:
-            # the contacts in the order of the passes: in regions for several threads
-            regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
+    n_over = part_overflow[regions + 1] if wide else 0
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -253,7 +258,7 @@ def step_world(tables):
             if wide:
                 load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
                 warm_start_bundles(wide_f, wide_i, bundles, sb)
-                warm_start_listed(cf, ci, order, starts[1], sb)
+                warm_start_listed(cf, ci, overflow, n_over, sb)
             elif nc > 0:
                 warm_start_contacts(cf, ci, nc, sb)
             t = _lap(stats, ST_WARM, t, prof)
@@ -263,11 +268,12 @@ def step_world(tables):
                 if nk > 0:
                     change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
                 if wide:
-                    change = max(change, solve_bundles(wide_f, wide_i, bundles, sb, h, True, contact_soft,
-                                                       params_f[P_MAX_PUSH], wide_change))
-                if nc > 0:
-                    change = max(change, solve_contact_pass(cf, ci, order, starts, regions, sb, h, True,
-                                                            contact_soft, params_f[P_MAX_PUSH], region_change))
+                    change = max(change, solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow,
+                                                           part_overflow, regions, sb, h, True, contact_soft,
+                                                           params_f[P_MAX_PUSH], wide_change, region_change))
+                elif nc > 0:
+                    change = max(change, solve_contacts(cf, ci, order, 0, nc, sb, h, True, contact_soft,
+                                                        params_f[P_MAX_PUSH]))
                 if change < params_f[P_TOLERANCE]:
                     break
         elif solver == PENALTY:
@@ -300,15 +306,15 @@ def step_world(tables):
                 solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
             if wide:
                 load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
-                solve_bundles(wide_f, wide_i, bundles, sb, h, False, contact_soft, params_f[P_MAX_PUSH], wide_change)
-            if solver == SEQUENTIAL_IMPULSE and nc > 0:
-                solve_contact_pass(cf, ci, order, starts, regions, sb, h, False, contact_soft, params_f[P_MAX_PUSH],
-                                   region_change)
+                solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h,
+                                  False, contact_soft, params_f[P_MAX_PUSH], wide_change, region_change)
+            elif solver == SEQUENTIAL_IMPULSE and nc > 0:
+                solve_contacts(cf, ci, order, 0, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
             if constrained:
                 store_velocities(bf, bi, nb, sb)
         if wide:
             accumulate_bundles(wide_f, bundles)
-            accumulate_listed(cf, order, starts[1])
+            accumulate_listed(cf, overflow, n_over)
         elif nc > 0:
             accumulate_applied(cf, ci, nc)
         for c in range(nk):

@@ -74,12 +74,15 @@ FIELDS = TABLE_FIELDS + (
     ("contact_order", _I1),   # the contacts in the order of the step's passes
     ("region_starts", _I1),   # where each region's contacts start in that order
     ("region_change", _F1),   # largest velocity change of each region in a pass (m/s)
+    ("part_bundles", _I1),    # where each region's bundles (then the boundary's) start
+    ("overflow", _I1),        # the contacts no bundle takes, region by region
+    ("part_overflow", _I1),   # where each region's overflow starts
     ("wide_f", _F1),          # the contact bundles (dynamics/contact_bundles.py)
     ("wide_i", _I1),          # their body rows and contacts
     ("colour_used", _I1),     # colours taken at each solver-body row (bit masks)
     ("colour_of", _I1),       # colour of each contact
     ("colour_fill", _I1),     # contacts (then next slot) of each colour
-    ("wide_change", _F1),     # largest velocity change of each lane in a pass (m/s)
+    ("wide_change", _F1),     # largest velocity change of each lane of each region in a pass (m/s)
     ("pose_pos", _F2),        # narrow phase: world position of each shape row (m)
     ("pose_rot", types.float64[:, :, ::1]),   # and its rotation matrix
     ("pose_state", types.int8[::1]),          # which of the two each row holds (pipeline/collide.py)
@@ -95,7 +98,7 @@ if numba.config.DISABLE_JIT:          # kernels run as Python: the record is a p
 
 @njit
 def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
-          params_f, params_i, stats, nb, nk):
+          params_f, params_i, stats, nb, nk, threads):
     t = _new_record(STEP_TABLES)
     t.bf, t.bi, t.sf, t.si, t.kf, t.ki, t.ws = bf, bi, sf, si, kf, ki, ws
     t.geom_f, t.geom_i, t.aabbs, t.bp_f, t.bp_i, t.pairs = geom_f, geom_i, aabbs, bp_f, bp_i, pairs
@@ -119,20 +122,25 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.contact_order = np.zeros(contacts, dtype=np.int64)
     t.region_starts = np.zeros(MAX_THREADS + 2, dtype=np.int64)
     t.region_change = np.zeros(MAX_THREADS)
-    t.wide_f = np.zeros(bundle_capacity(contacts) * BUNDLE_FIELDS * LANES)
-    t.wide_i = np.zeros(bundle_capacity(contacts) * BUNDLE_ROWS * LANES, dtype=np.int64)
+    t.part_bundles = np.zeros(MAX_THREADS + 2, dtype=np.int64)
+    t.overflow = np.zeros(contacts, dtype=np.int64)
+    t.part_overflow = np.zeros(MAX_THREADS + 2, dtype=np.int64)
+    bundles = bundle_capacity(contacts, threads + 1)    # the regions and the boundary
+    t.wide_f = np.zeros(bundles * BUNDLE_FIELDS * LANES)
+    t.wide_i = np.zeros(bundles * BUNDLE_ROWS * LANES, dtype=np.int64)
     t.colour_used = np.zeros(n_slots + 2, dtype=np.int64)
     t.colour_of = np.zeros(contacts, dtype=np.int64)
     t.colour_fill = np.zeros(MAX_COLOURS + 1, dtype=np.int64)
-    t.wide_change = np.zeros(LANES)
+    t.wide_change = np.zeros((MAX_THREADS + 1) * LANES)
     t.pose_pos, t.pose_rot, t.pose_state, t.pose_quat = pose_tables(sf.shape[0])
     return t
 
 
 def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
-                pcf, pci, params_f, params_i, stats, nb, nk):
+                pcf, pci, params_f, params_i, stats, nb, nk, threads=1):
     """A record of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
-    constraints, and fresh scratch for as many body and constraint slots as the tables have rows.  Every
+    constraints, and fresh scratch for as many body and constraint slots as the tables have rows, and
+    for contact passes on up to ``threads`` threads.  Every
     table must be C-contiguous with the dtype and dimensions of ``TABLE_FIELDS``."""
     arrays = locals()
     for name, typ in TABLE_FIELDS:
@@ -141,7 +149,7 @@ def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
                 and a.flags.c_contiguous):
             raise TypeError(f"{name} must be a C-contiguous {typ.dtype} array of {typ.ndim} dimensions")
     return _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
-                 pcf, pci, params_f, params_i, stats, int(nb), int(nk))
+                 pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)))
 
 
 @intrinsic
