@@ -305,7 +305,8 @@ class World:
         at once (dynamics/contact_regions.py): deterministic, the same bit for bit on every run, but not
         bit-identical to the serial solver, as contacts are visited in another order.  Needs Numba's
         OpenMP or TBB threading layer to pay (a thread launch costs ~1 us there, ~80 us with its
-        fallback "workqueue"); ``NUMBA_NUM_THREADS`` caps the threads actually used.
+        fallback "workqueue"); ``NUMBA_NUM_THREADS`` caps the threads actually used.  On a 2-vCPU machine
+        the serial wide solver is as fast (docs/architecture.md, "Threads").
         """
         return self._threads
 

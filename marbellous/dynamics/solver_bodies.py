@@ -142,6 +142,9 @@ def _angular_term(sb, i, r, d):
     cx = r[1] * d[2] - r[2] * d[1]
     cy = r[2] * d[0] - r[0] * d[2]
     cz = r[0] * d[1] - r[1] * d[0]
+    iso = sb[i, SB_ISO]
+    if iso >= 0.0:       # I_w^-1 = iso E: the products with the zero entries left out (same rounding)
+        return cx * (iso * cx) + cy * (iso * cy) + cz * (iso * cz)
     return (cx * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz) + cy * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz)
             + cz * (sb[i, 7] * cx + sb[i, 8] * cy + sb[i, 9] * cz))
 
