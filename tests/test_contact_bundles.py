@@ -121,6 +121,17 @@ def test_a_colour_shares_no_movable_body_and_every_contact_has_one_place(pile):
         assert len(movable) == len(set(movable))                # no movable body twice in a colour
 
 
+@njit
+def _bundled_in_step(t):
+    """How many bundles and overflow contacts the last step's passes had (test-only reader of the record)."""
+    return t.part_bundles[1], t.part_overflow[1]
+
+
+def test_the_serial_step_solves_a_pile_in_bundles(pile):
+    bundles, n_over = _bundled_in_step(pile._tables)
+    assert n_over == 0 and pile._npc <= bundles * LANES < pile._npc + LANES * MAX_COLOURS
+
+
 def _compare_passes(world):
     """Warm start, three solve passes and a relax pass, wide and scalar in the same contact order."""
     b = Bundled(world)

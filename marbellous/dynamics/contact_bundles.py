@@ -35,7 +35,8 @@ from .solver_bodies import SB_DP, SB_INV_MASS, SB_ISO, SB_V
 
 #: most colours; contacts that find none free go to the overflow (one bit per colour in an int64 mask)
 MAX_COLOURS = 63
-#: fewest contacts for which the step solves in bundles (below, the scalar pass is as fast)
+#: fewest contacts for which the step solves in bundles (below, the scalar pass is as fast); the bundle
+#: tables come with the step's record once the contact table has grown past its first 64 rows
 MIN_BUNDLED_CONTACTS = 64
 
 # wide_f fields (one block of LANES values each)

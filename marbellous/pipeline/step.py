@@ -24,9 +24,9 @@
 import numpy as np
 
 from .._jit import borrow, njit, njit_inline
+from .._wide import LANES
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
-from .._wide import LANES
 from ..dynamics.contact_bundles import (BUNDLE_ROWS, MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
@@ -217,11 +217,15 @@ def step_world(tables):
     solver = params_i[P_SOLVER]
     # Sequential impulses solve many contacts in coloured bundles, LANES at a time, in regions on several
     # threads (dynamics/contact_regions.py); the bundles' overflow, fewer contacts and the other schemes
-    # go through the scalar pass.
-    wide = solver == SEQUENTIAL_IMPULSE and nc >= MIN_BUNDLED_CONTACTS
-    threads = params_i[P_THREADS] if wide else 1
-    if bundle_capacity(nc, threads + 1) * BUNDLE_ROWS * LANES > wide_i.shape[0]:
-        threads = 1                  # (the record was sized for fewer threads: one fits always)
+    # go through the scalar pass.  (The record has bundle tables once the contact table has grown past
+    # its first rows, and sized for the world's threads: pipeline/tables.py.)
+    wide = (solver == SEQUENTIAL_IMPULSE and nc >= MIN_BUNDLED_CONTACTS
+            and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
+    threads = 1
+    if wide:
+        threads = params_i[P_THREADS]
+        if bundle_capacity(nc, threads + 1) * BUNDLE_ROWS * LANES > wide_i.shape[0]:
+            threads = 1
     regions = 1
     bundles = 0
     if nc > 0:

@@ -23,7 +23,8 @@ from numba.experimental import structref
 
 from .._jit import njit
 from .._wide import LANES
-from ..dynamics.contact_bundles import BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, bundle_capacity
+from ..dynamics.contact_bundles import (BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS,
+                                        bundle_capacity)
 from ..dynamics.integrators import SCRATCH_VECS
 from ..dynamics.solver_bodies import SB_COLS
 from .collide import pose_tables
@@ -125,7 +126,9 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.part_bundles = np.zeros(MAX_THREADS + 2, dtype=np.int64)
     t.overflow = np.zeros(contacts, dtype=np.int64)
     t.part_overflow = np.zeros(MAX_THREADS + 2, dtype=np.int64)
-    bundles = bundle_capacity(contacts, threads + 1)    # the regions and the boundary
+    # bundles for the regions and the boundary; none while the contact table has its first rows only, as
+    # the step then solves its few contacts by the scalar pass (a small world keeps ~0.5 MB)
+    bundles = bundle_capacity(contacts, threads + 1) if contacts > MIN_BUNDLED_CONTACTS else 0
     t.wide_f = np.zeros(bundles * BUNDLE_FIELDS * LANES)
     t.wide_i = np.zeros(bundles * BUNDLE_ROWS * LANES, dtype=np.int64)
     t.colour_used = np.zeros(n_slots + 2, dtype=np.int64)
