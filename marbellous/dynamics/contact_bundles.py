@@ -92,14 +92,14 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
     ``(bundles, overflow count)`` written.  Scratch: ``used`` (``sb.shape[0]`` ints, colour masks of the
     bodies), ``colour_of`` (one int per contact), ``colour_fill`` (``MAX_COLOURS + 1`` ints)."""
     pad, sink = sb.shape[0] - 2, sb.shape[0] - 1
-    for k in range(first, last):
-        used[ci[order[k], C_BODY_A]] = 0
-        used[ci[order[k], C_BODY_B]] = 0
+    for position in range(first, last):
+        used[ci[order[position], C_BODY_A]] = 0
+        used[ci[order[position], C_BODY_B]] = 0
     for k in range(MAX_COLOURS + 1):
         colour_fill[k] = 0
     n_over = 0
-    for k in range(first, last):
-        c = order[k]
+    for position in range(first, last):
+        c = order[position]
         colour = MAX_COLOURS                         # the overflow, unless a colour is free
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             colour = -1                              # sensors are reported, not solved
@@ -136,8 +136,8 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         wide_i[i0 + WI_WRITE_B * LANES] = sink
         wide_i[i0 + WI_CONTACT * LANES] = -1
         wide_i[i0 + WI_TURNING * LANES] = 0
-    for k in range(first, last):
-        c = order[k]
+    for position in range(first, last):
+        c = order[position]
         colour = colour_of[c]
         if colour < 0 or colour == MAX_COLOURS:
             continue
