@@ -37,7 +37,7 @@ from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_
 from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from .triangle_ray import ray_triangle
 from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C, sphere_triangle
-from .vec3 import cross, dot, sub
+from .vec3 import cross, dot, matrix, sub
 
 #: Grid offsets of the corners of triangle k of a cell: ``CORNERS[k][c] = (di, dj)``.
 CORNERS = (((0, 0), (1, 1), (1, 0)), ((0, 0), (0, 1), (1, 1)))
@@ -139,6 +139,7 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
     scratch = np.empty((MAX_ROWS, N_COLS))
     seen = np.empty((SEEN_ROWS, 7))
     n_seen = 0
+    m_b = matrix(rot_b)
     for i in range(i0, i1 + 1):
         for j in range(j0, j1 + 1):
             h00 = geom_f[off_f_b + i * nz + j]
@@ -175,7 +176,7 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                         if not heightfield_vertex_is_true(params_b, geom_f, off_f_b, i + corner[0],
                                                           j + corner[1], p):
                             continue
-                    n, n_seen = emit_unique(scratch, r, pos_b, rot_b, t, seen, n_seen, out_f, out_i, n)
+                    n, n_seen = emit_unique(scratch, r, pos_b, m_b, t, seen, n_seen, out_f, out_i, n)
     return n
 
 

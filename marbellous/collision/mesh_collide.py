@@ -23,9 +23,10 @@ from .aabb import boxes_overlap, sphere_misses_box
 from .bvh_static import bvh_candidates
 from .grid2d import grid_candidates
 from . import shape_types as st
-from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes, write_row
-from .triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
+from .triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from .triangle_convex import convex_local_bounds, convex_triangle, emit_contact, emit_unique, to_static_frame
 from .triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C, sphere_triangle
+from .vec3 import mat_to_local, matrix
 
 
 @njit_inline
@@ -64,19 +65,46 @@ def mesh_candidates(params_b, geom_f, geom_i, off_f, off_i, lo, hi):
 
 
 @njit_inline
-def keep_row(geom_f, geom_i, off_f, off_i, t, scratch, r):
-    """Voronoi test on the whole mesh of scratch row ``r`` (a contact with triangle ``t``): edge rows
-    against the neighbour's direction, vertex rows against the vertex's ring; others pass."""
-    f = int(scratch[r, 7])
-    p = (scratch[r, 8], scratch[r, 9], scratch[r, 10])
-    if EDGE_AB <= f <= EDGE_CA:
-        return edge_is_true(p, (scratch[r, 0], scratch[r, 1], scratch[r, 2]),
-                            ml.neighbour_direction(geom_f, geom_i, off_f, off_i, t, f - EDGE_AB))
-    if VERTEX_A <= f <= VERTEX_C:
+def feature_is_true(geom_f, geom_i, off_f, off_i, t, feature, p, q):
+    """Voronoi test on the whole mesh of a contact on ``feature`` of triangle ``t`` at point ``q`` for
+    query point ``p``: edge contacts against the neighbour's direction, vertex contacts against the
+    vertex's ring; face contacts pass."""
+    if EDGE_AB <= feature <= EDGE_CA:
+        return edge_is_true(p, q, ml.neighbour_direction(geom_f, geom_i, off_f, off_i, t, feature - EDGE_AB))
+    if VERTEX_A <= feature <= VERTEX_C:
         ia, ib, ic = ml.corners(geom_f, geom_i, off_f, off_i, t)
-        v = ia if f == VERTEX_A else (ib if f == VERTEX_B else ic)
+        v = ia if feature == VERTEX_A else (ib if feature == VERTEX_B else ic)
         return vertex_is_true(geom_f, geom_i, off_f, off_i, v, p)
     return True
+
+
+@njit
+def collide_sphere_mesh(centre, radius, pos_b, m_b, params_b, geom_f, geom_i, off_f_b, off_i_b, prediction,
+                        out_f, out_i, n):
+    """Contacts of a sphere (``centre`` 3-tuple in world coordinates, m; ``radius`` m) with the static
+    mesh b (``pos_b`` 3-tuple, m; ``m_b`` its rotation as a row-major 9-tuple; ``params_b`` its kernel
+    record, its slices of the blobs at ``off_f_b``/``off_i_b``).  Arguments otherwise, and the result, as
+    :func:`collide_convex_mesh`, whose sphere case this is.  The pose comes by value, so the narrow phase
+    calls it with the shapes' poses in registers.
+    """
+    c = mat_to_local(m_b, (centre[0] - pos_b[0], centre[1] - pos_b[1], centre[2] - pos_b[2]))
+    lo = (c[0] - radius - prediction, c[1] - radius - prediction, c[2] - radius - prediction)
+    hi = (c[0] + radius + prediction, c[1] + radius + prediction, c[2] + radius + prediction)
+    cand, first, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
+    seen = np.empty((SEEN_ROWS, 7))
+    n_seen = 0
+    reach = radius + prediction
+    for j in range(first, first + count):
+        t = cand[j]
+        a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
+        if sphere_misses_box(c, reach, a, b, cc):
+            continue                                  # too far
+        if nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0:
+            continue                                  # degenerate
+        feature, q, normal, depth = sphere_triangle(c, radius, a, b, cc, nrm, prediction)
+        if feature >= 0 and feature_is_true(geom_f, geom_i, off_f_b, off_i_b, t, feature, c, q):
+            n, n_seen = emit_contact(q, normal, depth, feature, pos_b, m_b, t, seen, n_seen, out_f, out_i, n)
+    return n
 
 
 @njit
@@ -89,6 +117,11 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     ``prediction`` (m) speculative distance.  Appends rows to ``out_f``/``out_i`` (the buffer
     convention of docs/architecture.md: normal from a to b) and returns the new count.
     """
+    pb = (pos_b[0], pos_b[1], pos_b[2])
+    m_b = matrix(rot_b)
+    if type_a == st.SPHERE:
+        return collide_sphere_mesh((pos_a[0], pos_a[1], pos_a[2]), params_a[0], pb, m_b, params_b, geom_f, geom_i,
+                                   off_f_b, off_i_b, prediction, out_f, out_i, n)
     c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
     cand, first, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
@@ -96,31 +129,22 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     seen = np.empty((SEEN_ROWS, 7))
     n_seen = 0
     zero = (0.0, 0.0, 0.0)
-    reach = params_a[0] + prediction
     for j in range(first, first + count):
         t = cand[j]
         a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
         if nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0:
             continue                                  # degenerate
-        if type_a == st.SPHERE:
-            if sphere_misses_box(c, reach, a, b, cc):
-                continue                              # too far
-            # convex_triangle's sphere case, by values: a miss costs no call that takes arrays (whose
-            # references Numba would count)
-            feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)
-            if feature < 0:
-                continue
-            k = write_row(scratch, 0, q, normal, depth, feature, c)
-        else:
-            if not boxes_overlap(a, b, cc, lo, hi):
-                continue                              # too far
-            m0 = m1 = m2 = zero
-            if type_a == st.BOX:
-                m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
-                m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
-                m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
-            k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
+        if not boxes_overlap(a, b, cc, lo, hi):
+            continue                                  # too far
+        m0 = m1 = m2 = zero
+        if type_a == st.BOX:
+            m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
+            m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
+            m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
+        k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
         for r in range(k):
-            if keep_row(geom_f, geom_i, off_f_b, off_i_b, t, scratch, r):
-                n, n_seen = emit_unique(scratch, r, pos_b, rot_b, t, seen, n_seen, out_f, out_i, n)
+            f = int(scratch[r, 7])
+            if feature_is_true(geom_f, geom_i, off_f_b, off_i_b, t, f, (scratch[r, 8], scratch[r, 9], scratch[r, 10]),
+                               (scratch[r, 0], scratch[r, 1], scratch[r, 2])):
+                n, n_seen = emit_unique(scratch, r, pb, m_b, t, seen, n_seen, out_f, out_i, n)
     return n

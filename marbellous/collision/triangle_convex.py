@@ -2,8 +2,8 @@
 
 Everything is in the static shape's local frame.  Candidate contacts go to ``scratch`` rows (layout
 in ``triangle_contact``).  The Voronoi tests of edge and vertex rows on the whole surface are left
-to the caller (``keep_row``), which fetches the neighbour data only for those rows; the box uses the
-neighbour directions in its axis test and needs them up front.
+to the caller (``mesh_collide.feature_is_true``), which fetches the neighbour data only for those
+rows; the box uses the neighbour directions in its axis test and needs them up front.
 """
 import numpy as np
 
@@ -14,7 +14,7 @@ from .triangle_box import box_triangle
 from .triangle_capsule import capsule_triangle
 from .triangle_contact import FEATURE_STRIDE, write_row
 from .triangle_sphere import sphere_triangle
-from .vec3 import column, madd, to_local, to_world
+from .vec3 import column, madd, mat_to_world, to_local
 
 
 @njit
@@ -68,34 +68,33 @@ def to_static_frame(pos_a, rot_a, pos_b, rot_b):
 
 
 @njit_inline
-def emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n):
-    """Append scratch row ``k`` (static frame) to the contact buffer in world coordinates with
-    feature id ``triangle * FEATURE_STRIDE + code``; returns the new count."""
-    q = to_world(rot_b, (scratch[k, 0], scratch[k, 1], scratch[k, 2]))
-    normal = to_world(rot_b, (scratch[k, 3], scratch[k, 4], scratch[k, 5]))
-    depth = scratch[k, 6]
-    p_on_a = (q[0] + pos_b[0] + normal[0] * depth, q[1] + pos_b[1] + normal[1] * depth,
-              q[2] + pos_b[2] + normal[2] * depth)
-    return add_contact(out_f, out_i, n, p_on_a, normal, depth,
-                       triangle * FEATURE_STRIDE + int(scratch[k, 7]))
+def emit_contact(q, normal, depth, code, pos_b, m_b, triangle, seen, n_seen, out_f, out_i, n):
+    """Append a contact found in the static frame (``q`` the point on the triangle, ``normal`` unit from
+    the convex shape to the triangle, ``depth`` m, ``code`` the feature code) to the contact buffer, in
+    world coordinates (``pos_b`` the static shape's position, ``m_b`` its rotation as a row-major
+    9-tuple) with feature id ``triangle * FEATURE_STRIDE + code`` -- unless it repeats (bit for bit:
+    point, normal, depth) a contact already emitted in this query, as happens where triangles of one
+    plane meet right under a sphere.
+
+    ``seen`` (m, 7) remembers the first ``m`` emitted contacts; returns ``(n, n_seen)``.
+    """
+    for s in range(min(n_seen, seen.shape[0])):
+        if ((seen[s, 0] == q[0]) & (seen[s, 1] == q[1]) & (seen[s, 2] == q[2]) & (seen[s, 3] == normal[0])
+                & (seen[s, 4] == normal[1]) & (seen[s, 5] == normal[2]) & (seen[s, 6] == depth)):
+            return n, n_seen
+    if n_seen < seen.shape[0]:
+        for k in range(3):
+            seen[n_seen, k] = q[k]
+            seen[n_seen, 3 + k] = normal[k]
+        seen[n_seen, 6] = depth
+    qw = mat_to_world(m_b, q)
+    nw = mat_to_world(m_b, normal)
+    p_on_a = (qw[0] + pos_b[0] + nw[0] * depth, qw[1] + pos_b[1] + nw[1] * depth, qw[2] + pos_b[2] + nw[2] * depth)
+    return add_contact(out_f, out_i, n, p_on_a, nw, depth, triangle * FEATURE_STRIDE + code), n_seen + 1
 
 
 @njit_inline
-def emit_unique(scratch, k, pos_b, rot_b, triangle, seen, n_seen, out_f, out_i, n):
-    """``emit_row``, unless row ``k`` repeats (bit for bit: point, normal, depth) a contact already
-    emitted in this query, as happens where triangles of one plane meet right under a sphere.
-
-    ``seen`` (m, 7) remembers the first ``m`` emitted rows; returns ``(n, n_seen)``.
-    """
-    for s in range(min(n_seen, seen.shape[0])):
-        same = True
-        for col in range(7):
-            if seen[s, col] != scratch[k, col]:
-                same = False
-                break
-        if same:
-            return n, n_seen
-    if n_seen < seen.shape[0]:
-        for col in range(7):
-            seen[n_seen, col] = scratch[k, col]
-    return emit_row(scratch, k, pos_b, rot_b, triangle, out_f, out_i, n), n_seen + 1
+def emit_unique(scratch, k, pos_b, m_b, triangle, seen, n_seen, out_f, out_i, n):
+    """:func:`emit_contact` of scratch row ``k`` (layout in ``triangle_contact``)."""
+    return emit_contact((scratch[k, 0], scratch[k, 1], scratch[k, 2]), (scratch[k, 3], scratch[k, 4], scratch[k, 5]),
+                        scratch[k, 6], int(scratch[k, 7]), pos_b, m_b, triangle, seen, n_seen, out_f, out_i, n)

@@ -15,7 +15,7 @@ reads a sphere's rotation).  A sphere against a sphere, capsule, box or plane, n
 pile, runs its pair test with every pose in registers and the row is written here: a call passes each
 array as a struct of 7 to 9 words, and counts its references unless the array is borrowed
 (``_jit.borrow``, as the step's are), about as costly as the pair test itself, so the hot loop hands
-none.  Other pairs go through
+none.  A sphere against a mesh (the marble) passes both poses by value too.  Other pairs go through
 ``collide_pair``.  Contacts, their order and their bits are those of posing both shapes of every pair
 and calling ``collide_pair`` (tests/test_narrow_phase.py).
 """
@@ -27,7 +27,8 @@ from .._jit import njit, njit_inline
 from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.contact_output import contact_point
-from ..collision.dispatch import collide_pair, sphere_primitive
+from ..collision.dispatch import collide_pair, flip_normals, sphere_primitive
+from ..collision.mesh_collide import collide_sphere_mesh
 from ..collision.shape_types import N_SHAPE_PARAMS
 from ..layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                       F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
@@ -88,6 +89,17 @@ def at_body_origin(sf, s):
     posed by its body's position alone.  Straight-line code (``&``, not ``and``), so a caller's
     arrays are not reference counted."""
     return (sf[s, S_LOCAL_POS] == 0.0) & (sf[s, S_LOCAL_POS + 1] == 0.0) & (sf[s, S_LOCAL_POS + 2] == 0.0)
+
+
+@njit_inline
+def _sphere_centre(bf, sf, si, s, b, q, pos_t, rot_t, state):
+    """World centre (3-tuple, m) of sphere row ``s`` on body row ``b``: its body's position when the sphere
+    is centred on it, else its position in the pose tables, posed there once."""
+    if at_body_origin(sf, s):
+        return (bf[b, POS], bf[b, POS + 1], bf[b, POS + 2])
+    if state[s] == POSE_NONE:
+        pose_shape(bf, sf, si, s, b, False, q, pos_t, rot_t, state)
+    return (pos_t[s, 0], pos_t[s, 1], pos_t[s, 2])
 
 
 @njit
@@ -180,11 +192,7 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                     # Poses: a centred sphere is at its body's centre; any other shape's pose is
                     # computed once, into the tables (inline here: a call per pair with the arrays
                     # would pass them all, which costs more than the pair test).
-                    c1 = (bf[b1, POS], bf[b1, POS + 1], bf[b1, POS + 2])
-                    if not at_body_origin(sf, s1):
-                        if state[s1] == POSE_NONE:
-                            pose_shape(bf, sf, si, s1, b1, False, q, pos_t, rot_t, state)
-                        c1 = (pos_t[s1, 0], pos_t[s1, 1], pos_t[s1, 2])
+                    c1 = _sphere_centre(bf, sf, si, s1, b1, q, pos_t, rot_t, state)
                     c2 = (bf[b2, POS], bf[b2, POS + 1], bf[b2, POS + 2])
                     if t2 != st.SPHERE or not at_body_origin(sf, s2):
                         if state[s2] == POSE_NONE:
@@ -205,6 +213,19 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                             raw_f[n, 3 + k] = side * normal[k]
                         raw_f[n, 6] = depth
                         raw_i[n] = 0
+                elif (ta == st.SPHERE and tb == st.MESH) or (tb == st.SPHERE and ta == st.MESH):
+                    # Fast path: a sphere against a mesh (the marble on its level), both poses by value.
+                    flip = ta != st.SPHERE
+                    s1, b1, s2, b2 = (sb, b, sa, a) if flip else (sa, a, sb, b)
+                    c1 = _sphere_centre(bf, sf, si, s1, b1, q, pos_t, rot_t, state)
+                    if state[s2] != POSE_FULL:
+                        pose_shape(bf, sf, si, s2, b2, True, q, pos_t, rot_t, state)
+                    m = collide_sphere_mesh(c1, sf[s1, S_PARAMS], (pos_t[s2, 0], pos_t[s2, 1], pos_t[s2, 2]),
+                                            _row_matrix(rot_t, s2), sf[s2, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                                            geom_f, geom_i, si[s2, S_OFF_F], si[s2, S_OFF_I], prediction, raw_f,
+                                            raw_i, n)
+                    if flip:
+                        flip_normals(raw_f, n, m)
                 else:
                     if state[sa] != POSE_FULL:
                         pose_shape(bf, sf, si, sa, a, True, q, pos_t, rot_t, state)
