@@ -22,7 +22,7 @@ which keeps pushing the sphere out to the front while its centre is up to ``r`` 
 """
 import math
 
-from .._jit import njit
+from .._jit import njit_inline
 from .vec3 import dot, madd, sub
 
 #: Feature codes of a triangle (the low part of a contact's feature id).
@@ -35,7 +35,7 @@ VERTEX_B = 5
 VERTEX_C = 6
 
 
-@njit
+@njit_inline
 def closest_feature(p, a, b, c, n):
     """The triangle feature whose Voronoi region holds ``p``, and the closest point on it.
 
@@ -71,7 +71,7 @@ def closest_feature(p, a, b, c, n):
     return FACE, madd(p, -dot(n, ap), n)    # inside the prism: the face plane is the axis
 
 
-@njit
+@njit_inline
 def sphere_triangle(p, r, a, b, c, n, prediction):
     """Sphere (centre ``p``, radius ``r``, m) against triangle ``abc`` with unit normal ``n``.
 
