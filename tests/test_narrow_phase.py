@@ -134,6 +134,8 @@ def mixed_world(seed, bodies=24):
                           angular_velocity=rng.normal(0.0, 2.0, 3), sensor=k % 11 == 5)
         if k % 7 == 3:
             w._bi[body._index, L.FLAGS] |= L.F_SLEEPING
+    # a second mesh after the bodies: its pairs have the mesh second (the first mesh's have it first)
+    w.add_static(bump_mesh(rng), position=(0.0, 0.3, 0.0))
     return w
 
 
@@ -173,6 +175,7 @@ def test_narrow_phase_matches_the_plain_loop_bit_for_bit(seed):
 def test_mixed_world_exercises_every_kind_of_pair():
     """The random scenes above really contain the pairs the fast paths and the general path serve."""
     kinds = set()
+    ordered = set()
     for seed in range(6):
         w = mixed_world(seed)
         pairs, sweep = collide_input(w)
@@ -181,6 +184,9 @@ def test_mixed_world_exercises_every_kind_of_pair():
             ta = int(w._si[ci[c, L.C_SHAPE_A], L.S_TYPE])
             tb = int(w._si[ci[c, L.C_SHAPE_B], L.S_TYPE])
             kinds.add((min(ta, tb), max(ta, tb)))
+            ordered.add((ta, tb))
+    # the sphere-mesh fast path in both orders (the mesh's body first, and second)
+    assert (st.MESH, st.SPHERE) in ordered and (st.SPHERE, st.MESH) in ordered
     for pair in [(st.SPHERE, st.SPHERE), (st.SPHERE, st.BOX), (st.SPHERE, st.CAPSULE), (st.SPHERE, st.PLANE),
                  (st.SPHERE, st.MESH), (st.BOX, st.BOX), (st.BOX, st.PLANE), (st.CAPSULE, st.BOX),
                  (st.BOX, st.MESH)]:
