@@ -147,11 +147,11 @@ SCENES = {
     "pile_1k": Scene("sphere pile 1k", _pile(1000, 200), 600, 60, 1, pile_sanity),
     "pile_8k": Scene("sphere pile 8k", _pile(8000, 500), 600, 30, 1, pile_sanity),
     "pyramid_20": Scene("box pyramid base 20", _pyramid, 600, 60, 3, stack_sanity),
-    "tower_20": Scene("box tower 20", _tower, 600, 60, 3, stack_sanity),
-    "marble_terrain": Scene("marble on 131k-tri mesh", _marble, 600, 60, 3, marble_sanity),
+    "tower_20": Scene("box tower 20", _tower, 600, 60, 5, stack_sanity),
+    "marble_terrain": Scene("marble on 131k-tri mesh", _marble, 600, 60, 7, marble_sanity),
     "mesh_queries": Scene("sphere-mesh queries", _queries, 0, 0, 1, query_sanity, world=False),
     "free_10k": Scene("10k free bodies", _free(10000, 1000), 100, 20, 1, free_sanity),
-    "one_body": Scene("one-body step", _free(1, 1), 20000, 2000, 3, free_sanity),
+    "one_body": Scene("one-body step", _free(1, 1), 20000, 2000, 5, free_sanity),
 }
 
 
