@@ -142,9 +142,9 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
 def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
                 pcf, pci, params_f, params_i, stats, nb, nk, threads=1):
     """A record of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
-    constraints, and fresh scratch for as many body and constraint slots as the tables have rows, and
-    for contact passes on up to ``threads`` threads.  Every
-    table must be C-contiguous with the dtype and dimensions of ``TABLE_FIELDS``."""
+    constraints, and fresh scratch for as many body and constraint slots as the tables have rows, and for
+    contact passes on up to ``threads`` threads.  Every table must be C-contiguous with the dtype and
+    dimensions of ``TABLE_FIELDS``."""
     arrays = locals()
     for name, typ in TABLE_FIELDS:
         a = arrays[name]
