@@ -26,10 +26,10 @@ import time
 
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 from marbellous.collision import shape_types as st
-from marbellous.collision.mesh_collide import collide_convex_mesh
-from marbellous.mesh import TriangleMesh
+from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
+from marbellous.shapes.mesh import TriangleMesh
 
 SIZES = {"10k": 71, "131k": 256, "1m": 708}      # quads per side: 2 n^2 triangles
 SPACING = 0.5

@@ -20,11 +20,11 @@ import time
 
 import numpy as np
 
-from marbellous import layout as L
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 from marbellous.collision.broadphase import find_pairs
 from marbellous.pipeline import step as S
 from marbellous.pipeline.collide import narrow_phase, pose_tables, update_aabbs
+from marbellous.state import layout as L
 
 from .machine import describe
 from .scenes import DT, SCENES, build_scene

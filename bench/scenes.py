@@ -17,7 +17,6 @@ Sanity measures, per scene (from positions sampled during the run, in Marbellous
 - every scene: the deepest overlap (m) among contact points at the sampled steps.
 """
 import functools
-import math
 from dataclasses import dataclass
 
 import numpy as np

@@ -10,16 +10,16 @@ SI units, y up, quaternions (w, x, y, z).  Start with :class:`World`::
 """
 from .body import Body
 from .constraints import Cable, Rod, Spring
-from .heightfield import HeightField
-from .mesh import TriangleMesh
 from .pipeline.profile import StepProfile
 from .query import ContactPoint, collide
-from .shapes import Box, Capsule, Plane, Shape, Sphere
+from .shapes.heightfield import HeightField
+from .shapes.mesh import TriangleMesh
+from .shapes.primitives import Box, Capsule, Plane, Shape, Sphere
 from .world import Contact, RayHit, Snapshot, World
 
 __version__ = "0.1.0"
 
-from .envs import register_envs  # noqa: E402  (after the API: the environment builds worlds)
+from .app.envs import register_envs  # noqa: E402  (after the API: the environment builds worlds)
 
 register_envs()
 

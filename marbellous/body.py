@@ -5,9 +5,9 @@ removed; the same ``Body`` object is handed back wherever the world refers to th
 """
 import numpy as np
 
-from . import layout as L
 from ._validate import as_quat, as_vec3
 from .math3d import quat_to_matrix_np
+from .state import layout as L
 
 
 class Body:

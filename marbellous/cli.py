@@ -10,8 +10,8 @@ an ``argparse`` parser, and a function that runs it and returns the exit code.  
 """
 import argparse
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,7 @@ def _parse_size(text):
 
 
 def _run_demo(args):
-    from .game.demo import run_demo
+    from .app.demo import run_demo
 
     if not args.seconds > 0:
         raise ValueError(f"--seconds must be > 0, got {args.seconds}")
@@ -75,7 +75,7 @@ def _play_arguments(p):
 
 
 def _run_play(args):
-    from .render.window import play
+    from .app.window import play
 
     return play(args.level, size=_parse_size(args.size), debug=args.debug, print_state=args.print_state)
 

@@ -1,7 +1,7 @@
 """Handles of constraints between bodies: ``Spring`` (Hooke), ``Rod`` (fixed distance), ``Cable`` (at most a length)."""
 import numpy as np
 
-from . import layout as L
+from .state import layout as L
 
 
 class Constraint:

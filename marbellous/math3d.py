@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from ._jit import njit
+from ._numba.jit import njit
 
 
 @njit

@@ -7,9 +7,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ._validate import as_quat, as_vec3
-from .collision.dispatch import collide_pair
+from .collision.pairs.dispatch import collide_pair
 from .math3d import quat_to_matrix_np
-from .shapes import Shape
+from .shapes.primitives import Shape
 
 
 class ContactPoint(NamedTuple):

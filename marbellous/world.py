@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import layout as L
+from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
 from ._validate import as_choice, as_float, as_int, as_quat, as_vec3
 from .body import Body
 from .collision.aabb import shape_aabb
@@ -16,11 +16,11 @@ from .dynamics.integrators import INTEGRATORS
 from .dynamics.rigid import inverse_inertia_np
 from .math3d import quat_to_matrix_np
 from .pipeline import step as S
-from .pipeline.clock import AVAILABLE as CLOCK_AVAILABLE
 from .pipeline.profile import step_profile
 from .pipeline.raycast import raycast_world
 from .pipeline.tables import MAX_THREADS, compiled_entry, pack_tables, record_address
-from .shapes import Shape
+from .shapes.primitives import Shape
+from .state import layout as L
 
 _STEP_OK = S.OK
 

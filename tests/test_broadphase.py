@@ -11,8 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marbellous.collision.broadphase import (
-    ALIVE, METHODS, STATIC, BroadPhase, find_pairs, make_state, state_sizes)
+from marbellous.collision.broadphase import ALIVE, METHODS, STATIC, BroadPhase, find_pairs, make_state, state_sizes
 
 ALL = list(METHODS)
 
@@ -122,7 +121,7 @@ SCENES = ["uniform", "clustered", "sparse", "huge", "many_big", "infinite", "pla
           "coincident", "mixed"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def scene_and_pairs(kind):
     """A 300-body scene of ``kind`` and its reference pairs (computed once for all methods)."""
     a, flags, groups, masks = scene(kind, 300, seed=sum(map(ord, kind)))
@@ -332,7 +331,7 @@ def test_bad_input_is_rejected_with_named_arguments():
 
 
 def test_find_pairs_is_callable_from_another_kernel():
-    from marbellous._jit import njit
+    from marbellous._numba.jit import njit
 
     @njit
     def step_like(method, aabbs, flags, groups, masks, n, state_f, state_i, out):

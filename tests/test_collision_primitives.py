@@ -12,8 +12,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as hst
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.box_box import collide_box_box
-from marbellous.collision.dispatch import collide_convex_pair
+from marbellous.collision.pairs.box_box import collide_box_box
+from marbellous.collision.pairs.dispatch import collide_convex_pair
 from marbellous.collision.tolerances import CLIP_SLOP, FACE_BIAS, PARALLEL_SIN
 
 # ----------------------------------------------------------------------------- references

@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from marbellous.heightfield import HeightField
 from marbellous.query import ContactPoint, collide
-from marbellous.shapes import Box, Capsule, Plane, Sphere
+from marbellous.shapes.heightfield import HeightField
+from marbellous.shapes.primitives import Box, Capsule, Plane, Sphere
 
 
 def test_contact_points_are_fresh_float_arrays():

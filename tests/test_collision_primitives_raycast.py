@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hst
+from test_collision_primitives import Shape, shapes
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.raycast_primitives import raycast_primitive
-from test_collision_primitives import Shape, quat, shapes
+from marbellous.collision.ray.raycast_primitives import raycast_primitive
 
 
 def cast(shape, origin, direction, max_distance=math.inf):

@@ -3,11 +3,20 @@ import math
 
 import numpy as np
 import pytest
+from mechanics import (
+    DOWNHILL,
+    HEAD_ON,
+    N_INCLINE,
+    ROLLING_ACCELERATION,
+    G,
+    acceleration_downhill,
+    box_on_incline,
+    head_on_collision,
+    sliding_acceleration,
+    sphere_on_incline,
+)
 
 import marbellous as mb
-
-from mechanics import (DOWNHILL, HEAD_ON, G, N_INCLINE, ROLLING_ACCELERATION, acceleration_downhill,
-                       box_on_incline, head_on_collision, sliding_acceleration, sphere_on_incline)
 
 SOLVERS = ["sequential_impulse", "lcp"]   # the penalty scheme has its own tests (test_penalty.py)
 

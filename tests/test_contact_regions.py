@@ -6,11 +6,11 @@ import pytest
 from numba import njit
 
 import marbellous as mb
-from marbellous import layout as L
-from marbellous._wide import LANES
+from marbellous._numba.wide import LANES
 from marbellous.dynamics.contact_bundles import BUNDLE_ROWS, WI_CONTACT, WI_WRITE_A, WI_WRITE_B
 from marbellous.dynamics.contact_regions import MIN_PARALLEL_CONTACTS
 from marbellous.scenes import sphere_pile
+from marbellous.state import layout as L
 
 DT = 1 / 60
 

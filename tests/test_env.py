@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from marbellous.envs import ENV_ID, register_envs
-from marbellous.envs.marble_env import MarbellousEnv
+from marbellous.app.envs import ENV_ID, register_envs
+from marbellous.app.envs.marble_env import MarbellousEnv
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -7,8 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marbellous.game.controls import (clip_to_disc, control_force, heading_axes, move_for_direction,
-                                      move_from_keys)
+from marbellous.game.controls import clip_to_disc, control_force, heading_axes, move_for_direction, move_from_keys
 from marbellous.game.course import CoursePath
 from marbellous.game.goal import BestTimes, format_time
 

@@ -1,11 +1,12 @@
 """The 2D grid over a level mesh: every candidate list holds every triangle whose x-z footprint meets the
 query box, ascending and without repeats, whether one grown cell answers or several cells are merged."""
 import numpy as np
-from hypothesis import given, settings, strategies as hst
+from hypothesis import given, settings
+from hypothesis import strategies as hst
 
-from marbellous.collision import mesh_layout as ml
-from marbellous.collision.grid2d import FAT_MARGIN, grid_candidates
-from marbellous.mesh import TriangleMesh
+from marbellous.collision.mesh import mesh_layout as ml
+from marbellous.collision.mesh.grid2d import FAT_MARGIN, grid_candidates
+from marbellous.shapes.mesh import TriangleMesh
 
 
 def footprint_meets_box(a, b, c, lo, hi):

@@ -1,13 +1,14 @@
 """Height fields: height/normal queries against analytic surfaces, agreement with collisions and rays."""
 import numpy as np
 import pytest
-from hypothesis import example, given, settings, strategies as hst
+from hypothesis import example, given, settings
+from hypothesis import strategies as hst
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.heightfield_collide import collide_convex_heightfield
-from marbellous.collision.mesh_collide import collide_convex_mesh
-from marbellous.heightfield import HeightField
-from marbellous.mesh import TriangleMesh
+from marbellous.collision.mesh.heightfield_collide import collide_convex_heightfield
+from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
+from marbellous.shapes.heightfield import HeightField
+from marbellous.shapes.mesh import TriangleMesh
 
 
 def run(kernel, shape, type_a, dims, pos, rot=np.eye(3), prediction=0.0, pos_b=np.zeros(3), rot_b=np.eye(3)):

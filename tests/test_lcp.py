@@ -7,13 +7,12 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from mechanics import DT, HEAD_ON, G, head_on_collision
 
 import marbellous as mb
 from marbellous.dynamics.lcp import assemble_matrix
 from marbellous.dynamics.lcp_solve import solve_bounded_lcp
 from marbellous.scenes import box_tower
-
-from mechanics import DT, HEAD_ON, G, head_on_collision
 
 
 # --- the bounded LCP solver ---------------------------------------------------------------------------

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from marbellous import mesh as mesh_module
 from marbellous.collision import shape_types as st
-from marbellous.mesh import TriangleMesh
+from marbellous.shapes import mesh as mesh_module
+from marbellous.shapes.mesh import TriangleMesh
 
 QUAD = np.array([[0, 0, 0], [0, 0, 1], [1, 0, 0], [1, 0, 1]], float)
 

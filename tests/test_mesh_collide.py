@@ -1,11 +1,12 @@
 """Convex shapes against triangle meshes: acceleration equivalence, placement, ray casts."""
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as hst
+from hypothesis import given, settings
+from hypothesis import strategies as hst
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.mesh_collide import collide_convex_mesh
-from marbellous.mesh import TriangleMesh
+from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
+from marbellous.shapes.mesh import TriangleMesh
 
 ACCELS = ("brute", "grid2d", "bvh")
 

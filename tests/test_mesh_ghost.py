@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.heightfield_collide import collide_convex_heightfield
-from marbellous.collision.mesh_collide import collide_convex_mesh
-from marbellous.heightfield import HeightField
-from marbellous.mesh import TriangleMesh
+from marbellous.collision.mesh.heightfield_collide import collide_convex_heightfield
+from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
+from marbellous.shapes.heightfield import HeightField
+from marbellous.shapes.mesh import TriangleMesh
 
 
 def run(kernel, shape, type_a, dims, pos, rot=np.eye(3), prediction=0.0):

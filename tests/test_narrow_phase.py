@@ -9,21 +9,22 @@ test by name, negate the normals of a swapped pair), and the two must agree bit 
 in the same order, with the same bodies, shapes, features and sensor flags.
 """
 import numpy as np
-from hypothesis import given, settings, strategies as hs
+from hypothesis import given, settings
+from hypothesis import strategies as hs
 
 import marbellous as mb
-from marbellous import layout as L
 from marbellous.collision import shape_types as st
-from marbellous.collision.box_box import collide_box_box
-from marbellous.collision.capsule_box import collide_capsule_box
-from marbellous.collision.capsule_capsule import collide_capsule_capsule
-from marbellous.collision.heightfield_collide import collide_convex_heightfield
-from marbellous.collision.mesh_collide import collide_convex_mesh
-from marbellous.collision.plane_pairs import collide_box_plane, collide_capsule_plane, collide_sphere_plane
-from marbellous.collision.sphere_box import collide_sphere_box
-from marbellous.collision.sphere_capsule import collide_sphere_capsule
-from marbellous.collision.sphere_sphere import collide_sphere_sphere
+from marbellous.collision.mesh.heightfield_collide import collide_convex_heightfield
+from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
+from marbellous.collision.pairs.box_box import collide_box_box
+from marbellous.collision.pairs.capsule_box import collide_capsule_box
+from marbellous.collision.pairs.capsule_capsule import collide_capsule_capsule
+from marbellous.collision.pairs.plane_pairs import collide_box_plane, collide_capsule_plane, collide_sphere_plane
+from marbellous.collision.pairs.sphere_box import collide_sphere_box
+from marbellous.collision.pairs.sphere_capsule import collide_sphere_capsule
+from marbellous.collision.pairs.sphere_sphere import collide_sphere_sphere
 from marbellous.pipeline.collide import narrow_phase, pose_tables, shape_pose, update_aabbs
+from marbellous.state import layout as L
 
 DT = 1.0 / 60.0
 SPECULATIVE = 0.02

@@ -3,7 +3,8 @@ against closed forms (small sizes; the benchmark runs the full ones)."""
 import math
 
 import numpy as np
-from hypothesis import given, settings, strategies as hst
+from hypothesis import given, settings
+from hypothesis import strategies as hst
 
 import marbellous as mb
 from marbellous.scenes.free_bodies import free_bodies, free_bodies_start, free_fall_positions

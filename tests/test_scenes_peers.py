@@ -1,7 +1,8 @@
 """The benchmark's axis mapping to z-up peers (bench/peers/axes.py) is one proper rotation, applied
 alike to vectors and orientations."""
 import numpy as np
-from hypothesis import given, settings, strategies as hst
+from hypothesis import given, settings
+from hypothesis import strategies as hst
 
 from bench.peers.axes import R, from_peer, quat_to_peer, to_peer
 from marbellous.math3d import quat_to_matrix_np

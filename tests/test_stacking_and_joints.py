@@ -1,13 +1,11 @@
 """Stacks at 60 Hz with default settings, sleeping and waking, rods, cables and breaking springs."""
-import math
 
 import numpy as np
 import pytest
+from mechanics import DT, rod_pendulum
 
 import marbellous as mb
 from marbellous.scenes import box_pyramid, box_tower
-
-from mechanics import DT, rod_pendulum
 
 
 def test_tower_of_twenty_stands_for_ten_seconds():

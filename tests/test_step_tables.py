@@ -5,8 +5,8 @@ import pytest
 from numba import njit
 
 import marbellous as mb
+from marbellous._numba.jit import borrow
 from marbellous.pipeline import step as S
-from marbellous._jit import borrow
 from marbellous.pipeline.tables import TABLE_FIELDS, pack_tables, record_at
 
 TABLE_NAMES = [name for name, _ in TABLE_FIELDS]

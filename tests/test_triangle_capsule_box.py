@@ -1,11 +1,12 @@
 """Capsule-triangle and box-triangle tests against slow, obvious references."""
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings, strategies as hst
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as hst
 
-from marbellous.collision.triangle_box import box_triangle
-from marbellous.collision.triangle_capsule import capsule_triangle
-from marbellous.collision.triangle_contact import MAX_ROWS, N_COLS
+from marbellous.collision.triangle.triangle_box import box_triangle
+from marbellous.collision.triangle.triangle_capsule import capsule_triangle
+from marbellous.collision.triangle.triangle_contact import MAX_ROWS, N_COLS
 
 ZERO = (0.0, 0.0, 0.0)
 

@@ -1,10 +1,20 @@
 """Sphere-triangle SAT against a slow, obvious closest-point reference."""
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as hst
+from hypothesis import given, settings
+from hypothesis import strategies as hst
 
-from marbellous.collision.triangle_sphere import (EDGE_AB, EDGE_BC, EDGE_CA, FACE, VERTEX_A, VERTEX_B,
-                                                  VERTEX_C, closest_feature, sphere_triangle)
+from marbellous.collision.triangle.triangle_sphere import (
+    EDGE_AB,
+    EDGE_BC,
+    EDGE_CA,
+    FACE,
+    VERTEX_A,
+    VERTEX_B,
+    VERTEX_C,
+    closest_feature,
+    sphere_triangle,
+)
 
 
 def reference_closest(p, a, b, c):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import marbellous as mb
-from marbellous import layout as L
+from marbellous.state import layout as L
 
 DT = 1.0 / 60.0
 

@@ -39,7 +39,7 @@ def bodies_of(world):
     """The world's bodies as plain records for a translator: dicts with ``static``, ``shapes`` (list of
     ``(shape, local_position, local_orientation)``), ``position``, ``orientation``, ``velocity``,
     ``angular_velocity``, ``mass``, ``friction``, ``restitution``, ``rolling_friction``."""
-    from marbellous import layout as L
+    from marbellous.state import layout as L
 
     out = []
     for b in world.bodies:

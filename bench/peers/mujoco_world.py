@@ -12,7 +12,7 @@ one coefficient, for which the two agree.  Free bodies move on free joints.
 """
 import numpy as np
 
-from marbellous.shapes import Box, Plane, Sphere
+from marbellous.shapes.primitives import Box, Plane, Sphere
 
 from . import Unsupported, bodies_of
 from .axes import from_peer, quat_to_peer, to_peer

@@ -17,8 +17,8 @@ import tempfile
 
 import numpy as np
 
-from marbellous.mesh import TriangleMesh
-from marbellous.shapes import Box, Plane, Sphere
+from marbellous.shapes.mesh import TriangleMesh
+from marbellous.shapes.primitives import Box, Plane, Sphere
 
 from . import Unsupported, bodies_of
 from .axes import from_peer, quat_to_peer, to_peer

@@ -7,7 +7,7 @@ meshes are static: their boxes are computed once when they are added (``static_b
 """
 import math
 
-from .._jit import njit
+from .._numba.jit import njit
 from . import shape_types as st
 
 

@@ -5,7 +5,7 @@ matrices are (3, 3) arrays mapping local to world coordinates (their columns are
 """
 import math
 
-from .._jit import njit
+from .._numba.jit import njit
 from ..math3d import tensor_vec
 
 

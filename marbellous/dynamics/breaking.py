@@ -1,8 +1,8 @@
 """Breaking points: a spring (or rod, cable) whose force exceeded its breaking force is broken for good."""
 import math
 
-from .._jit import njit
-from ..layout import K_BREAKING, K_FLAGS, K_FORCE, KF_ALIVE, KF_BROKEN
+from .._numba.jit import njit
+from ..state.layout import K_BREAKING, K_FLAGS, K_FORCE, KF_ALIVE, KF_BROKEN
 
 
 @njit

@@ -7,7 +7,7 @@ always gives the same tangents, so friction impulses can be warm-started across 
 """
 import math
 
-from .._jit import njit
+from .._numba.jit import njit
 
 
 @njit

@@ -17,9 +17,9 @@ it saves.
 import numpy as np
 from numba import prange
 
-from .._jit import njit, njit_inline, njit_parallel
-from .._wide import LANES
-from ..layout import C_BODY_A, C_BODY_B, POS
+from .._numba.jit import njit, njit_inline, njit_parallel
+from .._numba.wide import LANES
+from ..state.layout import C_BODY_A, C_BODY_B, POS
 from .contact_bundles import bundle_contacts, solve_bundles
 from .contact_solver import solve_contacts
 from .forces import is_moving

@@ -6,8 +6,8 @@
 The integrators call this at each of their stages with the state of that stage, so a fourth-order
 method really sees the springs at its intermediate states.
 """
-from .._jit import njit, njit_inline
-from ..layout import F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, TORQUE
+from .._numba.jit import njit, njit_inline
+from ..state.layout import F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, TORQUE
 from .springs import add_spring_forces
 
 

@@ -21,13 +21,27 @@ torque-free body conserves its angular momentum to round-off, even about its uns
 """
 import numpy as np
 
-from .._jit import njit, njit_inline
-from ..layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT,
-                      V_FREE, VEL, W_FREE, X_PRED)
+from .._numba.jit import njit, njit_inline
 from ..math3d import quat_integrate, quat_normalize, quat_step, row3, row4, tensor_vec
+from ..state.layout import (
+    F_ISOTROPIC,
+    F_RESTART,
+    FLAGS,
+    INV_I,
+    INV_MASS,
+    OMEGA,
+    POS,
+    PREV_POS,
+    Q_PRED,
+    QUAT,
+    V_FREE,
+    VEL,
+    W_FREE,
+    X_PRED,
+)
 from .forces import accumulate_forces, add_applied_forces, is_moving
-from .springs import add_spring_forces
 from .rigid import inertia_world, inverse_inertia_world
+from .springs import add_spring_forces
 
 EXPLICIT_EULER = 0
 SEMI_IMPLICIT_EULER = 1

@@ -25,7 +25,7 @@ the non-zeros of A.
 """
 import math
 
-from .._jit import njit
+from .._numba.jit import njit
 
 
 @njit

@@ -5,9 +5,9 @@ inverse inertia is ``I_w^-1 = R I_body^-1 R^T``.  Small tensors travel as tuples
 """
 import numpy as np
 
-from .._jit import njit
-from ..layout import INV_I, I_BODY, OMEGA, VEL
+from .._numba.jit import njit
 from ..math3d import rotate_tensor, rotation_of, row9
+from ..state.layout import I_BODY, INV_I, OMEGA, VEL
 
 
 @njit

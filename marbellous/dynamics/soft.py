@@ -12,7 +12,7 @@ impulse_scale 0) takes the correction velocity out again, so position correction
 """
 import math
 
-from .._jit import njit, njit_inline
+from .._numba.jit import njit_inline
 
 
 @njit_inline

@@ -17,8 +17,8 @@ writes the solved velocities back.
 The velocity of a body is handled as a 6-tuple ``u = (v, omega)`` so that a constraint reads its two
 bodies once, updates them in registers and writes them back once.
 """
-from .._jit import njit, njit_inline
-from ..layout import DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, VEL
+from .._numba.jit import njit, njit_inline
+from ..state.layout import DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, VEL
 from .forces import is_moving
 from .rigid import inverse_inertia_world
 

@@ -9,11 +9,23 @@ offset from the centre of mass.  Evaluated at every stage of the integrator.
 """
 import math
 
-
-from .._jit import njit
-from ..layout import (C_SPRING, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS,
-                      K_FORCE, K_LENGTH, K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN)
+from .._numba.jit import njit
 from ..math3d import quat_rotate
+from ..state.layout import (
+    C_SPRING,
+    K_ANCHOR_A,
+    K_ANCHOR_B,
+    K_BODY_A,
+    K_BODY_B,
+    K_DAMPING,
+    K_FLAGS,
+    K_FORCE,
+    K_LENGTH,
+    K_STIFFNESS,
+    K_TYPE,
+    KF_ALIVE,
+    KF_BROKEN,
+)
 
 
 @njit

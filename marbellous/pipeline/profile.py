@@ -6,8 +6,8 @@ cycle counter costs about 20 ns per stage, and nothing at all while profiling is
 """
 from typing import NamedTuple
 
+from .._numba.clock import cycles_per_second
 from . import step as S
-from .clock import cycles_per_second
 
 
 class StepProfile(NamedTuple):

@@ -5,10 +5,10 @@ each box; the search stops once a box is entered beyond the nearest exact hit fo
 """
 import numpy as np
 
-from .._jit import njit
+from .._numba.jit import njit
 from ..collision.broadphase import query_ray, update
-from ..collision.raycast import raycast_shape
-from ..layout import FLAGS, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
+from ..collision.ray.raycast import raycast_shape
+from ..state.layout import FLAGS, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
 from .collide import pose_tables, shape_pose, update_aabbs
 
 

@@ -18,13 +18,12 @@ import numba
 import numpy as np
 from numba import types
 from numba.core import cgutils
-from numba.extending import intrinsic
 from numba.experimental import structref
+from numba.extending import intrinsic
 
-from .._jit import njit
-from .._wide import LANES
-from ..dynamics.contact_bundles import (BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS,
-                                        bundle_capacity)
+from .._numba.jit import njit
+from .._numba.wide import LANES
+from ..dynamics.contact_bundles import BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
 from ..dynamics.solver_bodies import SB_COLS
 from .collide import pose_tables

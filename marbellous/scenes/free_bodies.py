@@ -6,7 +6,7 @@ follows  x(t) = x0 + v0 t + g t^2 / 2  (``free_fall_positions``).
 """
 import numpy as np
 
-from ..shapes import Sphere
+from ..shapes.primitives import Sphere
 from ..world import World
 
 

@@ -1,7 +1,7 @@
 """Stacking scenes: a tower of boxes, a pyramid of boxes, and a pile of spheres in a walled box."""
 import numpy as np
 
-from ..shapes import Box, Plane, Sphere
+from ..shapes.primitives import Box, Plane, Sphere
 from ..world import World
 
 

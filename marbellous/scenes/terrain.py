@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from ..mesh import TriangleMesh
-from ..shapes import Sphere
+from ..shapes.mesh import TriangleMesh
+from ..shapes.primitives import Sphere
 from ..world import World
 
 #: default grid: 256 x 256 cells, 2 triangles each = 131,072 triangles

@@ -14,7 +14,7 @@ and ``state_i`` (int64).  Their first entries are a common header:
 """
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 
 #: Bit 0 of a body's flags: the slot holds a live body.
 ALIVE = 1

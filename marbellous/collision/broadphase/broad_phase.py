@@ -9,8 +9,7 @@ import math
 import numpy as np
 
 from marbellous.collision.broadphase._common import ALIVE
-from marbellous.collision.broadphase.dispatch import (
-    METHODS, find_pairs, make_state, query_aabb, query_ray, update)
+from marbellous.collision.broadphase.dispatch import METHODS, find_pairs, make_state, query_aabb, query_ray, update
 
 
 def _as_int_column(name, value, n, default):

@@ -15,10 +15,9 @@ State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]`` and ``state_f
 """
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 from marbellous.collision.broadphase._common import alive_indices, select_nth
-from marbellous.collision.broadphase.static_tree import (
-    F_REFIT_GROWTH, finish_build, tree_views, try_refit)
+from marbellous.collision.broadphase.static_tree import F_REFIT_GROWTH, finish_build, tree_views, try_refit
 
 F_LEAF_SIZE = 0
 

@@ -20,10 +20,9 @@ State: the layout of ``static_tree`` plus ``state_f[F_LEAF_SIZE]``, ``state_f[F_
 """
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 from marbellous.collision.broadphase._common import alive_indices
-from marbellous.collision.broadphase.static_tree import (
-    F_REFIT_GROWTH, finish_build, tree_views, try_refit)
+from marbellous.collision.broadphase.static_tree import F_REFIT_GROWTH, finish_build, tree_views, try_refit
 
 F_LEAF_SIZE = 0
 F_MAX_DEPTH = 1

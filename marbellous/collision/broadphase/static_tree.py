@@ -19,10 +19,21 @@ method reports exactly the brute-force pairs.  Node 0 is the root.  Traversals u
 """
 import numpy as np
 
-from marbellous._jit import njit
+from marbellous._numba.jit import njit
 from marbellous.collision.broadphase._common import (
-    HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, add_index, add_pair, is_alive, pair_allowed,
-    ray_entry, row_overlaps_box, rows_overlap)
+    HEADER_F,
+    HEADER_I,
+    I_CAPACITY,
+    I_N_PREV,
+    STATIC,
+    add_index,
+    add_pair,
+    is_alive,
+    pair_allowed,
+    ray_entry,
+    row_overlaps_box,
+    rows_overlap,
+)
 
 
 @njit

@@ -1,0 +1,122 @@
+"""The narrow-phase dispatcher: any two shapes to the right pair test, normals from a to b.
+
+Pair tests exist for the canonical order only (sphere < capsule < box < plane < height field <
+mesh).  When the caller's a has the higher type code the shapes are swapped, the pair test runs,
+and the rows it added get their normals negated; points, depths and feature ids stay as they are
+(the point is the midpoint between the surfaces, the same seen from either side).
+
+The dispatchers are inlined into their callers (``njit_inline``): each level of calls would pass, and
+reference-count, every array again (a box pair in a stack: 780 -> 550 ns in the narrow phase).
+"""
+from ..._numba.jit import njit, njit_inline
+from .. import shape_types as st
+from ..mesh.heightfield_collide import collide_convex_heightfield
+from ..mesh.mesh_collide import collide_convex_mesh
+from ..vec3 import load, mat_column, matrix
+from .box_box import collide_box_box
+from .capsule_box import collide_capsule_box
+from .capsule_capsule import collide_capsule_capsule
+from .contact_output import add_contact
+from .plane_pairs import collide_box_plane, collide_capsule_plane, sphere_plane, world_plane
+from .sphere_box import sphere_box
+from .sphere_capsule import sphere_capsule
+from .sphere_sphere import sphere_sphere
+
+
+@njit
+def sphere_primitive(c, r, type_b, pos_b, m_b, params_b, prediction):
+    """The contact of the sphere ``(c, r)`` with a sphere, capsule, box or plane b, all in registers.
+
+    ``c``, ``pos_b`` 3-tuples (m), ``r`` (m), ``m_b`` b's rotation as a row-major 9-tuple
+    (``vec3.matrix``; not read for a sphere), ``params_b`` the first four of b's parameters.
+    Returns ``(hit, p_on_a, normal, depth)`` (``sphere_sphere.ball_ball``), normal from the sphere
+    to b, feature id 0.  The fast path of the narrow phase: no array argument, so no reference
+    counting (which costs more than the pair test itself).
+    """
+    if type_b == st.SPHERE:
+        return sphere_sphere(c, r, pos_b, params_b[0], prediction)
+    if type_b == st.CAPSULE:
+        return sphere_capsule(c, r, pos_b, mat_column(m_b, 1), params_b[0], params_b[1], prediction)
+    if type_b == st.BOX:
+        return sphere_box(c, r, pos_b, m_b, (params_b[0], params_b[1], params_b[2]), prediction)
+    pn, off = world_plane(pos_b, m_b, (params_b[0], params_b[1], params_b[2]), params_b[3])
+    return sphere_plane(c, r, pn, off, prediction)
+
+
+@njit_inline
+def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                         out_f, out_i, n):
+    """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
+    if type_a == st.SPHERE:
+        hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
+                                                 (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
+        return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
+    if type_a == st.CAPSULE:
+        if type_b == st.CAPSULE:
+            return collide_capsule_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        if type_b == st.BOX:
+            return collide_capsule_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        return collide_capsule_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+    if type_a == st.BOX:
+        if type_b == st.BOX:
+            return collide_box_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+        return collide_box_plane(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
+    return n
+
+
+@njit
+def flip_normals(out_f, start, stop):
+    """Negate the normals of rows ``start <= row < stop`` that fit in the buffer."""
+    for row in range(start, min(stop, out_f.shape[0])):
+        out_f[row, 3] = -out_f[row, 3]
+        out_f[row, 4] = -out_f[row, 4]
+        out_f[row, 5] = -out_f[row, 5]
+
+
+@njit_inline
+def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                        out_f, out_i, n):
+    """Contacts of two primitives (sphere, capsule, box, plane) in any order; returns the new count.
+
+    Type codes from ``shape_types``; ``pos_*`` (3,) m, ``rot_*`` (3, 3), ``params_*`` the shape
+    records; ``prediction`` (m) the largest gap still reported; rows appended to ``out_f`` /
+    ``out_i`` from row ``n`` (docs/architecture.md), normals from a to b.
+    """
+    if type_a <= type_b:
+        return _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                    prediction, out_f, out_i, n)
+    m = _ordered_convex_pair(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
+                             prediction, out_f, out_i, n)
+    flip_normals(out_f, n, m)
+    return m
+
+
+@njit_inline
+def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                 off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of any two shapes, normals from a to b; returns the new count.
+
+    As :func:`collide_convex_pair`, plus height fields and meshes, whose bulk geometry lies in the
+    blobs ``geom_f`` (float64) and ``geom_i`` (int64) at each shape's offsets.  Two static-only
+    shapes (plane, height field, mesh) have no contacts.  Each pair test is called from here directly:
+    every level of calls between passes (and reference counts) all the arrays again.
+    """
+    if type_a <= st.PLANE and type_b <= st.PLANE:
+        return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                   prediction, out_f, out_i, n)
+    if type_a <= st.BOX and type_b == st.MESH:
+        return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                                   off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_a <= st.BOX and type_b == st.HEIGHTFIELD:
+        return collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f,
+                                          geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_b <= st.BOX and type_a == st.MESH:
+        m = collide_convex_mesh(type_b, pos_b, rot_b, params_b, pos_a, rot_a, params_a, geom_f, geom_i,
+                                off_f_a, off_i_a, prediction, out_f, out_i, n)
+    elif type_b <= st.BOX and type_a == st.HEIGHTFIELD:
+        m = collide_convex_heightfield(type_b, pos_b, rot_b, params_b, pos_a, rot_a, params_a, geom_f,
+                                       geom_i, off_f_a, off_i_a, prediction, out_f, out_i, n)
+    else:
+        return n
+    flip_normals(out_f, n, m)
+    return m

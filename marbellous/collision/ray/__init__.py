@@ -1,0 +1,1 @@
+"""Ray casts against primitive shapes, triangles, meshes and height fields."""
