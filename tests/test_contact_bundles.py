@@ -8,25 +8,10 @@ from numba import njit
 
 import marbellous as mb
 from marbellous._numba.wide import LANES
-from marbellous.dynamics.contact_bundles import (
-    BUNDLE_FIELDS,
-    BUNDLE_ROWS,
-    MAX_COLOURS,
-    MIN_BUNDLED_CONTACTS,
-    WI_CONTACT,
-    WI_READ_A,
-    WI_READ_B,
-    WI_TURNING,
-    WI_WRITE_A,
-    WI_WRITE_B,
-    accumulate_bundles,
-    bundle_capacity,
-    bundle_contacts,
-    load_bundle_bodies,
-    solve_bundles,
-    store_bundles,
-    warm_start_bundles,
-)
+from marbellous.dynamics.contact_bundles import (BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS,
+                                                 WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B,
+                                                 accumulate_bundles, bundle_capacity, bundle_contacts,
+                                                 load_bundle_bodies, solve_bundles, store_bundles, warm_start_bundles)
 from marbellous.dynamics.contact_solver import accumulate_applied, solve_contacts, warm_start_listed
 from marbellous.dynamics.solver_bodies import SB_COLS, SB_ISO, prepare_solver_bodies
 from marbellous.scenes import sphere_pile

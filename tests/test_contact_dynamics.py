@@ -3,18 +3,8 @@ import math
 
 import numpy as np
 import pytest
-from mechanics import (
-    DOWNHILL,
-    HEAD_ON,
-    N_INCLINE,
-    ROLLING_ACCELERATION,
-    G,
-    acceleration_downhill,
-    box_on_incline,
-    head_on_collision,
-    sliding_acceleration,
-    sphere_on_incline,
-)
+from mechanics import (DOWNHILL, HEAD_ON, N_INCLINE, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline,
+                       head_on_collision, sliding_acceleration, sphere_on_incline)
 
 import marbellous as mb
 

@@ -7,17 +7,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from mechanics import (
-    DT,
-    HEAD_ON,
-    ROLLING_ACCELERATION,
-    G,
-    acceleration_downhill,
-    box_on_incline,
-    head_on_collision,
-    sliding_acceleration,
-    sphere_on_incline,
-)
+from mechanics import (DT, HEAD_ON, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline, head_on_collision,
+                       sliding_acceleration, sphere_on_incline)
 
 import marbellous as mb
 from marbellous.dynamics.penalty import STABLE_FRACTION, damping_ratio, spring_restitution

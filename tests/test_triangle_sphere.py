@@ -4,17 +4,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hst
 
-from marbellous.collision.triangle.triangle_sphere import (
-    EDGE_AB,
-    EDGE_BC,
-    EDGE_CA,
-    FACE,
-    VERTEX_A,
-    VERTEX_B,
-    VERTEX_C,
-    closest_feature,
-    sphere_triangle,
-)
+from marbellous.collision.triangle.triangle_sphere import (EDGE_AB, EDGE_BC, EDGE_CA, FACE, VERTEX_A, VERTEX_B,
+                                                           VERTEX_C, closest_feature, sphere_triangle)
 
 
 def reference_closest(p, a, b, c):

@@ -6,19 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from marbellous._numba.wide import (
-    LANES,
-    abs_w,
-    gather_w,
-    load_w,
-    max_w,
-    min_w,
-    scatter_w,
-    splat_w,
-    sqrt_w,
-    store_w,
-    where_gt,
-)
+from marbellous._numba.wide import (LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w,
+                                    where_gt)
 
 finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False, width=64)
 lanes = st.lists(finite, min_size=LANES, max_size=LANES).map(np.array)

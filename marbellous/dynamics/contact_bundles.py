@@ -27,33 +27,9 @@ sub-step), ``store_bundles`` (end of the step: impulses back to the contact tabl
 """
 from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w, where_gt
-from ..state.layout import (
-    C_ADJ_SEP,
-    C_BODY_A,
-    C_BODY_B,
-    C_FLAGS,
-    C_LAMBDA_N,
-    C_LAMBDA_T1,
-    C_LAMBDA_T2,
-    C_MASS_N,
-    C_MASS_T1,
-    C_MASS_T2,
-    C_MAX_N,
-    C_MU_D,
-    C_MU_S,
-    C_NORMAL,
-    C_RA,
-    C_RB,
-    C_ROLL,
-    C_SUM_N,
-    C_SUM_T,
-    C_T1,
-    C_T2,
-    C_VN0,
-    CP_MATCHED,
-    CP_SENSOR,
-    CP_SLIDING,
-)
+from ..state.layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N,
+                            C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N,
+                            C_SUM_T, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
 from .solver_bodies import SB_DP, SB_INV_MASS, SB_ISO, SB_V

@@ -6,23 +6,8 @@ pair the few candidates are compared directly.  Matched points inherit the accum
 friction (re-projected onto the new tangents) and rolling impulses and the sliding state.
 """
 from .._numba.jit import njit, njit_inline
-from ..state.layout import (
-    C_BODY_A,
-    C_BODY_B,
-    C_FEATURE,
-    C_FLAGS,
-    C_LAMBDA_N,
-    C_LAMBDA_R,
-    C_LAMBDA_T1,
-    C_LAMBDA_T2,
-    C_NORMAL,
-    C_SHAPE_A,
-    C_SHAPE_B,
-    C_T1,
-    C_T2,
-    CP_MATCHED,
-    CP_SLIDING,
-)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
+                            C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED, CP_SLIDING)
 from .contact_basis import contact_basis
 
 

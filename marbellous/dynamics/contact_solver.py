@@ -18,53 +18,13 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, row3
-from ..state.layout import (
-    C_ADJ_SEP,
-    C_BODY_A,
-    C_BODY_B,
-    C_DEPTH,
-    C_E,
-    C_FLAGS,
-    C_LAMBDA_N,
-    C_LAMBDA_R,
-    C_LAMBDA_T1,
-    C_LAMBDA_T2,
-    C_MASS_N,
-    C_MASS_T1,
-    C_MASS_T2,
-    C_MAX_N,
-    C_MU_D,
-    C_MU_S,
-    C_NORMAL,
-    C_POINT,
-    C_RA,
-    C_RB,
-    C_ROLL,
-    C_SUM_N,
-    C_SUM_T,
-    C_T1,
-    C_T2,
-    C_VN0,
-    CP_MATCHED,
-    CP_SENSOR,
-    CP_SLIDING,
-    FRICTION,
-    POS,
-    RESTITUTION,
-    ROLLING,
-    STATIC_FRICTION,
-)
+from ..state.layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1,
+                            C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_POINT,
+                            C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING,
+                            FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
 from .contact_basis import contact_basis
-from .solver_bodies import (
-    SB_ISO,
-    effective_mass_along,
-    motion,
-    push,
-    relative_velocity_at,
-    set_velocity,
-    twist,
-    velocity,
-)
+from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
+                            velocity)
 
 
 @njit_inline

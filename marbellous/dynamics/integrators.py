@@ -23,22 +23,8 @@ import numpy as np
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import quat_integrate, quat_normalize, quat_step, row3, row4, tensor_vec
-from ..state.layout import (
-    F_ISOTROPIC,
-    F_RESTART,
-    FLAGS,
-    INV_I,
-    INV_MASS,
-    OMEGA,
-    POS,
-    PREV_POS,
-    Q_PRED,
-    QUAT,
-    V_FREE,
-    VEL,
-    W_FREE,
-    X_PRED,
-)
+from ..state.layout import (F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, OMEGA, POS, PREV_POS, Q_PRED, QUAT, V_FREE,
+                            VEL, W_FREE, X_PRED)
 from .forces import accumulate_forces, add_applied_forces, is_moving
 from .rigid import inertia_world, inverse_inertia_world
 from .springs import add_spring_forces

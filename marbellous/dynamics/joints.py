@@ -13,23 +13,8 @@ import math
 
 from .._numba.jit import njit
 from ..math3d import quat_rotate
-from ..state.layout import (
-    C_CABLE,
-    C_ROD,
-    K_ANCHOR_A,
-    K_ANCHOR_B,
-    K_BODY_A,
-    K_BODY_B,
-    K_FLAGS,
-    K_FORCE,
-    K_IMPULSE,
-    K_LENGTH,
-    K_TYPE,
-    KF_ALIVE,
-    KF_BROKEN,
-    POS,
-    QUAT,
-)
+from ..state.layout import (C_CABLE, C_ROD, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE, K_IMPULSE,
+                            K_LENGTH, K_TYPE, KF_ALIVE, KF_BROKEN, POS, QUAT)
 from .solver_bodies import effective_mass_along, push, relative_velocity_at, set_velocity, velocity
 
 

@@ -34,35 +34,9 @@ body touches a few others stays linear in the number of contacts; a body with hu
 import numpy as np
 
 from .._numba.jit import njit
-from ..state.layout import (
-    C_BODY_A,
-    C_BODY_B,
-    C_CABLE,
-    C_FLAGS,
-    C_LAMBDA_N,
-    C_LAMBDA_R,
-    C_LAMBDA_T1,
-    C_MAX_N,
-    C_MU_D,
-    C_MU_S,
-    C_NORMAL,
-    C_RA,
-    C_RB,
-    C_ROLL,
-    C_T1,
-    C_T2,
-    C_VN0,
-    CP_MATCHED,
-    CP_SENSOR,
-    CP_SLIDING,
-    K_BODY_A,
-    K_BODY_B,
-    K_IMPULSE,
-    K_LENGTH,
-    K_TYPE,
-    OMEGA,
-    VEL,
-)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_CABLE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_MAX_N, C_MU_D,
+                            C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING,
+                            K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, VEL)
 from .contact_solver import contact_separation
 from .joints import is_active_joint, joint_axis
 from .lcp_solve import solve_bounded_lcp

@@ -44,33 +44,9 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
-from ..state.layout import (
-    C_BODY_A,
-    C_BODY_B,
-    C_E,
-    C_FLAGS,
-    C_LAMBDA_N,
-    C_LAMBDA_R,
-    C_LAMBDA_T1,
-    C_LAMBDA_T2,
-    C_MASS_N,
-    C_MASS_T1,
-    C_MASS_T2,
-    C_MAX_N,
-    C_MU_D,
-    C_MU_S,
-    C_NORMAL,
-    C_RA,
-    C_RB,
-    C_ROLL,
-    C_T1,
-    C_T2,
-    CP_SENSOR,
-    CP_SLIDING,
-    FORCE,
-    OMEGA,
-    TORQUE,
-)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
+                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1,
+                            C_T2, CP_SENSOR, CP_SLIDING, FORCE, OMEGA, TORQUE)
 from .contact_solver import contact_separation
 from .rigid import relative_velocity
 

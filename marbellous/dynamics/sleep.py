@@ -7,25 +7,8 @@ Islands are found with union-find (path halving, union by index) over contacts a
 """
 
 from .._numba.jit import njit, njit_inline
-from ..state.layout import (
-    C_BODY_A,
-    C_BODY_B,
-    C_FLAGS,
-    CP_SENSOR,
-    F_ALIVE,
-    F_SLEEPING,
-    F_STATIC,
-    FLAGS,
-    ISLAND,
-    K_BODY_A,
-    K_BODY_B,
-    K_FLAGS,
-    KF_ALIVE,
-    KF_BROKEN,
-    OMEGA,
-    SLEEP_TIME,
-    VEL,
-)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_FLAGS, CP_SENSOR, F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, ISLAND,
+                            K_BODY_A, K_BODY_B, K_FLAGS, KF_ALIVE, KF_BROKEN, OMEGA, SLEEP_TIME, VEL)
 from .forces import is_moving
 
 

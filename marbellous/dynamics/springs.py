@@ -11,21 +11,8 @@ import math
 
 from .._numba.jit import njit
 from ..math3d import quat_rotate
-from ..state.layout import (
-    C_SPRING,
-    K_ANCHOR_A,
-    K_ANCHOR_B,
-    K_BODY_A,
-    K_BODY_B,
-    K_DAMPING,
-    K_FLAGS,
-    K_FORCE,
-    K_LENGTH,
-    K_STIFFNESS,
-    K_TYPE,
-    KF_ALIVE,
-    KF_BROKEN,
-)
+from ..state.layout import (C_SPRING, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS, K_FORCE, K_LENGTH,
+                            K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN)
 
 
 @njit

@@ -32,32 +32,9 @@ from ..collision.pairs.dispatch import collide_pair, flip_normals, sphere_primit
 from ..collision.shape_types import N_SHAPE_PARAMS
 from ..dynamics.forces import is_moving
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
-from ..state.layout import (
-    C_BODY_A,
-    C_BODY_B,
-    C_FEATURE,
-    C_FLAGS,
-    C_SHAPE_A,
-    C_SHAPE_B,
-    CP_SENSOR,
-    F_ALIVE,
-    F_SENSOR,
-    F_STATIC,
-    FLAGS,
-    OMEGA,
-    POS,
-    QUAT,
-    S_LOCAL_POS,
-    S_LOCAL_QUAT,
-    S_OFF_F,
-    S_OFF_I,
-    S_PARAMS,
-    S_RADIUS,
-    S_TYPE,
-    SHAPE_COUNT,
-    SHAPE_START,
-    VEL,
-)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE, F_SENSOR,
+                            F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS,
+                            S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
 
 
 @njit

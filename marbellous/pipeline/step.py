@@ -28,27 +28,12 @@ from .._numba.jit import borrow, njit, njit_inline
 from .._numba.wide import LANES
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
-from ..dynamics.contact_bundles import (
-    BUNDLE_ROWS,
-    MIN_BUNDLED_CONTACTS,
-    accumulate_bundles,
-    bundle_capacity,
-    load_bundle_bodies,
-    store_bundles,
-    warm_start_bundles,
-)
+from ..dynamics.contact_bundles import (BUNDLE_ROWS, MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
+                                        load_bundle_bodies, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
-from ..dynamics.contact_solver import (
-    accumulate_applied,
-    accumulate_listed,
-    apply_restitution,
-    prepare_contacts,
-    solve_contacts,
-    store_friction_state,
-    warm_start_contacts,
-    warm_start_listed,
-)
+from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, prepare_contacts,
+                                       solve_contacts, store_friction_state, warm_start_contacts, warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -58,23 +43,8 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..state.layout import (
-    C_POINT,
-    DTHETA,
-    F_ALIVE,
-    F_SENSOR,
-    FLAGS,
-    FORCE,
-    GROUP,
-    K_IMPULSE,
-    MASK,
-    OMEGA,
-    POS,
-    POS0,
-    TORQUE,
-    W_PREV_DT,
-    W_TIME,
-)
+from ..state.layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, OMEGA, POS, POS0,
+                            TORQUE, W_PREV_DT, W_TIME)
 from .collide import narrow_phase, update_aabbs
 from .tables import record_at
 

@@ -3,15 +3,8 @@ exactly, and the right choice for a handful of bodies.
 
 Box queries and ray queries over the bodies are a linear scan."""
 from marbellous._numba.jit import njit
-from marbellous.collision.broadphase._common import (
-    add_index,
-    add_pair,
-    is_alive,
-    pair_allowed,
-    ray_entry,
-    row_overlaps_box,
-    rows_overlap,
-)
+from marbellous.collision.broadphase._common import (add_index, add_pair, is_alive, pair_allowed, ray_entry,
+                                                     row_overlaps_box, rows_overlap)
 
 
 @njit

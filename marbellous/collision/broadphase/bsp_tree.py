@@ -26,13 +26,8 @@ import numpy as np
 
 from marbellous._numba.jit import njit
 from marbellous.collision.broadphase._common import alive_indices, select_nth
-from marbellous.collision.broadphase.static_tree import (
-    F_PLANE_TOLERANCE,
-    SIDE,
-    finish_build,
-    plane_key_radius,
-    tree_views,
-)
+from marbellous.collision.broadphase.static_tree import (F_PLANE_TOLERANCE, SIDE, finish_build, plane_key_radius,
+                                                         tree_views)
 
 F_LEAF_SIZE = 0
 F_POWER_ITERATIONS = 1

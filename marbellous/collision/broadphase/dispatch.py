@@ -29,45 +29,18 @@ grows (a fresh state makes the next update rebuild from scratch).
 import numpy as np
 
 from marbellous._numba.jit import njit, njit_inline
-from marbellous.collision.broadphase._common import (
-    HEADER_F,
-    HEADER_I,
-    I_CAPACITY,
-    I_METHOD,
-    I_N_PREV,
-    keep_alive,
-    write_indices,
-    write_pairs,
-    write_ray_hits,
-)
+from marbellous.collision.broadphase._common import (HEADER_F, HEADER_I, I_CAPACITY, I_METHOD, I_N_PREV, keep_alive,
+                                                     write_indices, write_pairs, write_ray_hits)
 from marbellous.collision.broadphase.brute_force import brute_force_pairs, scan_query_aabb, scan_query_ray
 from marbellous.collision.broadphase.bsp_tree import bsp_build, bsp_init_params
-from marbellous.collision.broadphase.dynamic_bvh import (
-    bvh_init_params,
-    bvh_pairs,
-    bvh_query_aabb,
-    bvh_query_ray,
-    bvh_state_sizes,
-    bvh_update,
-)
+from marbellous.collision.broadphase.dynamic_bvh import (bvh_init_params, bvh_pairs, bvh_query_aabb, bvh_query_ray,
+                                                         bvh_state_sizes, bvh_update)
 from marbellous.collision.broadphase.kd_tree import kd_build, kd_init_params
 from marbellous.collision.broadphase.loose_octree import octree_build, octree_init_params
-from marbellous.collision.broadphase.static_tree import (
-    F_PLANE_TOLERANCE,
-    I_N_NODES,
-    tree_pairs,
-    tree_query_aabb,
-    tree_query_ray,
-    tree_state_sizes,
-    tree_views,
-)
-from marbellous.collision.broadphase.sweep_and_prune import (
-    sap_init_params,
-    sap_pairs,
-    sap_query_aabb,
-    sap_state_sizes,
-    sap_update,
-)
+from marbellous.collision.broadphase.static_tree import (F_PLANE_TOLERANCE, I_N_NODES, tree_pairs, tree_query_aabb,
+                                                         tree_query_ray, tree_state_sizes, tree_views)
+from marbellous.collision.broadphase.sweep_and_prune import (sap_init_params, sap_pairs, sap_query_aabb,
+                                                             sap_state_sizes, sap_update)
 from marbellous.collision.broadphase.uniform_grid import GRID_MIN_SLOTS, grid_init_params, grid_pairs, grid_state_sizes
 
 BRUTE = 0

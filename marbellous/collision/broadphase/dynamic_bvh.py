@@ -26,20 +26,9 @@ a leaf; a free node's ``parent`` links the free list), then ``leaf_of_body`` (ca
 import numpy as np
 
 from marbellous._numba.jit import njit
-from marbellous.collision.broadphase._common import (
-    HEADER_F,
-    HEADER_I,
-    I_CAPACITY,
-    I_N_PREV,
-    add_index,
-    add_pair,
-    alive_indices,
-    is_alive,
-    pair_allowed,
-    ray_entry,
-    row_overlaps_box,
-    rows_overlap,
-)
+from marbellous.collision.broadphase._common import (HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, add_index, add_pair,
+                                                     alive_indices, is_alive, pair_allowed, ray_entry, row_overlaps_box,
+                                                     rows_overlap)
 
 I_ROOT = 3
 I_NODE_COUNT = 4

@@ -20,20 +20,9 @@ method reports exactly the brute-force pairs.  Node 0 is the root.  Traversals u
 import numpy as np
 
 from marbellous._numba.jit import njit
-from marbellous.collision.broadphase._common import (
-    HEADER_F,
-    HEADER_I,
-    I_CAPACITY,
-    I_N_PREV,
-    STATIC,
-    add_index,
-    add_pair,
-    is_alive,
-    pair_allowed,
-    ray_entry,
-    row_overlaps_box,
-    rows_overlap,
-)
+from marbellous.collision.broadphase._common import (HEADER_F, HEADER_I, I_CAPACITY, I_N_PREV, STATIC, add_index,
+                                                     add_pair, is_alive, pair_allowed, ray_entry, row_overlaps_box,
+                                                     rows_overlap)
 
 
 @njit

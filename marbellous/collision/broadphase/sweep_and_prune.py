@@ -17,17 +17,8 @@ State layout: ``state_i[HEADER_I : HEADER_I + capacity]`` the sorted order,
 import numpy as np
 
 from marbellous._numba.jit import njit
-from marbellous.collision.broadphase._common import (
-    HEADER_F,
-    HEADER_I,
-    I_N_PREV,
-    add_index,
-    add_pair,
-    is_alive,
-    pair_allowed,
-    row_overlaps_box,
-    rows_overlap,
-)
+from marbellous.collision.broadphase._common import (HEADER_F, HEADER_I, I_N_PREV, add_index, add_pair, is_alive,
+                                                     pair_allowed, row_overlaps_box, rows_overlap)
 
 I_AXIS = 3
 F_SWAP_BUDGET = 0

@@ -26,14 +26,8 @@ import math
 import numpy as np
 
 from marbellous._numba.jit import njit
-from marbellous.collision.broadphase._common import (
-    HEADER_F,
-    HEADER_I,
-    add_pair,
-    alive_indices,
-    pair_allowed,
-    rows_overlap,
-)
+from marbellous.collision.broadphase._common import (HEADER_F, HEADER_I, add_pair, alive_indices, pair_allowed,
+                                                     rows_overlap)
 
 F_CELL_FACTOR = 0
 F_MAX_CELLS = 1
