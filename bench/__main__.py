@@ -64,9 +64,9 @@ def run_world_scene(name, engine, quick, cap, steps=None):
            "ms_per_step": 1e3 * res["seconds"] / res["steps"], "steps_per_s": res["steps"] / res["seconds"],
            "sanity": spec.sanity(res["positions"], meta, res["max_penetration"])}
     if engine.startswith("marbellous"):
-        from marbellous.pipeline import step as S
-        out["contacts_last_step"] = int(world._stats[S.S_CONTACTS])
-        out["iterations_last_step"] = int(world._stats[S.S_ITERATIONS])
+        from marbellous.state import layout as L
+        out["contacts_last_step"] = int(world._state.stats[L.STAT_CONTACTS])
+        out["iterations_last_step"] = int(world._state.stats[L.STAT_ITERATIONS])
     return out
 
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from marbellous._numba.jit import njit
 from marbellous.collision.broadphase import find_pairs
-from marbellous.pipeline import step as S
+from marbellous.state.params import write_params
 from marbellous.pipeline.collide import narrow_phase, pose_tables, update_aabbs
 from marbellous.state import layout as L
 
@@ -61,35 +61,35 @@ class CollideInput:
     buffers (the world's own are left alone)."""
 
     def __init__(self, world, dt):
-        world._refresh_params(dt)
-        pf, pi = world._params_f, world._params_i
         w = world
-        self.bf, self.bi, self.sf, self.si = w._bf, w._bi, w._sf, w._si
-        self.geom_f, self.geom_i = w._geom_f, w._geom_i
-        self.nb = w._nb
-        self.dt = dt * pf[S.P_SWEEP]
-        gravity = pf[S.P_GRAVITY:S.P_GRAVITY + 3]
+        write_params(world, dt, w._state.params_f, w._state.params_i)
+        pf, pi = w._state.params_f, w._state.params_i
+        self.bf, self.bi, self.sf, self.si = w._state.bf, w._state.bi, w._state.sf, w._state.si
+        self.geom_f, self.geom_i = w._state.geom_f, w._state.geom_i
+        self.nb = w._state.bodies.end
+        self.dt = dt * pf[L.PF_SWEEP]
+        gravity = pf[L.PF_GRAVITY:L.PF_GRAVITY + 3]
         self.g_mag = float(np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2))
-        self.speculative = float(pf[S.P_SPECULATIVE])
-        self.aabbs = w._aabbs.copy()
+        self.speculative = float(pf[L.PF_SPECULATIVE])
+        self.aabbs = w._state.aabbs.copy()
         self.sweep = np.empty(self.nb)
         self.poses = pose_tables(self.sf.shape[0])   # the step's scratch (the record's, in a world)
         pos_t, rot_t, _, q = self.poses
         update_aabbs(self.bf, self.bi, self.sf, self.si, self.nb, self.aabbs, self.sweep, self.dt, self.g_mag,
                      self.speculative, pos_t, rot_t, q)
-        pairs = np.zeros_like(w._pairs)
+        pairs = np.zeros_like(w._state.pairs)
         while True:
-            n_pairs = find_pairs(pi[S.P_BROADPHASE], self.aabbs, self.bi[:, L.FLAGS], self.bi[:, L.GROUP],
-                                 self.bi[:, L.MASK], self.nb, w._bp_f.copy(), w._bp_i.copy(), pairs)
+            n_pairs = find_pairs(pi[L.PI_BROADPHASE], self.aabbs, self.bi[:, L.FLAGS], self.bi[:, L.GROUP],
+                                 self.bi[:, L.MASK], self.nb, w._state.bp_f.copy(), w._state.bp_i.copy(), pairs)
             if n_pairs <= pairs.shape[0]:
                 break
             pairs = np.zeros((n_pairs, 2), dtype=np.int64)
         self.pairs, self.n_pairs = pairs, n_pairs
-        cap = max(16, w._raw_f.shape[0])
+        cap = max(16, w._state.raw_f.shape[0])
         while True:
-            self.raw_f = np.zeros((cap, w._raw_f.shape[1]))
+            self.raw_f = np.zeros((cap, w._state.raw_f.shape[1]))
             self.raw_i = np.zeros(cap, dtype=np.int64)
-            self.ci = np.zeros((cap, w._ci.shape[1]), dtype=np.int64)
+            self.ci = np.zeros((cap, L.CI_COLS), dtype=np.int64)
             self.n_contacts = self.narrow(1)
             if self.n_contacts <= cap:
                 break

@@ -12,10 +12,10 @@ from .body import Body
 from .constraints import Cable, Rod, Spring
 from .pipeline.profile import StepProfile
 from .query import ContactPoint, collide
-from .shapes.heightfield import HeightField
-from .shapes.mesh import TriangleMesh
-from .shapes.primitives import Box, Capsule, Plane, Shape, Sphere
-from .world import Contact, RayHit, Snapshot, World
+from .shapes import Box, Capsule, HeightField, Plane, Shape, Sphere, TriangleMesh
+from .reports import Contact, RayHit
+from .state.snapshot import Snapshot
+from .world import World
 
 __version__ = "0.1.0"
 

@@ -1,7 +1,9 @@
 """``Body``: a thin handle over one row of the world's body tables.
 
-Reading a property returns a copy; writing validates and stores.  A handle stays valid until its body is
-removed; the same ``Body`` object is handed back wherever the world refers to that body.
+Reading a property returns a copy; writing validates and stores.  A handle is a body row and the row's
+revision when the body was made: once the body is removed (or a restore drops it) the row's revision moves
+on, and any use of the handle raises instead of touching whatever body takes the row next.  The same
+``Body`` object is handed back wherever the world refers to that body.
 """
 import numpy as np
 
@@ -13,20 +15,25 @@ from .state import layout as L
 class Body:
     """A rigid body in a :class:`marbellous.World` (created by ``add_body`` or ``add_static``)."""
 
-    __slots__ = ("_world", "_index", "shapes", "__weakref__")
+    __slots__ = ("_world", "_index", "_revision", "shapes", "__weakref__")
 
-    def __init__(self, world, index, shapes):
+    def __init__(self, world, index, revision, shapes):
         self._world = world
         self._index = index
+        self._revision = revision
         #: The body's shapes as ``(shape, local_position, local_orientation)`` tuples (frame: centre of mass).
         self.shapes = shapes
 
     # --- internals ---------------------------------------------------------------------------
-    def _row(self):
+    def _state(self):
+        """The world's state, after checking that this handle is still live."""
         w = self._world
-        if w is None:
+        if w is None or w._state.bodies.revision[self._index] != self._revision:
             raise ValueError("this body has been removed from its world")
-        return w._bf[self._index]
+        return w._state
+
+    def _row(self):
+        return self._state().bf[self._index]
 
     def _set_state(self, col, n, value, name, validate):
         row = self._row()
@@ -34,9 +41,9 @@ class Body:
         if self.is_static:
             raise ValueError(f"{name} of a static body cannot be changed")
         row[col:col + n] = v
-        w = self._world
-        w._bi[self._index, L.FLAGS] |= L.F_RESTART
-        w._wake(self._index)
+        st = self._world._state
+        st.bi[self._index, L.FLAGS] |= L.F_RESTART
+        st.wake(self._index)
 
     # --- state -----------------------------------------------------------------------------------
     @property
@@ -92,20 +99,17 @@ class Body:
     @property
     def is_static(self):
         """True for bodies made with ``add_static`` (they never move)."""
-        self._row()
-        return bool(self._world._bi[self._index, L.FLAGS] & L.F_STATIC)
+        return bool(self._state().bi[self._index, L.FLAGS] & L.F_STATIC)
 
     @property
     def is_sleeping(self):
         """True while the body rests in a sleeping island (it is not integrated until woken)."""
-        self._row()
-        return bool(self._world._bi[self._index, L.FLAGS] & L.F_SLEEPING)
+        return bool(self._state().bi[self._index, L.FLAGS] & L.F_SLEEPING)
 
     @property
     def is_sensor(self):
         """True for sensors: they detect overlaps but exert no force."""
-        self._row()
-        return bool(self._world._bi[self._index, L.FLAGS] & L.F_SENSOR)
+        return bool(self._state().bi[self._index, L.FLAGS] & L.F_SENSOR)
 
     # --- forces ------------------------------------------------------------------------------------
     def apply_force(self, force, point=None):
@@ -121,7 +125,7 @@ class Body:
         row[L.FORCE:L.FORCE + 3] += f
         if p is not None:
             row[L.TORQUE:L.TORQUE + 3] += np.cross(p - row[L.POS:L.POS + 3], f)
-        self._world._wake(self._index)
+        self._world._state.wake(self._index)
 
     def apply_torque(self, torque):
         """Add a world-space ``torque`` (N m) for the next step."""
@@ -130,7 +134,7 @@ class Body:
         if self.is_static:
             return
         row[L.TORQUE:L.TORQUE + 3] += t
-        self._world._wake(self._index)
+        self._world._state.wake(self._index)
 
     def apply_impulse(self, impulse, point=None):
         """Change the momentum at once by ``impulse`` (N s) at world ``point`` (None: the centre of mass).
@@ -147,11 +151,13 @@ class Body:
             r = quat_to_matrix_np(row[L.QUAT:L.QUAT + 4])
             iw_inv = r @ row[L.INV_I:L.INV_I + 9].reshape(3, 3) @ r.T
             row[L.OMEGA:L.OMEGA + 3] += iw_inv @ np.cross(p - row[L.POS:L.POS + 3], j)
-        self._world._bi[self._index, L.FLAGS] |= L.F_RESTART
-        self._world._wake(self._index)
+        self._world._state.bi[self._index, L.FLAGS] |= L.F_RESTART
+        self._world._state.wake(self._index)
 
     def __repr__(self):
-        if self._world is None:
+        try:
+            kind = "static" if self.is_static else "dynamic"
+        except ValueError:
             return "<Body removed>"
-        kind = "static" if self.is_static else "dynamic"
-        return f"<Body {kind} #{self._index} at {tuple(np.round(self.position, 4))}>"
+        x, y, z = (float(v) for v in self.position)
+        return f"<Body {kind} #{self._index} at ({x:.4g}, {y:.4g}, {z:.4g})>"

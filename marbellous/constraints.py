@@ -7,20 +7,22 @@ from .state import layout as L
 class Constraint:
     """Base of the constraint handles: a thin view over one row of the world's constraint table."""
 
-    __slots__ = ("_world", "_index", "body_a", "body_b")
+    __slots__ = ("_world", "_index", "_revision", "body_a", "body_b", "__weakref__")
 
-    def __init__(self, world, index, body_a, body_b):
+    def __init__(self, world, index, revision, body_a, body_b):
         self._world = world
         self._index = index
+        self._revision = revision
         #: The first body (``Body``).
         self.body_a = body_a
         #: The second body, or None when the constraint is attached to the world.
         self.body_b = body_b
 
     def _rows(self):
-        if self._world is None:
+        w = self._world
+        if w is None or w._state.constraints.revision[self._index] != self._revision:
             raise ValueError("this constraint has been removed from its world")
-        return self._world._kf[self._index], self._world._ki[self._index]
+        return w._state.kf[self._index], w._state.ki[self._index]
 
     @property
     def broken(self):

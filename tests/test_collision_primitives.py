@@ -636,3 +636,18 @@ def test_eight_clipped_points_reduce_to_a_spread_four(tilt, axis, angle):
     local = np.stack([xx.ravel(), zz.ravel()], axis=1) @ np.array([[c, -s], [s, c]])
     octagon_area = 4.0 * (np.abs(local) <= 1.0).all(axis=1).mean()
     assert polygon_area(rows[:, [0, 2]]) >= 0.6 * octagon_area
+
+
+def test_box_box_normal_flips_with_the_order_when_centres_are_square_to_the_axis():
+    """Two boxes stacked in y whose least overlap is along z, with their centres level in z: the overlap is
+    the same towards +z and -z, and the normal must still flip when the boxes swap (hypothesis found it)."""
+    flipped = (0.0, 0.0, 0.0, 1.0)           # 180 degrees about z
+    a = Shape(st.BOX, [1.0, 1.0, 0.5], (0.0, 1.0, 0.0), flipped)
+    b = Shape(st.BOX, [1.0, 1.0, 0.25], (0.0, 0.0, 0.0), flipped)
+    n_ab, rows_ab, _ = run(a, b)
+    n_ba, rows_ba, _ = run(b, a)
+    assert n_ab > 0 and n_ba > 0
+    deep_ab = rows_ab[np.argmax(rows_ab[:, 6])]
+    deep_ba = rows_ba[np.argmax(rows_ba[:, 6])]
+    assert deep_ab[6] == pytest.approx(0.75) and deep_ba[6] == pytest.approx(0.75)
+    np.testing.assert_array_equal(deep_ab[3:6], -deep_ba[3:6])

@@ -8,14 +8,15 @@ from numba import njit
 
 import marbellous as mb
 from marbellous._numba.wide import LANES
-from marbellous.dynamics.contact_bundles import (BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS,
-                                                 WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B,
-                                                 accumulate_bundles, bundle_capacity, bundle_contacts,
-                                                 load_bundle_bodies, solve_bundles, store_bundles, warm_start_bundles)
+from marbellous.dynamics.contact_bundles import (MAX_COLOURS, MIN_BUNDLED_CONTACTS, accumulate_bundles,
+                                                 bundle_capacity, bundle_contacts, load_bundle_bodies, solve_bundles,
+                                                 store_bundles, warm_start_bundles)
 from marbellous.dynamics.contact_solver import accumulate_applied, solve_contacts, warm_start_listed
-from marbellous.dynamics.solver_bodies import SB_COLS, SB_ISO, prepare_solver_bodies
+from marbellous.dynamics.solver_bodies import prepare_solver_bodies
 from marbellous.scenes import sphere_pile
 from marbellous.state import layout as L
+from marbellous.state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, SB_COLS, SB_ISO, WI_CONTACT, WI_READ_A, WI_READ_B,
+                                     WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 DT = 1 / 60
 H = DT / 4
@@ -39,12 +40,12 @@ class Bundled:
     """The last step's contacts of a world laid out in bundles, with the solver bodies they were made from."""
 
     def __init__(self, world, rolling=()):
-        self.nc = world._npc
-        self.cf = world._pcf[:self.nc].copy()
-        self.ci = world._pci[:self.nc].copy()
+        self.nc = world._state.n_cached
+        self.cf = world._state.cache_f[:self.nc].copy()
+        self.ci = world._state.cache_i[:self.nc].copy()
         for c in rolling:
             self.cf[c, L.C_ROLL] = 0.01
-        self.sb = _solver_bodies(world._bf, world._bi, world._nb)
+        self.sb = _solver_bodies(world._state.bf, world._state.bi, world._state.bodies.end)
         capacity = bundle_capacity(self.nc, 1)
         self.wide_f = np.zeros(capacity * BUNDLE_FIELDS * LANES)
         self.wide_i = np.zeros(capacity * BUNDLE_ROWS * LANES, dtype=np.int64)
@@ -122,13 +123,14 @@ def test_a_colour_shares_no_movable_body_and_every_contact_has_one_place(pile):
 
 @njit
 def _bundled_in_step(t):
-    """How many bundles and overflow contacts the last step's passes had (test-only reader of the record)."""
+    """How many bundles and overflow contacts the last step's passes had (test-only reader of the context)."""
     return t.part_bundles[1], t.part_overflow[1]
 
 
 def test_the_serial_step_solves_a_pile_in_bundles(pile):
-    bundles, n_over = _bundled_in_step(pile._tables)
-    assert n_over == 0 and pile._npc <= bundles * LANES < pile._npc + LANES * MAX_COLOURS
+    bundles, n_over = _bundled_in_step(pile._state.context)
+    n = pile._state.n_cached
+    assert n_over == 0 and n <= bundles * LANES < n + LANES * MAX_COLOURS
 
 
 def _compare_passes(world):

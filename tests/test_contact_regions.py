@@ -7,7 +7,7 @@ from numba import njit
 
 import marbellous as mb
 from marbellous._numba.wide import LANES
-from marbellous.dynamics.contact_bundles import BUNDLE_ROWS, WI_CONTACT, WI_WRITE_A, WI_WRITE_B
+from marbellous.state.layout import BUNDLE_ROWS, WI_CONTACT, WI_WRITE_A, WI_WRITE_B
 from marbellous.dynamics.contact_regions import MIN_PARALLEL_CONTACTS
 from marbellous.scenes import sphere_pile
 from marbellous.state import layout as L
@@ -42,14 +42,14 @@ def piles():
 
 def test_regions_share_no_movable_body(piles):
     w, _ = piles[1]
-    assert w._npc >= MIN_PARALLEL_CONTACTS
-    order, starts, slab = _regions(w._tables)
-    n = w._npc
+    assert w._state.n_cached >= MIN_PARALLEL_CONTACTS
+    order, starts, slab = _regions(w._state.context)
+    n = w._state.n_cached
     assert sorted(order[:n]) == list(range(n))          # every contact once
     assert starts[0] == 0 and starts[3] == n
-    moving = [bool(w._bi[i, L.FLAGS] & L.F_ALIVE) and not w._bi[i, L.FLAGS] & (L.F_STATIC | L.F_SLEEPING)
-              for i in range(w._nb)]
-    ci = w._pci        # the cache now holds the contacts the step's passes ran over
+    moving = [bool(w._state.bi[i, L.FLAGS] & L.F_ALIVE) and not w._state.bi[i, L.FLAGS] & (L.F_STATIC | L.F_SLEEPING)
+              for i in range(w._state.bodies.end)]
+    ci = w._state.cache_i        # the cache now holds the contacts the step's passes ran over
     for r in range(2):
         rows = order[starts[r]:starts[r + 1]]
         assert len(rows) > n // 4                          # both regions have work
@@ -62,9 +62,9 @@ def test_regions_share_no_movable_body(piles):
 
 def test_each_region_has_bundles_that_write_only_its_own_bodies(piles):
     w, _ = piles[1]
-    _, _, slab = _regions(w._tables)
-    part_bundles, part_overflow, wide_i, overflow = _parts(w._tables)
-    sink = w._bf.shape[0] + 1                      # the solver bodies' last row
+    _, _, slab = _regions(w._state.context)
+    part_bundles, part_overflow, wide_i, overflow = _parts(w._state.context)
+    sink = w._state.bf.shape[0] + 1                      # the solver bodies' last row
     solved = []
     for part in range(3):                          # two regions, then the boundary
         first, last = part_bundles[part], part_bundles[part + 1]
@@ -79,7 +79,7 @@ def test_each_region_has_bundles_that_write_only_its_own_bodies(piles):
                 if part < 2:
                     assert all(slab[r] == part for r in written)
         solved += list(overflow[part_overflow[part]:part_overflow[part + 1]])
-    assert sorted(solved) == list(range(w._npc))   # every contact in one lane or one overflow list
+    assert sorted(solved) == list(range(w._state.n_cached))   # every contact in one lane or one overflow list
 
 
 def test_threads_give_the_same_result_on_every_run(piles):

@@ -30,7 +30,7 @@ slabs = [w.add_body(mb.Box((0.6, 0.15, 0.4)), position=(1.5 + 2 * k, 1.17, 2.5),
          for k in range(2)]
 for _ in range(6):
     w.step(1 / 60)
-assert w._npc > MIN_BUNDLED_CONTACTS    # (so the contact table grew, and the step had its bundle tables)
+assert w._state.n_cached > MIN_BUNDLED_CONTACTS    # (so the contact table grew, and the step had its bundle tables)
 print(json.dumps([list(map(float, b.position)) + list(map(float, b.velocity)) for b in balls + slabs]))
 """
 

@@ -42,16 +42,16 @@ PRIMITIVE_TESTS = {
 def reference_pair(w, sa, a, sb, b, prediction, out_f, out_i, n):
     """Contacts of shape rows ``sa`` (body ``a``) and ``sb`` (body ``b``), normals from a to b, by the
     public pair test of the canonical order."""
-    ta, tb = int(w._si[sa, L.S_TYPE]), int(w._si[sb, L.S_TYPE])
+    ta, tb = int(w._state.si[sa, L.S_TYPE]), int(w._state.si[sb, L.S_TYPE])
     if ta > tb:
         m = reference_pair(w, sb, b, sa, a, prediction, out_f, out_i, n)
         out_f[n:m, 3:6] *= -1.0
         return m
     pa, ra, pb, rb = np.empty(3), np.empty((3, 3)), np.empty(3), np.empty((3, 3))
-    shape_pose(w._bf, w._sf, sa, a, pa, ra)
-    shape_pose(w._bf, w._sf, sb, b, pb, rb)
-    par_a = w._sf[sa, L.S_PARAMS:L.S_PARAMS + st.N_SHAPE_PARAMS].copy()
-    par_b = w._sf[sb, L.S_PARAMS:L.S_PARAMS + st.N_SHAPE_PARAMS].copy()
+    shape_pose(w._state.bf, w._state.sf, sa, a, pa, ra)
+    shape_pose(w._state.bf, w._state.sf, sb, b, pb, rb)
+    par_a = w._state.sf[sa, L.S_PARAMS:L.S_PARAMS + st.N_SHAPE_PARAMS].copy()
+    par_b = w._state.sf[sb, L.S_PARAMS:L.S_PARAMS + st.N_SHAPE_PARAMS].copy()
     if tb <= st.PLANE:
         if ta == st.PLANE:
             return n
@@ -59,12 +59,12 @@ def reference_pair(w, sa, a, sb, b, prediction, out_f, out_i, n):
     if ta >= st.HEIGHTFIELD or ta == st.PLANE:
         return n
     test = collide_convex_heightfield if tb == st.HEIGHTFIELD else collide_convex_mesh
-    return test(ta, pa, ra, par_a, pb, rb, par_b, w._geom_f, w._geom_i, int(w._si[sb, L.S_OFF_F]),
-                int(w._si[sb, L.S_OFF_I]), prediction, out_f, out_i, n)
+    return test(ta, pa, ra, par_a, pb, rb, par_b, w._state.geom_f, w._state.geom_i, int(w._state.si[sb, L.S_OFF_F]),
+                int(w._state.si[sb, L.S_OFF_I]), prediction, out_f, out_i, n)
 
 
 def moving(w, i):
-    f = int(w._bi[i, L.FLAGS])
+    f = int(w._state.bi[i, L.FLAGS])
     return bool(f & L.F_ALIVE) and not f & L.F_STATIC and not f & L.F_SLEEPING
 
 
@@ -74,14 +74,14 @@ def reference_narrow_phase(w, pairs, sweep):
     rows = []
     n = 0
     for a, b in pairs:
-        fa, fb = int(w._bi[a, L.FLAGS]), int(w._bi[b, L.FLAGS])
+        fa, fb = int(w._state.bi[a, L.FLAGS]), int(w._state.bi[b, L.FLAGS])
         sensor = bool((fa | fb) & L.F_SENSOR)
         if not (moving(w, a) or moving(w, b)):
             if not sensor or (fa & L.F_STATIC and fb & L.F_STATIC):
                 continue
         prediction = 0.0 if sensor else SPECULATIVE + sweep[a] + sweep[b]
-        for sa in range(w._bi[a, L.SHAPE_START], w._bi[a, L.SHAPE_START] + w._bi[a, L.SHAPE_COUNT]):
-            for sb in range(w._bi[b, L.SHAPE_START], w._bi[b, L.SHAPE_START] + w._bi[b, L.SHAPE_COUNT]):
+        for sa in range(w._state.bi[a, L.SHAPE_START], w._state.bi[a, L.SHAPE_START] + w._state.bi[a, L.SHAPE_COUNT]):
+            for sb in range(w._state.bi[b, L.SHAPE_START], w._state.bi[b, L.SHAPE_START] + w._state.bi[b, L.SHAPE_COUNT]):
                 m = reference_pair(w, sa, a, sb, b, prediction, out_f, out_i, n)
                 rows += [(a, b, sa, sb, out_i[c], L.CP_SENSOR if sensor else 0) for c in range(n, m)]
                 n = m
@@ -134,7 +134,7 @@ def mixed_world(seed, bodies=24):
                           orientation=random_quat(rng), velocity=rng.normal(0.0, 1.0, 3),
                           angular_velocity=rng.normal(0.0, 2.0, 3), sensor=k % 11 == 5)
         if k % 7 == 3:
-            w._bi[body._index, L.FLAGS] |= L.F_SLEEPING
+            w._state.bi[body._index, L.FLAGS] |= L.F_SLEEPING
     # a second mesh after the bodies: its pairs have the mesh second (the first mesh's have it first)
     w.add_static(bump_mesh(rng), position=(0.0, 0.3, 0.0))
     return w
@@ -142,11 +142,11 @@ def mixed_world(seed, bodies=24):
 
 def collide_input(w):
     """Sweeps from ``update_aabbs`` and every body pair ``a < b`` (far ones too: rejections are tested)."""
-    nb = w._nb
+    nb = w._state.bodies.end
     aabbs = np.zeros((nb, 6))
     sweep = np.empty(nb)
-    pos_t, rot_t, _, q = pose_tables(w._sf.shape[0])
-    update_aabbs(w._bf, w._bi, w._sf, w._si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
+    pos_t, rot_t, _, q = pose_tables(w._state.sf.shape[0])
+    update_aabbs(w._state.bf, w._state.bi, w._state.sf, w._state.si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
     pairs = np.array([(a, b) for a in range(nb) for b in range(a + 1, nb)], dtype=np.int64)
     return pairs, sweep
 
@@ -154,9 +154,9 @@ def collide_input(w):
 def run_narrow_phase(w, pairs, sweep, capacity):
     raw_f = np.zeros((capacity, 7))
     raw_i = np.zeros(capacity, np.int64)
-    ci = np.zeros((capacity, w._ci.shape[1]), np.int64)
-    n = narrow_phase(w._bf, w._bi, w._sf, w._si, w._geom_f, w._geom_i, pairs, len(pairs), sweep, SPECULATIVE,
-                     raw_f, raw_i, ci, *pose_tables(w._sf.shape[0]))
+    ci = np.zeros((capacity, L.CI_COLS), np.int64)
+    n = narrow_phase(w._state.bf, w._state.bi, w._state.sf, w._state.si, w._state.geom_f, w._state.geom_i, pairs, len(pairs), sweep, SPECULATIVE,
+                     raw_f, raw_i, ci, *pose_tables(w._state.sf.shape[0]))
     return n, raw_f, raw_i, ci
 
 
@@ -182,8 +182,8 @@ def test_mixed_world_exercises_every_kind_of_pair():
         pairs, sweep = collide_input(w)
         n, raw_f, raw_i, ci = run_narrow_phase(w, pairs, sweep, 4096)
         for c in range(n):
-            ta = int(w._si[ci[c, L.C_SHAPE_A], L.S_TYPE])
-            tb = int(w._si[ci[c, L.C_SHAPE_B], L.S_TYPE])
+            ta = int(w._state.si[ci[c, L.C_SHAPE_A], L.S_TYPE])
+            tb = int(w._state.si[ci[c, L.C_SHAPE_B], L.S_TYPE])
             kinds.add((min(ta, tb), max(ta, tb)))
             ordered.add((ta, tb))
     # the sphere-mesh fast path in both orders (the mesh's body first, and second)

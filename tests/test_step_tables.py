@@ -1,20 +1,20 @@
-"""The step's record of the tables (pipeline/tables.py): it always holds the world's current arrays, and
-growing a buffer in the middle of a run changes nothing but memory."""
+"""The step context (pipeline/context.py): it always holds the world's current arrays, and growing a buffer
+in the middle of a run changes nothing but memory."""
 import numpy as np
 import pytest
 from numba import njit
 
 import marbellous as mb
 from marbellous._numba.jit import borrow
-from marbellous.pipeline import step as S
-from marbellous.pipeline.tables import TABLE_FIELDS, pack_tables, record_at
+from marbellous.pipeline.context import TABLE_FIELDS, context_at, pack_context
+from marbellous.state import layout as L
 
 TABLE_NAMES = [name for name, _ in TABLE_FIELDS]
 
 
 @njit
 def _addresses(t):
-    """Data addresses of the record's tables, in the order of TABLE_NAMES (a slow, test-only reader)."""
+    """Data addresses of the context's tables, in the order of TABLE_NAMES (a slow, test-only reader)."""
     return np.array([t.bf.ctypes.data, t.bi.ctypes.data, t.sf.ctypes.data, t.si.ctypes.data, t.kf.ctypes.data,
                      t.ki.ctypes.data, t.ws.ctypes.data, t.geom_f.ctypes.data, t.geom_i.ctypes.data,
                      t.aabbs.ctypes.data, t.bp_f.ctypes.data, t.bp_i.ctypes.data, t.pairs.ctypes.data,
@@ -25,17 +25,25 @@ def _addresses(t):
 
 @njit
 def _addresses_at(address):
-    """``_addresses`` of the record at ``address``, as the World's step entry reads it."""
-    return _addresses(record_at(address))
+    """``_addresses`` of the context at ``address``, as the state's step entry reads it."""
+    return _addresses(context_at(address))
+
+
+def _tables(st):
+    """The state's tables in the order of TABLE_NAMES (the contact tables by their roles)."""
+    roles = {"cf": st.contact_table_f(False), "ci": st.contact_table_i(False), "pcf": st.cache_f,
+             "pci": st.cache_i}
+    return [roles[name] if name in roles else getattr(st, name) for name in TABLE_NAMES]
 
 
 def _assert_in_sync(w):
-    """The record the last step ran on holds exactly the world's arrays and counts, and the address the
-    World passes to the step is that record's."""
-    got = _addresses(w._tables)
-    want = [getattr(w, "_" + name).ctypes.data for name in TABLE_NAMES] + [w._nb, w._nk]
+    """The context the last step ran on holds exactly the state's arrays and counts, and the address the
+    state passes to the step is that context's."""
+    st = w._state
+    got = _addresses(st.context)
+    want = [t.ctypes.data for t in _tables(st)] + [st.bodies.end, st.constraints.end]
     assert list(got) == want
-    assert list(_addresses_at(w._step_argument)) == want
+    assert list(_addresses_at(st._address)) == want
 
 
 @njit
@@ -60,13 +68,13 @@ def _pile(n, buffers=None):
         w.add_body(mb.Sphere(0.25), position=(0.51 * (k % 4) + 0.01 * (k // 8), 0.26 + 0.51 * (k // 8),
                                               0.51 * ((k // 4) % 2)))
     if buffers is not None:
-        w._grow_contacts(buffers)
-        w._pairs = np.zeros((buffers, 2), dtype=np.int64)
-        w._tables = None
+        w._state.grow_contacts(buffers)
+        w._state.pairs = np.zeros((buffers, 2), dtype=np.int64)
+        w._state.invalidate()
     return w
 
 
-def test_record_follows_every_replacement_of_a_table():
+def test_context_follows_every_replacement_of_a_table():
     w = _pile(3)
     w.step(1 / 60)
     _assert_in_sync(w)
@@ -87,7 +95,7 @@ def test_record_follows_every_replacement_of_a_table():
         w.add_body(mb.Sphere(0.2), position=(5.0 + 0.3 * k, 0.2, 0.0))
     w.step(1 / 60)
     _assert_in_sync(w)
-    assert w._stats[S.S_CONTACTS] > 64
+    assert w._state.stats[L.STAT_CONTACTS] > 64
 
 
 def test_growing_buffers_mid_run_changes_no_bit():
@@ -97,32 +105,34 @@ def test_growing_buffers_mid_run_changes_no_bit():
     for _ in range(90):
         small.step(1 / 60)
         roomy.step(1 / 60)
-    assert small._pcf.shape[0] > 64                # it did grow (from 64 rows), and reran a step
-    n = small._nb
-    assert np.array_equal(small._bf[:n], roomy._bf[:n])
-    assert small._npc == roomy._npc > 64
-    assert np.array_equal(small._pcf[:small._npc], roomy._pcf[:roomy._npc])
+    s, r = small._state, roomy._state
+    assert s.cache_f.shape[0] > 64                 # it did grow (from 64 rows), and reran a step
+    n = s.bodies.end
+    assert np.array_equal(s.bf[:n], r.bf[:n])
+    assert s.n_cached == r.n_cached > 64
+    assert np.array_equal(s.cache_f[:s.n_cached], r.cache_f[:r.n_cached])
 
 
 def test_contacts_are_those_of_the_last_step_after_each_swap():
     w = _pile(8)
     for _ in range(30):
         w.step(1 / 60)
-        assert len(w.contacts()) == w._stats[S.S_CONTACTS] == w._npc
+        assert len(w.contacts()) == w._state.stats[L.STAT_CONTACTS] == w._state.n_cached
 
 
-def test_pack_tables_refuses_a_table_of_the_wrong_kind():
+def test_pack_context_refuses_a_table_of_the_wrong_kind():
     w = _pile(2)
     w.step(1 / 60)
-    args = [getattr(w, "_" + name) for name in TABLE_NAMES] + [w._nb, w._nk]
+    st = w._state
+    args = _tables(st) + [st.bodies.end, st.constraints.end]
     bad = list(args)
-    bad[TABLE_NAMES.index("bf")] = np.asfortranarray(w._bf)
+    bad[TABLE_NAMES.index("bf")] = np.asfortranarray(st.bf)
     with pytest.raises(TypeError, match="bf must be a C-contiguous float64"):
-        pack_tables(*bad)
+        pack_context(*bad)
     bad = list(args)
-    bad[TABLE_NAMES.index("ci")] = w._ci.astype(np.int32)
+    bad[TABLE_NAMES.index("ci")] = st.contact_table_i(False).astype(np.int32)
     with pytest.raises(TypeError, match="ci must be"):
-        pack_tables(*bad)
+        pack_context(*bad)
 
 
 def test_both_contact_tables_keep_one_capacity_through_restore():
@@ -134,10 +144,11 @@ def test_both_contact_tables_keep_one_capacity_through_restore():
     for k in range(60):
         w.add_body(mb.Sphere(0.2), position=(5.0 + 0.3 * k, 0.2, 0.0))
     w.step(1 / 60)
-    assert w._pcf.shape[0] > 64
+    assert w._state.cache_f.shape[0] > 64
     for _ in range(3):
         w.restore(snap)
-        assert w._cf.shape[0] == w._pcf.shape[0] == w._raw_f.shape[0]
+        st = w._state
+        assert st.contact_table_f(False).shape[0] == st.cache_f.shape[0] == st.raw_f.shape[0]
         w.step(1 / 60)
         _assert_in_sync(w)
 

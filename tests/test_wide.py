@@ -1,4 +1,4 @@
-"""Wide floats (marbellous/_wide.py): every operation gives, lane by lane and bit for bit, what the same
+"""Wide floats (marbellous/_numba/wide.py): every operation gives, lane by lane and bit for bit, what the same
 scalar operation gives (NumPy here), compiled and as plain Python; gathers and scatters move the same
 values as NumPy's fancy indexing, with the last lane winning where two lanes name one row."""
 import numpy as np

@@ -64,7 +64,7 @@ def test_bumpy_mesh_trajectories_are_bit_identical_for_every_accel():
     states = []
     for accel in ("brute", "grid2d", "bvh"):
         w, balls = run_bumpy(accel)
-        states.append(w._bf[:w._nb].copy())
+        states.append(w._state.bf[:w._state.bodies.end].copy())
         # Everything is still on (or above) the terrain.
         for b in balls:
             assert b.position[1] > bumpy(b.position[0], b.position[2]) - 0.05
@@ -76,7 +76,7 @@ def test_bumpy_mesh_trajectories_are_bit_identical_for_every_accel():
 def test_simulation_is_bit_identical_for_every_broad_phase(broadphase):
     ref, _ = run_bumpy("grid2d", "sap", steps=90)
     w, _ = run_bumpy("grid2d", broadphase, steps=90)
-    assert np.array_equal(ref._bf[:ref._nb], w._bf[:w._nb])
+    assert np.array_equal(ref._state.bf[:ref._state.bodies.end], w._state.bf[:w._state.bodies.end])
 
 
 def test_marble_comes_to_rest_on_a_height_field_and_agrees_with_height_at():
@@ -130,6 +130,6 @@ def test_contacts_keep_features_across_steps():
     w.add_body(mb.Box((0.1, 0.05, 0.1)), position=(0.7, 0.05, 0.25))
     for _ in range(60):
         w.step(DT)
-    n = w._npc
+    n = w._state.n_cached
     assert n == 4
-    assert np.all(w._pci[:n, L.C_FLAGS] & L.CP_MATCHED)
+    assert np.all(w._state.cache_i[:n, L.C_FLAGS] & L.CP_MATCHED)

@@ -43,7 +43,7 @@ def bodies_of(world):
 
     out = []
     for b in world.bodies:
-        row = world._bf[b._index]
+        row = world._state.bf[b._index]
         out.append({"static": b.is_static, "shapes": b.shapes, "position": b.position,
                      "orientation": b.orientation, "velocity": b.velocity, "angular_velocity": b.angular_velocity,
                      "mass": b.mass, "friction": float(row[L.FRICTION]), "restitution": float(row[L.RESTITUTION]),

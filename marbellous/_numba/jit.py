@@ -1,24 +1,29 @@
 """The one place where Numba is configured.
 
 Every kernel in Marbellous is a plain function over NumPy arrays decorated with :func:`njit`.
-Kernels are compiled on first use and cached on disk next to their source file, so the second
-start of a program is fast.  Tunables travel as arguments, never as globals (the cache freezes
+Kernels are compiled on first use and cached on disk (``_numba/cache.py``: where, and why an edit
+anywhere in the package never leaves a stale kernel), so the second start of a program is fast.  Tunables travel as arguments, never as globals (the cache freezes
 globals).  ``NUMBA_DISABLE_JIT=1`` in the environment runs every kernel as plain Python.
 """
 import numba
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
+from . import cache
+
+#: whether compiled kernels are cached on disk (not when no cache directory is writable)
+CACHING = cache.install()
+
 #: Compile in nopython mode, cache to disk, no fastmath (results are bit-reproducible).
-njit = numba.njit(cache=True, nogil=True, fastmath=False)
+njit = numba.njit(cache=CACHING, nogil=True, fastmath=False)
 
 #: As :data:`njit`, but inlined into each caller at the Numba IR level: for small kernels called once per
 #: sub-step or iteration, where the call itself (every array argument's fields passed and reference
 #: counted) would cost more than the work.
-njit_inline = numba.njit(cache=True, nogil=True, fastmath=False, inline="always")
+njit_inline = numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="always")
 
 #: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).
-njit_parallel = numba.njit(cache=True, nogil=True, fastmath=False, parallel=True)
+njit_parallel = numba.njit(cache=CACHING, nogil=True, fastmath=False, parallel=True)
 
 
 def _borrow_codegen(context, builder, signature, args):
@@ -55,3 +60,34 @@ def borrow(array):
 
 if not numba.config.DISABLE_JIT:
     borrow = _borrow          # noqa: F811 (the compiled form of the function above)
+
+
+def _field_codegen(attr, field_type):
+    def codegen(context, builder, signature, args):
+        from numba.experimental.structref import _Utils
+        data = _Utils(context, builder, signature.args[0]).get_data_struct(args[0])
+        return _borrow_codegen(context, builder, field_type(field_type), [getattr(data, attr)])
+    return codegen
+
+
+@intrinsic
+def _field(typingctx, record, name):
+    if not isinstance(name, types.StringLiteral) or not isinstance(record, types.StructRef):
+        return None
+    attr = name.literal_value
+    field_type = record.field_dict.get(attr)
+    if not isinstance(field_type, types.Array):
+        return None
+    return field_type(record, name), _field_codegen(attr, field_type)
+
+
+def field(record, name):
+    """The array field ``name`` (a string literal) of a compiled record, borrowed (see :func:`borrow`):
+    ``field(ctx, "bf")`` is ``borrow(ctx.bf)`` without the reference that reading ``ctx.bf`` takes and
+    gives back (two atomic operations per read, which the step's stages would otherwise pay dozens of
+    times).  Valid while the record is alive.  Plain Python: ``getattr(record, name)``."""
+    return getattr(record, name)
+
+
+if not numba.config.DISABLE_JIT:
+    field = _field          # noqa: F811 (the compiled form of the function above)

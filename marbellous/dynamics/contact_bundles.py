@@ -27,12 +27,16 @@ sub-step), ``store_bundles`` (end of the step: impulses back to the contact tabl
 """
 from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w, where_gt
-from ..state.layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N,
-                            C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N,
-                            C_SUM_T, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING)
+from ..state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A,
+                            C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2,
+                            C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
+                            SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A, WB_INV_I_B, WB_INV_MASS_A,
+                            WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_T1, WB_LAMBDA_T2, WB_MASS_N, WB_MASS_T1, WB_MASS_T2,
+                            WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB, WB_SEPARATION, WB_SUM_N, WB_SUM_T, WB_T1,
+                            WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
-from .solver_bodies import SB_DP, SB_INV_MASS, SB_ISO, SB_V
+
 
 #: most colours; contacts that find none free go to the overflow (one bit per colour in an int64 mask)
 MAX_COLOURS = 63
@@ -40,35 +44,6 @@ MAX_COLOURS = 63
 #: tables come with the step's record once the contact table has grown past its first 64 rows
 MIN_BUNDLED_CONTACTS = 64
 
-# wide_f fields (one block of LANES values each)
-WB_NORMAL = 0          # 3
-WB_RA = 3              # 3
-WB_RB = 6              # 3
-WB_T1 = 9              # 3
-WB_T2 = 12             # 3
-WB_MASS_N = 15
-WB_MASS_T1 = 16
-WB_MASS_T2 = 17
-WB_MU = 18             # the friction coefficient that applies (static while sticking, dynamic once sliding)
-WB_LAMBDA_N = 19
-WB_LAMBDA_T1 = 20
-WB_LAMBDA_T2 = 21
-WB_MAX_N = 22
-WB_VN0 = 23
-WB_NEW = 24            # 1 for a contact not warm-started from last step, else 0
-WB_ADJ_SEP = 25        # separation at detection (m)
-WB_SEPARATION = 26     # current separation (m), from the bodies' motion (load_bundle_bodies)
-WB_INV_MASS_A = 27
-WB_INV_I_A = 28        # 9, row-major world inverse inertia (right after the inverse mass)
-WB_INV_MASS_B = 37
-WB_INV_I_B = 38        # 9
-WB_SUM_N = 47          # impulses applied over the step's sub-steps
-WB_SUM_T = 48          # 3 (right after the normal total)
-BUNDLE_FIELDS = 51
-# wide_i blocks
-WI_READ_A, WI_READ_B, WI_WRITE_A, WI_WRITE_B, WI_CONTACT = range(5)
-WI_TURNING = 5         # 1 in every lane if some lane's body has a world inverse inertia that turns with it
-BUNDLE_ROWS = 6
 
 
 @njit

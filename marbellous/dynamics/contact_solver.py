@@ -18,12 +18,12 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, row3
-from ..state.layout import (C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1,
-                            C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_POINT,
-                            C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING,
-                            FRICTION, POS, RESTITUTION, ROLLING, STATIC_FRICTION)
+from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS,
+                            C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
+                            C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
+                            FRICTION, POS, RESTITUTION, ROLLING, SB_INV_I, SB_ISO, STATIC_FRICTION)
 from .contact_basis import contact_basis
-from .solver_bodies import (SB_ISO, effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
+from .solver_bodies import (effective_mass_along, motion, push, relative_velocity_at, set_velocity, twist,
                             velocity)
 
 
@@ -212,9 +212,13 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
 
     Returns the bodies' updated ``(v, omega)``.
     """
-    k0, k1, k2 = sb[a, 1] + sb[b, 1], sb[a, 2] + sb[b, 2], sb[a, 3] + sb[b, 3]
-    k3, k4, k5 = sb[a, 4] + sb[b, 4], sb[a, 5] + sb[b, 5], sb[a, 6] + sb[b, 6]
-    k6, k7, k8 = sb[a, 7] + sb[b, 7], sb[a, 8] + sb[b, 8], sb[a, 9] + sb[b, 9]
+    # K = I_a^-1 + I_b^-1 (world, row-major)
+    k0, k1, k2 = (sb[a, SB_INV_I] + sb[b, SB_INV_I], sb[a, SB_INV_I + 1] + sb[b, SB_INV_I + 1],
+                  sb[a, SB_INV_I + 2] + sb[b, SB_INV_I + 2])
+    k3, k4, k5 = (sb[a, SB_INV_I + 3] + sb[b, SB_INV_I + 3], sb[a, SB_INV_I + 4] + sb[b, SB_INV_I + 4],
+                  sb[a, SB_INV_I + 5] + sb[b, SB_INV_I + 5])
+    k6, k7, k8 = (sb[a, SB_INV_I + 6] + sb[b, SB_INV_I + 6], sb[a, SB_INV_I + 7] + sb[b, SB_INV_I + 7],
+                  sb[a, SB_INV_I + 8] + sb[b, SB_INV_I + 8])
     # cofactors of K (the adjugate is their transpose)
     c0, c1, c2 = k4 * k8 - k5 * k7, k5 * k6 - k3 * k8, k3 * k7 - k4 * k6
     det = k0 * c0 + k1 * c1 + k2 * c2

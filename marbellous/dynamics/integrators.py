@@ -9,7 +9,7 @@ Each step is split in two stages so that the constraint solver can act between t
 
 Explicit Euler:       x' = x + v h,           v' = v + a(x, v) h                       (first order, gains energy)
 Semi-implicit Euler:  v' = v + a(x, v) h,     x' = x + v' h                            (first order, symplectic)
-Verlet (positions):   x' = x + (x - x_prev) h / h_prev + a (h + h_prev) / 2 * h         (second order, no velocity state;
+Verlet (positions):   x' = x + (x - x_prev) h / h_prev + a (h + h_prev) / 2 * h        (second order, no velocity state;
                       started with x' = x + v h + a h^2 / 2; the reported velocity is (x' - x) / h)
 RK4:                  y' = y + h/6 (k1 + 2 k2 + 2 k3 + k4) on y = (x, q, v, omega)       (fourth order)
 

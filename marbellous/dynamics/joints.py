@@ -13,7 +13,7 @@ import math
 
 from .._numba.jit import njit
 from ..math3d import quat_rotate
-from ..state.layout import (C_CABLE, C_ROD, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE, K_IMPULSE,
+from ..state.layout import (KT_CABLE, KT_ROD, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE, K_IMPULSE,
                             K_LENGTH, K_TYPE, KF_ALIVE, KF_BROKEN, POS, QUAT)
 from .solver_bodies import effective_mass_along, push, relative_velocity_at, set_velocity, velocity
 
@@ -22,7 +22,7 @@ from .solver_bodies import effective_mass_along, push, relative_velocity_at, set
 def is_active_joint(ki, c):
     t = ki[c, K_TYPE]
     f = ki[c, K_FLAGS]
-    return (t == C_ROD or t == C_CABLE) and (f & KF_ALIVE) != 0 and (f & KF_BROKEN) == 0
+    return (t == KT_ROD or t == KT_CABLE) and (f & KF_ALIVE) != 0 and (f & KF_BROKEN) == 0
 
 
 @njit
@@ -111,7 +111,7 @@ def solve_joints(bf, kf, ki, nk, sb, h, use_bias, soft, vecs):
         if mass == 0.0:
             continue
         err = length - kf[c, K_LENGTH]
-        cable = ki[c, K_TYPE] == C_CABLE
+        cable = ki[c, K_TYPE] == KT_CABLE
         if cable and err < 0.0:
             bias, mass_scale, impulse_scale = err / h, 1.0, 0.0   # slack: may open up to the full length
         elif use_bias:

@@ -34,9 +34,10 @@ body touches a few others stays linear in the number of contacts; a body with hu
 import numpy as np
 
 from .._numba.jit import njit
-from ..state.layout import (C_BODY_A, C_BODY_B, C_CABLE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_MAX_N, C_MU_D,
-                            C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0, CP_MATCHED, CP_SENSOR, CP_SLIDING,
-                            K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, VEL)
+from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
+                            C_LAMBDA_T1, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0,
+                            KT_CABLE, K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, SB_INV_I, SB_INV_MASS,
+                            VEL)
 from .contact_solver import contact_separation
 from .joints import is_active_joint, joint_axis
 from .lcp_solve import solve_bounded_lcp
@@ -83,9 +84,9 @@ def _inverse_mass_times(J, MJ, i, sb, a, b):
                 MJ[i, o + k] = 0.0
             continue
         for k in range(3):
-            MJ[i, o + k] = sb[body, 0] * J[i, o + k]
-            MJ[i, o + 3 + k] = (sb[body, 1 + 3 * k] * J[i, o + 3] + sb[body, 2 + 3 * k] * J[i, o + 4]
-                                + sb[body, 3 + 3 * k] * J[i, o + 5])
+            MJ[i, o + k] = sb[body, SB_INV_MASS] * J[i, o + k]
+            MJ[i, o + 3 + k] = (sb[body, SB_INV_I + 3 * k] * J[i, o + 3] + sb[body, SB_INV_I + 1 + 3 * k] * J[i, o + 4]
+                                + sb[body, SB_INV_I + 2 + 3 * k] * J[i, o + 5])
 
 
 @njit
@@ -135,7 +136,7 @@ def assemble_matrix(rows, J, MJ, m, sb, nb):
     for i in range(m):
         for side in range(2):
             k = rows[i, side]
-            if k >= 0 and sb[k, 0] > 0.0:
+            if k >= 0 and sb[k, SB_INV_MASS] > 0.0:
                 count[k + 1] += 1
     for k in range(nb):
         count[k + 1] += count[k]
@@ -144,14 +145,14 @@ def assemble_matrix(rows, J, MJ, m, sb, nb):
     for i in range(m):
         for side in range(2):
             k = rows[i, side]
-            if k >= 0 and sb[k, 0] > 0.0:
+            if k >= 0 and sb[k, SB_INV_MASS] > 0.0:
                 members[start[k]] = i
                 start[k] += 1
     bound = 0
     for i in range(m):
         for side in range(2):
             k = rows[i, side]
-            if k >= 0 and sb[k, 0] > 0.0:
+            if k >= 0 and sb[k, SB_INV_MASS] > 0.0:
                 bound += count[k + 1] - count[k]
     ptr = np.zeros(m + 1, dtype=np.int64)
     col = np.empty(max(bound, 1), dtype=np.int64)
@@ -162,7 +163,7 @@ def assemble_matrix(rows, J, MJ, m, sb, nb):
         row_start = nnz
         for side in range(2):
             k = rows[i, side]
-            if k < 0 or sb[k, 0] <= 0.0:
+            if k < 0 or sb[k, SB_INV_MASS] <= 0.0:
                 continue
             for q in range(count[k], count[k + 1]):
                 j = members[q]
@@ -264,7 +265,7 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
         _linear_row(J, MJ, m, sb, a, ra, b, rb, u)
         a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
         err = length - kf[c, K_LENGTH]
-        cable = ki[c, K_TYPE] == C_CABLE
+        cable = ki[c, K_TYPE] == KT_CABLE
         if cable:
             hi[m] = 0.0
         if cable and err < 0.0:

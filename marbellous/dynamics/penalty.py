@@ -44,9 +44,9 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
-from ..state.layout import (C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
-                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1,
-                            C_T2, CP_SENSOR, CP_SLIDING, FORCE, OMEGA, TORQUE)
+from ..state.layout import (CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
+                            C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL,
+                            C_RA, C_RB, C_ROLL, C_T1, C_T2, FORCE, OMEGA, SB_INV_I, TORQUE)
 from .contact_solver import contact_separation
 from .rigid import relative_velocity
 
@@ -201,7 +201,7 @@ def _rolling_torque(bf, cf, c, sb, a, b, bound, h, T):
     inv_i = 0.0
     for r in range(3):
         for q in range(3):
-            inv_i += dw[r] * (sb[a, 1 + 3 * r + q] + sb[b, 1 + 3 * r + q]) * dw[q]
+            inv_i += dw[r] * (sb[a, SB_INV_I + 3 * r + q] + sb[b, SB_INV_I + 3 * r + q]) * dw[q]
     inv_i /= speed * speed
     if inv_i <= 0.0:
         return

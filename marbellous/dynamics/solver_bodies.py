@@ -18,18 +18,11 @@ The velocity of a body is handled as a 6-tuple ``u = (v, omega)`` so that a cons
 bodies once, updates them in registers and writes them back once.
 """
 from .._numba.jit import njit, njit_inline
-from ..state.layout import DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, VEL
+from ..state.layout import (DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, SB_DP, SB_DTHETA,
+                            SB_INV_I, SB_INV_MASS, SB_ISO, SB_V, SB_W, VEL)
 from .forces import is_moving
 from .rigid import inverse_inertia_world
 
-SB_INV_MASS = 0
-SB_INV_I = 1
-SB_V = 10
-SB_W = 13
-SB_DP = 16
-SB_DTHETA = 19
-SB_ISO = 22       # s if I_w^-1 = s E (spheres, cubes, and every body that cannot move: s = 0), else -1
-SB_COLS = 24      # 23 used, padded to three 64-byte cache lines
 
 
 @njit_inline
@@ -122,18 +115,18 @@ def push(sb, i, u, r, px, py, pz, sign):
         si = sign * iso
         return u[0] + im * px, u[1] + im * py, u[2] + im * pz, u[3] + si * cx, u[4] + si * cy, u[5] + si * cz
     return (u[0] + im * px, u[1] + im * py, u[2] + im * pz,
-            u[3] + sign * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz),
-            u[4] + sign * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz),
-            u[5] + sign * (sb[i, 7] * cx + sb[i, 8] * cy + sb[i, 9] * cz))
+            u[3] + sign * (sb[i, SB_INV_I] * cx + sb[i, SB_INV_I + 1] * cy + sb[i, SB_INV_I + 2] * cz),
+            u[4] + sign * (sb[i, SB_INV_I + 3] * cx + sb[i, SB_INV_I + 4] * cy + sb[i, SB_INV_I + 5] * cz),
+            u[5] + sign * (sb[i, SB_INV_I + 6] * cx + sb[i, SB_INV_I + 7] * cy + sb[i, SB_INV_I + 8] * cz))
 
 
 @njit
 def twist(sb, i, u, lx, ly, lz, sign):
     """``u`` of body ``i`` after the angular impulse ``sign l`` (N m s):  omega += sign I_w^-1 l."""
     return (u[0], u[1], u[2],
-            u[3] + sign * (sb[i, 1] * lx + sb[i, 2] * ly + sb[i, 3] * lz),
-            u[4] + sign * (sb[i, 4] * lx + sb[i, 5] * ly + sb[i, 6] * lz),
-            u[5] + sign * (sb[i, 7] * lx + sb[i, 8] * ly + sb[i, 9] * lz))
+            u[3] + sign * (sb[i, SB_INV_I] * lx + sb[i, SB_INV_I + 1] * ly + sb[i, SB_INV_I + 2] * lz),
+            u[4] + sign * (sb[i, SB_INV_I + 3] * lx + sb[i, SB_INV_I + 4] * ly + sb[i, SB_INV_I + 5] * lz),
+            u[5] + sign * (sb[i, SB_INV_I + 6] * lx + sb[i, SB_INV_I + 7] * ly + sb[i, SB_INV_I + 8] * lz))
 
 
 @njit
@@ -145,8 +138,9 @@ def _angular_term(sb, i, r, d):
     iso = sb[i, SB_ISO]
     if iso >= 0.0:       # I_w^-1 = iso E: the products with the zero entries left out (same rounding)
         return cx * (iso * cx) + cy * (iso * cy) + cz * (iso * cz)
-    return (cx * (sb[i, 1] * cx + sb[i, 2] * cy + sb[i, 3] * cz) + cy * (sb[i, 4] * cx + sb[i, 5] * cy + sb[i, 6] * cz)
-            + cz * (sb[i, 7] * cx + sb[i, 8] * cy + sb[i, 9] * cz))
+    return (cx * (sb[i, SB_INV_I] * cx + sb[i, SB_INV_I + 1] * cy + sb[i, SB_INV_I + 2] * cz)
+            + cy * (sb[i, SB_INV_I + 3] * cx + sb[i, SB_INV_I + 4] * cy + sb[i, SB_INV_I + 5] * cz)
+            + cz * (sb[i, SB_INV_I + 6] * cx + sb[i, SB_INV_I + 7] * cy + sb[i, SB_INV_I + 8] * cz))
 
 
 @njit

@@ -11,8 +11,8 @@ import math
 
 from .._numba.jit import njit
 from ..math3d import quat_rotate
-from ..state.layout import (C_SPRING, K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS, K_FORCE, K_LENGTH,
-                            K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN)
+from ..state.layout import (K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS, K_FORCE, K_LENGTH,
+                            K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN, KT_SPRING)
 
 
 @njit
@@ -60,7 +60,7 @@ def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs):
     pa, pb, va, vb, f, r = vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3], vecs[5, :3]
     for c in range(nk):
         flags = ki[c, K_FLAGS]
-        if ki[c, K_TYPE] != C_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0:
+        if ki[c, K_TYPE] != KT_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0:
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
@@ -93,7 +93,7 @@ def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs):
 def clear_spring_forces(kf, ki, nk):
     """Zero the recorded force of every spring before a step accumulates its mean."""
     for c in range(nk):
-        if ki[c, K_TYPE] == C_SPRING:
+        if ki[c, K_TYPE] == KT_SPRING:
             kf[c, K_FORCE] = 0.0
             kf[c, K_FORCE + 1] = 0.0
             kf[c, K_FORCE + 2] = 0.0

@@ -12,22 +12,21 @@ import pathlib
 
 import numpy as np
 
+from ..query import collide
+from ..shapes import Box, Sphere
+
 
 class GoalArea:
     """An axis-aligned goal box with ``center`` and ``half_extents`` (m)."""
 
     def __init__(self, center, half_extents):
-        import marbellous as mb
-
         self.center = np.array(center, np.float64)
         self.half_extents = np.array(half_extents, np.float64)
-        self._box = mb.Box(self.half_extents)
+        self._box = Box(self.half_extents)
 
     def reached(self, position, radius):
         """True when a sphere of ``radius`` (m) at ``position`` (m) touches or overlaps the box."""
-        import marbellous as mb
-
-        contacts = mb.collide(self._box, mb.Sphere(radius), position_a=self.center, position_b=position)
+        contacts = collide(self._box, Sphere(radius), position_a=self.center, position_b=position)
         return any(c.depth >= 0.0 for c in contacts)
 
 

@@ -55,6 +55,8 @@ except ImportError:  # Python < 3.11
 
 import numpy as np
 
+from ..shapes import Box, Capsule, HeightField, Plane, Sphere, TriangleMesh
+
 #: Where the shipped levels live.
 LEVEL_DIR = pathlib.Path(__file__).resolve().parent.parent / "levels"
 #: The level ``marbellous demo`` and ``marbellous play`` use when none is named.
@@ -113,20 +115,18 @@ class Collider:
 
     def shape(self):
         """The ``marbellous`` shape of this collider (built on each call)."""
-        import marbellous as mb
-
         p = self.params
         if self.kind == "plane":
-            return mb.Plane(normal=p["normal"], offset=p["offset"])
+            return Plane(normal=p["normal"], offset=p["offset"])
         if self.kind == "box":
-            return mb.Box(p["half_extents"])
+            return Box(p["half_extents"])
         if self.kind == "sphere":
-            return mb.Sphere(p["radius"])
+            return Sphere(p["radius"])
         if self.kind == "capsule":
-            return mb.Capsule(p["radius"], p["half_height"])
+            return Capsule(p["radius"], p["half_height"])
         if self.kind == "mesh":
-            return mb.TriangleMesh(self.vertices, self.triangles)
-        return mb.HeightField(self.heights, spacing=p["spacing"], origin=p["origin"])
+            return TriangleMesh(self.vertices, self.triangles)
+        return HeightField(self.heights, spacing=p["spacing"], origin=p["origin"])
 
 
 @dataclass

@@ -1,6 +1,8 @@
 """The marble: a glass sphere with friction, rolling friction and restitution that feel like a marble."""
 from dataclasses import dataclass
 
+from ..shapes import Sphere
+
 
 @dataclass(frozen=True)
 class MarbleSpec:
@@ -24,8 +26,6 @@ class MarbleSpec:
 
     def add_to(self, world, position):
         """Add the marble to ``world`` at ``position`` (m) and return its body."""
-        import marbellous as mb
-
-        return world.add_body(mb.Sphere(self.radius), position=position, density=self.density,
+        return world.add_body(Sphere(self.radius), position=position, density=self.density,
                               friction=self.friction, static_friction=self.static_friction,
                               restitution=self.restitution, rolling_friction=self.rolling_friction)

@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from ..world import World
 from .camera import FollowCamera
 from .controls import control_force
 from .course import CoursePath
@@ -19,9 +20,7 @@ from .marble import MarbleSpec
 def build_world(level):
     """A new ``marbellous.World`` holding the level's colliders as static bodies; returns ``(world,
     statics)``."""
-    import marbellous as mb
-
-    world = mb.World()
+    world = World()
     statics = []
     for c in level.colliders:
         m = c.material

@@ -14,7 +14,7 @@ sphere at its body's centre needs no pose at all: its centre is the body's posit
 reads a sphere's rotation).  A sphere against a sphere, capsule, box or plane, nearly every pair of a
 pile, runs its pair test with every pose in registers and the row is written here: a call passes each
 array as a struct of 7 to 9 words, and counts its references unless the array is borrowed
-(``_jit.borrow``, as the step's are), about as costly as the pair test itself, so the hot loop hands
+(``_numba.jit.borrow``, as the step's are), about as costly as the pair test itself, so the hot loop hands
 none.  A sphere against a mesh (the marble) passes both poses by value too.  Other pairs go through
 ``collide_pair``.  Contacts, their order and their bits are those of posing both shapes of every pair
 and calling ``collide_pair`` (tests/test_narrow_phase.py).

@@ -1,13 +1,14 @@
 """``World.profile``: where the steps' time went, stage by stage, measured inside the compiled step.
 
 With ``world.profiling = True`` every step adds the processor cycles of each of its stages (see
-``pipeline/step.py``) to running totals; :func:`step_profile` turns them into seconds.  Reading the
+``pipeline/stages.py``) to running totals; :func:`step_profile` turns them into seconds.  Reading the
 cycle counter costs about 20 ns per stage, and nothing at all while profiling is off.
 """
 from typing import NamedTuple
 
 from .._numba.clock import cycles_per_second
-from . import step as S
+from ..state.layout import STAT_CYCLES, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS
+from .stages import STAGE_NAMES
 
 
 class StepProfile(NamedTuple):
@@ -48,11 +49,11 @@ class StepProfile(NamedTuple):
 
 def step_profile(stats):
     """The :class:`StepProfile` of a world's ``stats`` array (the step kernel's running totals)."""
-    steps = int(stats[S.S_PROFILED_STEPS])
+    steps = int(stats[STAT_PROFILED_STEPS])
     rate = cycles_per_second()
     if rate <= 0.0:
         raise RuntimeError("World.profile: this processor has no cycle counter the step can read")
-    seconds = {name: float(stats[S.S_CYCLES + k]) / rate for k, name in enumerate(S.STAGES)}
+    seconds = {name: float(stats[STAT_CYCLES + k]) / rate for k, name in enumerate(STAGE_NAMES)}
     per = 1.0 / steps if steps else 0.0
-    return StepProfile(steps, seconds, float(stats[S.S_SUM_PAIRS]) * per, float(stats[S.S_SUM_CONTACTS]) * per,
-                       float(stats[S.S_SUM_ITERATIONS]) * per)
+    return StepProfile(steps, seconds, float(stats[STAT_SUM_PAIRS]) * per, float(stats[STAT_SUM_CONTACTS]) * per,
+                       float(stats[STAT_SUM_ITERATIONS]) * per)

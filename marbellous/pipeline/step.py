@@ -1,39 +1,35 @@
-"""One world step as a list of named stages, compiled as one kernel so its fixed cost stays small.
+"""One world step: named stage functions over the step context, called in order by one compiled step per
+collision-handling scheme.
 
-    collide                 AABBs, broad phase, narrow phase at the poses the step began with
-    match                   warm-start contacts from last step's by (bodies, shapes, feature)
-    wake                    awake bodies touching sleeping islands wake them
-    prepare                 contact basis, effective masses, materials; many contacts are coloured into
-                            bundles (dynamics/contact_bundles.py), in regions for several threads
-    for each sub-step of h = dt / substeps:
-        integrate velocities    forces (gravity, user, springs) -> velocities, by the chosen integrator
-        warm start              apply last sub-step's impulses (joints, contacts)
-        solve                   sequential impulses with soft position correction, adaptive iterations
-                                (solver "lcp": all rows as one assembled LCP; "penalty": contact springs
-                                added to the forces before integrating, joints by impulses)
-        integrate positions     velocities -> poses, quaternions renormalised
-        relax                   sequential impulses without position bias (removes correction velocity)
-        store impulses          add the sub-step's impulses to the step's totals
-    store bundles           the bundles' impulses back to the contact table
-    restitution             closing contacts bounce with -e times their approach speed
-    store friction state    contacts at the friction cone slide in the next step
-    break constraints       springs, rods and cables over their breaking force snap
-    islands and sleep       resting islands fall asleep
-    clear force accumulators
+Each scheme's step (:data:`STEPS`) reads as the list of its stages (``pipeline/stages.py`` names and
+describes them).  A world compiles and calls only the step of its own scheme, so a world that never
+uses the LCP or penalty scheme never compiles them.  The execution variant of the contact passes (one
+scalar pass, coloured bundles solved eight at a time, regions on several threads) is chosen once per
+step by the prepare stage and recorded in the context; the stages that differ by variant read it there.
+
+Every stage is inlined into the step (``njit_inline``), so the step stays one compiled call whose fixed
+cost is a few hundred nanoseconds.  The stages take a view of the context (``_numba/record.py``), so
+that neither passing it nor reading its tables counts references.  The step returns ``OK``, or ``GROW_PAIRS`` /
+``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes in ``stats``), so the caller can
+grow the buffers and call again.
+
+The stages, in order:
+
 """
 import numpy as np
 
 from .._numba.clock import cycle_counter
-from .._numba.jit import borrow, njit, njit_inline
+from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
-from ..dynamics.contact_bundles import (BUNDLE_ROWS, MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
+from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, prepare_contacts,
-                                       solve_contacts, store_friction_state, warm_start_contacts, warm_start_listed)
+                                       solve_contacts, store_friction_state, warm_start_contacts,
+                                       warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -43,76 +39,48 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..state.layout import (C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, MASK, OMEGA, POS, POS0,
-                            TORQUE, W_PREV_DT, W_TIME)
+from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, LCP,
+                            MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
+                            PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
+                            PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED,
+                            PF_SPECULATIVE, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE,
+                            PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SUBSTEPS, PI_THREADS, POS,
+                            POS0, SEQUENTIAL_IMPULSE, STAT_CACHE_SIDE, STAT_CACHED, STAT_CONTACTS, STAT_CYCLES,
+                            STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
+                            STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import narrow_phase, update_aabbs
-from .tables import record_at
+from .context import context_at, view
+from .stages import (ST_AABBS, ST_BREAK_CONSTRAINTS, ST_BROAD_PHASE, ST_INTEGRATE_POSITIONS,
+                     ST_INTEGRATE_VELOCITIES, ST_ISLANDS_AND_SLEEP, ST_MATCH_AND_WAKE, ST_NARROW_PHASE, ST_PREPARE,
+                     ST_RELAX, ST_RESTITUTION, ST_SOLVE, ST_STORE_IMPULSES, ST_SUM_IMPULSES, ST_WARM_START,
+                     describe)
 
-# params_f layout (tunables travel as arguments, never as globals)
-P_DT = 0
-P_GRAVITY = 1           # 3 values (m/s^2)
-P_SPECULATIVE = 4       # speculative distance (m)
-P_CONTACT_HERTZ = 5     # stiffness of contact position correction (Hz)
-P_CONTACT_ZETA = 6      # its damping ratio
-P_JOINT_HERTZ = 7       # stiffness of rod/cable position correction (Hz)
-P_JOINT_ZETA = 8        # its damping ratio
-P_MAX_PUSH = 9          # fastest overlap removal (m/s)
-P_SLIDE_SPEED = 10      # tangential speed above which a new contact slides (m/s)
-P_TOLERANCE = 11        # adaptive iterations stop when no velocity changes more than this (m/s)
-P_SLEEP_LINEAR = 12     # rest tolerance, linear (m/s)
-P_SLEEP_ANGULAR = 13    # rest tolerance, angular (rad/s)
-P_TIME_TO_SLEEP = 14    # seconds at rest before an island sleeps (<= 0: never)
-P_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s)
-P_SWEEP = 16            # 1: predict contacts along the step's motion (continuous collision), 0: only at rest
-P_PENALTY_HERTZ = 17    # penalty scheme: frequency of the contact springs (Hz)
-P_LCP_SOR = 18          # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
-PF_LEN = 19
-# params_i layout
-P_INTEGRATOR = 0
-P_SUBSTEPS = 1
-P_ITERATIONS = 2        # most velocity iterations per sub-step
-P_BROADPHASE = 3
-P_SOLVER = 4            # SEQUENTIAL_IMPULSE, PENALTY or LCP (the order of world.SOLVERS)
-P_LCP_SWEEPS = 5        # LCP scheme: most projected Gauss-Seidel sweeps per solve
-P_PROFILE = 6           # 1: add each stage's processor cycles to stats (World.profiling)
-P_THREADS = 7           # threads of the sequential-impulse contact passes (dynamics/contact_regions.py)
-PI_LEN = 8
-SEQUENTIAL_IMPULSE = 0
-PENALTY = 1
-LCP = 2
-# stats (int64) written by the step
-S_PAIRS = 0             # candidate pairs found by the broad phase
-S_CONTACTS = 1          # contact points found by the narrow phase
-S_ITERATIONS = 2        # velocity iterations used in the step (all sub-steps)
-S_CACHED = 3            # contact points of the last completed step: the rows of the cache table
-S_CACHE_SIDE = 4        # which of the world's two contact tables is the cache (0 or 1); flips every step
-# with P_PROFILE on, the step also adds to these running totals (the World clears them):
-S_PROFILED_STEPS = 5    # steps profiled
-S_SUM_PAIRS = 6         # candidate pairs, summed over the profiled steps
-S_SUM_CONTACTS = 7      # contact points, summed
-S_SUM_ITERATIONS = 8    # velocity iterations, summed
-S_CYCLES = 9            # processor cycles spent in each of STAGES, summed (one slot per stage)
-#: the step's stages as the profile names them, in step order (sub-step stages summed over sub-steps)
-STAGES = ("aabbs", "broad_phase", "narrow_phase", "match_and_wake", "prepare", "integrate_velocities",
-          "warm_start", "solve", "integrate_positions", "relax", "restitution_and_joints", "islands_and_sleep")
-(ST_AABBS, ST_BROAD, ST_NARROW, ST_MATCH, ST_PREPARE, ST_INTEGRATE_V, ST_WARM, ST_SOLVE, ST_INTEGRATE_X,
- ST_RELAX, ST_RESTITUTION, ST_SLEEP) = range(len(STAGES))
-STATS_LEN = S_CYCLES + len(STAGES)
+__doc__ += "\n".join("    " + line for line in describe().splitlines()) + "\n"
+
 OK = 0
 GROW_PAIRS = 1
 GROW_CONTACTS = 2
 
 
+# --- the profile clock -------------------------------------------------------------------------------------
 @njit_inline
-def _lap(stats, stage, since, on):
-    """With profiling ``on``: add the cycles from ``since`` to now to ``stage``'s total; returns now."""
-    if not on:
-        return 0
-    now = cycle_counter()
-    stats[S_CYCLES + stage] += now - since
-    return now
+def start_clock(ctx):
+    """With profiling on, start the clock of the step's first stage."""
+    if ctx.params_i[PI_PROFILE] != 0:
+        ctx.clock = cycle_counter()
 
 
+@njit_inline
+def lap(ctx, stage):
+    """With profiling on, add the cycles since the last lap to ``stage``'s total (``stats``)."""
+    if ctx.params_i[PI_PROFILE] != 0:
+        now = cycle_counter()
+        stats = ctx.stats
+        stats[STAT_CYCLES + stage] += now - ctx.clock
+        ctx.clock = now
+
+
+# --- collide -------------------------------------------------------------------------------------------------
 @njit_inline
 def _needs_pairs(bi, nb):
     """True if some body is awake and dynamic, or is a sensor, and another body lives: otherwise every pair
@@ -129,240 +97,484 @@ def _needs_pairs(bi, nb):
     return False
 
 
-@njit
-def step_world(tables):
-    """Advance the world in the record ``tables`` (pipeline/tables.py) by ``params_f[P_DT]`` seconds.
-    Returns OK, or GROW_PAIRS / GROW_CONTACTS (with the needed sizes in ``stats``) having changed nothing
-    but scratch, so the caller can grow the buffers and call again.  On OK the contacts found become the
-    cache of the next step: the record's two contact tables swap, and ``stats`` tells the caller which is
-    which (S_CACHE_SIDE) and how many rows the cache holds (S_CACHED)."""
-    # Every table borrowed (_jit.borrow): the record keeps them alive through the step, and the stages
-    # then pass them on without counting references (about a quarter of a small scene's step otherwise).
-    bf, bi, sf, si = borrow(tables.bf), borrow(tables.bi), borrow(tables.sf), borrow(tables.si)
-    kf, ki, ws = borrow(tables.kf), borrow(tables.ki), borrow(tables.ws)
-    geom_f, geom_i = borrow(tables.geom_f), borrow(tables.geom_i)
-    aabbs, pairs = borrow(tables.aabbs), borrow(tables.pairs)
-    bp_f, bp_i, raw_f, raw_i = borrow(tables.bp_f), borrow(tables.bp_i), borrow(tables.raw_f), borrow(tables.raw_i)
-    cf, ci, pcf, pci = borrow(tables.cf), borrow(tables.ci), borrow(tables.pcf), borrow(tables.pci)
-    params_f, params_i, stats = borrow(tables.params_f), borrow(tables.params_i), borrow(tables.stats)
-    nb, nk, npc = tables.nb, tables.nk, stats[S_CACHED]
-    sweep, filters, sb = borrow(tables.sweep), borrow(tables.filters), borrow(tables.solver_bodies)
-    F, T, user_forces = borrow(tables.forces), borrow(tables.torques), borrow(tables.user_forces)
-    joint_totals, soft, vecs = borrow(tables.joint_totals), borrow(tables.soft), borrow(tables.vecs)
-    parent, least_rest, slab = borrow(tables.parent), borrow(tables.least_rest), borrow(tables.slab)
-    order, starts = borrow(tables.contact_order), borrow(tables.region_starts)
-    region_change = borrow(tables.region_change)
-    part_bundles, overflow = borrow(tables.part_bundles), borrow(tables.overflow)
-    part_overflow = borrow(tables.part_overflow)
-    wide_f, wide_i, wide_change = borrow(tables.wide_f), borrow(tables.wide_i), borrow(tables.wide_change)
-    colour_used, colour_of = borrow(tables.colour_used), borrow(tables.colour_of)
-    colour_fill = borrow(tables.colour_fill)
-    pose_pos, pose_rot = borrow(tables.pose_pos), borrow(tables.pose_rot)
-    pose_state, pose_quat = borrow(tables.pose_state), borrow(tables.pose_quat)
-    dt = params_f[P_DT]
-    substeps = params_i[P_SUBSTEPS]
-    h = dt / substeps
-    gravity = params_f[P_GRAVITY:P_GRAVITY + 3]
+@njit_inline
+def stage_aabbs(ctx):
+    """Stage "aabbs": every body's box, swept over the step (continuous collision) and grown by the
+    speculative distance; shapes posed for the narrow phase."""
+    params_f = ctx.params_f
+    gravity = params_f[PF_GRAVITY:PF_GRAVITY + 3]
     g_mag = np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
-    prof = params_i[P_PROFILE] != 0
-    t = cycle_counter() if prof else 0
-    # The per-body and per-contact scratch comes with the record: rows beyond nb / nk are unused.
-    contact_soft = soft[0]
-    joint_soft = soft[1]
-    for c in range(nk):
-        joint_totals[c] = 0.0
+    update_aabbs(ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.nb, ctx.aabbs,
+                 ctx.sweep, params_f[PF_DT] * params_f[PF_SWEEP], g_mag, params_f[PF_SPECULATIVE],
+                 ctx.pose_pos, ctx.pose_rot, ctx.pose_quat)
+    lap(ctx, ST_AABBS)
 
-    # --- collide -----------------------------------------------------------------------------------
-    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt * params_f[P_SWEEP], g_mag, params_f[P_SPECULATIVE],
-                 pose_pos, pose_rot, pose_quat)
-    t = _lap(stats, ST_AABBS, t, prof)
+
+@njit_inline
+def stage_broad_phase(ctx):
+    """Stage "broad phase": candidate pairs into ``pairs`` (their number in ``ctx.n_pairs``)."""
+    bi, nb = ctx.bi, ctx.nb
     n_pairs = 0
     if _needs_pairs(bi, nb):
         # the filter columns copied to contiguous rows: the broad phase reads them per pair, and columns of
         # the body table would cost it a cache line per read
+        filters = ctx.filters
         for i in range(nb):
             filters[0, i] = bi[i, FLAGS]
             filters[1, i] = bi[i, GROUP]
             filters[2, i] = bi[i, MASK]
-        n_pairs = find_pairs(params_i[P_BROADPHASE], aabbs, filters[0], filters[1], filters[2], nb, bp_f, bp_i,
-                             pairs)
-    stats[S_PAIRS] = n_pairs
-    t = _lap(stats, ST_BROAD, t, prof)
-    if n_pairs > pairs.shape[0]:
-        return GROW_PAIRS
-    nc = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, params_f[P_SPECULATIVE],
-                      raw_f, raw_i, ci, pose_pos, pose_rot, pose_state, pose_quat)
-    stats[S_CONTACTS] = nc
-    t = _lap(stats, ST_NARROW, t, prof)
-    if nc > cf.shape[0]:
-        return GROW_CONTACTS
-    for c in range(nc):
-        for k in range(7):
-            cf[c, C_POINT + k] = raw_f[c, k]   # point, normal, depth are the first 7 columns
+        n_pairs = find_pairs(ctx.params_i[PI_BROADPHASE], ctx.aabbs, filters[0], filters[1], filters[2],
+                             nb, ctx.bp_f, ctx.bp_i, ctx.pairs)
+    ctx.n_pairs = n_pairs
+    ctx.stats[STAT_PAIRS] = n_pairs
+    lap(ctx, ST_BROAD_PHASE)
 
-    # --- match, wake, prepare -------------------------------------------------------------------------
+
+@njit_inline
+def stage_narrow_phase(ctx):
+    """Stage "narrow phase": the contact points of the candidate pairs into the contact table (their
+    number in ``ctx.nc``, which may exceed its capacity: the caller then grows it)."""
+    raw_f, cf = ctx.raw_f, ctx.cf
+    nc = narrow_phase(ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
+                      ctx.geom_i, ctx.pairs, ctx.n_pairs, ctx.sweep,
+                      ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, ctx.pose_pos,
+                      ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
+    ctx.nc = nc
+    ctx.stats[STAT_CONTACTS] = nc
+    if nc <= cf.shape[0]:
+        for c in range(nc):
+            for k in range(7):
+                cf[c, C_POINT + k] = raw_f[c, k]   # point, normal, depth are the first 7 columns
+    lap(ctx, ST_NARROW_PHASE)
+
+
+@njit_inline
+def collide(ctx):
+    """Stages "aabbs", "broad phase" and "narrow phase", at the poses the step began with.  Returns OK, or
+    which buffer is too small (nothing but scratch changed)."""
+    stage_aabbs(ctx)
+    stage_broad_phase(ctx)
+    if ctx.n_pairs > ctx.pairs.shape[0]:
+        return GROW_PAIRS
+    stage_narrow_phase(ctx)
+    if ctx.nc > ctx.cf.shape[0]:
+        return GROW_CONTACTS
+    return OK
+
+
+@njit_inline
+def stage_match_and_wake(ctx):
+    """Stage "match and wake": warm-start impulses from last step's contacts; sleeping islands touched by
+    awake bodies wake."""
+    nc = ctx.nc
     if nc > 0:
-        match_contacts(cf, ci, nc, pcf, pci, npc)
-        wake_touched_islands(bi, bf, ci, nc, nb)
-    t = _lap(stats, ST_MATCH, t, prof)
+        ci = ctx.ci
+        match_contacts(ctx.cf, ci, nc, ctx.pcf, ctx.pci, ctx.stats[STAT_CACHED])
+        wake_touched_islands(ctx.bi, ctx.bf, ci, nc, ctx.nb)
+    lap(ctx, ST_MATCH_AND_WAKE)
+
+
+# --- prepare -------------------------------------------------------------------------------------------------
+@njit_inline
+def stage_prepare(ctx, may_bundle):
+    """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
+    and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle`` and
+    enough contacts, in regions when ``threads`` > 1) or one scalar pass.  Also the soft-constraint
+    coefficients of the sub-step and the springs' force records."""
+    bf, bi, nb, nc, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nc, ctx.nk
+    params_f = ctx.params_f
+    dt = params_f[PF_DT]
+    ctx.h = dt / ctx.params_i[PI_SUBSTEPS]
+    ctx.iterations = 0
+    joint_totals = ctx.joint_totals
+    for c in range(nk):
+        joint_totals[c] = 0.0
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
             bf[i, DTHETA + k] = 0.0
     # Without contacts and rods/cables the solver has nothing to do: its body rows are not even filled.
-    constrained = nc > 0 or nk > 0
-    if constrained:
+    ctx.constrained = nc > 0 or nk > 0
+    sb = ctx.solver_bodies
+    if ctx.constrained:
         prepare_solver_bodies(bf, bi, nb, sb)
-    solver = params_i[P_SOLVER]
-    # Sequential impulses solve many contacts in coloured bundles, LANES at a time, in regions on several
-    # threads (dynamics/contact_regions.py); the bundles' overflow, fewer contacts and the other schemes
-    # go through the scalar pass.  (The record has bundle tables once the contact table has grown past
-    # its first rows, and sized for the world's threads: pipeline/tables.py.)
-    wide = (solver == SEQUENTIAL_IMPULSE and nc >= MIN_BUNDLED_CONTACTS
-            and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
+    # Many contacts are solved in coloured bundles, LANES at a time, in regions on several threads
+    # (dynamics/contact_regions.py); the bundles' overflow and fewer contacts go through the scalar pass.
+    # (The context has bundle tables once the contact table has grown past its first rows, sized for the
+    # world's threads: pipeline/context.py.)
+    wide_i = ctx.wide_i
+    bundled = (may_bundle and nc >= MIN_BUNDLED_CONTACTS
+               and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
     threads = 1
-    if wide:
-        threads = params_i[P_THREADS]
+    if bundled:
+        threads = ctx.params_i[PI_THREADS]
         if bundle_capacity(nc, threads + 1) * BUNDLE_ROWS * LANES > wide_i.shape[0]:
             threads = 1
+    ctx.bundled = bundled
     regions = 1
     bundles = 0
     if nc > 0:
-        prepare_contacts(bf, cf, ci, nc, sb, params_f[P_SLIDE_SPEED])
-        regions = order_contacts(bf, bi, ci, nc, nb, threads, slab, order, starts)
-        if wide:
-            bundles = bundle_regions(cf, ci, order, starts, regions, sb, colour_used, colour_of, colour_fill,
-                                     wide_f, wide_i, part_bundles, overflow, part_overflow)
+        cf, ci, order = ctx.cf, ctx.ci, ctx.contact_order
+        prepare_contacts(bf, cf, ci, nc, sb, params_f[PF_SLIDE_SPEED])
+        regions = order_contacts(bf, bi, ci, nc, nb, threads, ctx.slab, order, ctx.region_starts)
+        if bundled:
+            wide_f = ctx.wide_f
+            bundles = bundle_regions(cf, ci, order, ctx.region_starts, regions, sb, ctx.colour_used,
+                                     ctx.colour_of, ctx.colour_fill, wide_f, wide_i,
+                                     ctx.part_bundles, ctx.overflow, ctx.part_overflow)
             load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
-    n_over = part_overflow[regions + 1] if wide else 0
-
-    # --- sub-steps ---------------------------------------------------------------------------------------
-    soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
-    soft_coefficients(params_f[P_JOINT_HERTZ], params_f[P_JOINT_ZETA], h, joint_soft)
+    ctx.regions = regions
+    ctx.bundles = bundles
+    ctx.n_overflow = ctx.part_overflow[regions + 1] if bundled else 0
+    soft = ctx.soft
+    soft_coefficients(params_f[PF_CONTACT_HERTZ], params_f[PF_CONTACT_ZETA], ctx.h, soft[0])
+    soft_coefficients(params_f[PF_JOINT_HERTZ], params_f[PF_JOINT_ZETA], ctx.h, soft[1])
     if nk > 0:
-        clear_spring_forces(kf, ki, nk)
-    iterations_used = 0
-    t = _lap(stats, ST_PREPARE, t, prof)
-    for _ in range(substeps):
-        if solver == PENALTY:
-            add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
-                               user_forces)
-        integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
-                             1.0 / substeps, vecs)
-        if solver == PENALTY:
-            restore_user_forces(bf, nb, user_forces)
-        if constrained:
-            prepare_solver_bodies(bf, bi, nb, sb)
-        t = _lap(stats, ST_INTEGRATE_V, t, prof)
-        # (kernels are only called when they have rows to work on: every call passes its arrays' fields)
-        if nk > 0:
-            warm_start_joints(bf, kf, ki, nk, sb, vecs)
-        if solver == SEQUENTIAL_IMPULSE:
-            if wide:
-                load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
-                warm_start_bundles(wide_f, wide_i, bundles, sb)
-                warm_start_listed(cf, ci, overflow, n_over, sb)
-            elif nc > 0:
-                warm_start_contacts(cf, ci, nc, sb)
-            t = _lap(stats, ST_WARM, t, prof)
-            for _ in range(params_i[P_ITERATIONS]):
-                iterations_used += 1
-                change = 0.0
-                if nk > 0:
-                    change = solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs)
-                if wide:
-                    change = max(change, solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow,
-                                                           part_overflow, regions, sb, h, True, contact_soft,
-                                                           params_f[P_MAX_PUSH], wide_change, region_change))
-                elif nc > 0:
-                    change = max(change, solve_contacts(cf, ci, order, 0, nc, sb, h, True, contact_soft,
-                                                        params_f[P_MAX_PUSH]))
-                if change < params_f[P_TOLERANCE]:
-                    break
-        elif solver == PENALTY:
-            for _ in range(params_i[P_ITERATIONS]):
-                iterations_used += 1
-                if solve_joints(bf, kf, ki, nk, sb, h, True, joint_soft, vecs) < params_f[P_TOLERANCE]:
-                    break
-        else:
-            if constrained:
-                warm_start_contacts(cf, ci, nc, sb)
-                store_velocities(bf, bi, nb, sb)       # the LCP scheme works on the body table
-                iterations_used += solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, True, contact_soft,
-                                             joint_soft, params_f[P_MAX_PUSH], params_i[P_LCP_SWEEPS],
-                                             params_f[P_LCP_SOR], params_f[P_TOLERANCE])
-        if solver != LCP and constrained:
-            store_velocities(bf, bi, nb, sb)
-        t = _lap(stats, ST_SOLVE, t, prof)
-        integrate_positions(params_i[P_INTEGRATOR], bf, bi, nb, h)
-        for i in range(nb):
-            for k in range(3):
-                bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
-        if constrained:
-            prepare_solver_bodies(bf, bi, nb, sb)
-        t = _lap(stats, ST_INTEGRATE_X, t, prof)
-        if solver == LCP and constrained:
-            solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
-                      params_i[P_LCP_SWEEPS], params_f[P_LCP_SOR], params_f[P_TOLERANCE])
-        elif solver != LCP:
-            if nk > 0:
-                solve_joints(bf, kf, ki, nk, sb, h, False, joint_soft, vecs)
-            if wide:
-                load_bundle_bodies(wide_f, wide_i, bundles, sb, False)
-                solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h,
-                                  False, contact_soft, params_f[P_MAX_PUSH], wide_change, region_change)
-            elif solver == SEQUENTIAL_IMPULSE and nc > 0:
-                solve_contacts(cf, ci, order, 0, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
-            if constrained:
-                store_velocities(bf, bi, nb, sb)
-        if wide:
-            accumulate_bundles(wide_f, bundles)
-            accumulate_listed(cf, overflow, n_over)
-        elif nc > 0:
-            accumulate_applied(cf, ci, nc)
-        for c in range(nk):
-            joint_totals[c] += kf[c, K_IMPULSE]
-        ws[W_PREV_DT] = h
-        t = _lap(stats, ST_RELAX, t, prof)
-    stats[S_ITERATIONS] = iterations_used
+        clear_spring_forces(ctx.kf, ctx.ki, nk)
+    lap(ctx, ST_PREPARE)
 
-    # --- end of step ---------------------------------------------------------------------------------------
-    if wide:
-        store_bundles(wide_f, wide_i, bundles, cf)
+
+# --- sub-step stages -----------------------------------------------------------------------------------------
+@njit_inline
+def stage_integrate_velocities(ctx, penalty):
+    """Stage "integrate velocities": all forces over the sub-step by the chosen integrator (with the penalty
+    scheme's contact springs added to the user's forces for its duration, when ``penalty``)."""
+    bf, bi, nb, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nk
+    params_f, params_i = ctx.params_f, ctx.params_i
+    h = ctx.h
+    sb, user_forces = ctx.solver_bodies, ctx.user_forces
+    if penalty:
+        add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ],
+                           params_f[PF_SLIDE_SPEED], user_forces)
+    integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
+                         params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
+                         ctx.ws[W_PREV_DT], 1.0 / params_i[PI_SUBSTEPS], ctx.vecs)
+    if penalty:
+        restore_user_forces(bf, nb, user_forces)
+    if ctx.constrained:
+        prepare_solver_bodies(bf, bi, nb, sb)
+    lap(ctx, ST_INTEGRATE_VELOCITIES)
+
+
+@njit_inline
+def _warm_start_joints(ctx):
+    if ctx.nk > 0:
+        warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies,
+                          ctx.vecs)
+
+
+@njit_inline
+def stage_warm_start(ctx):
+    """Stage "warm start" (sequential impulses): last sub-step's impulses of joints and contacts again."""
+    _warm_start_joints(ctx)
+    sb, cf, ci = ctx.solver_bodies, ctx.cf, ctx.ci
+    if ctx.bundled:
+        wide_f, wide_i = ctx.wide_f, ctx.wide_i
+        load_bundle_bodies(wide_f, wide_i, ctx.bundles, sb, False)
+        warm_start_bundles(wide_f, wide_i, ctx.bundles, sb)
+        warm_start_listed(cf, ci, ctx.overflow, ctx.n_overflow, sb)
+    elif ctx.nc > 0:
+        warm_start_contacts(cf, ci, ctx.nc, sb)
+    lap(ctx, ST_WARM_START)
+
+
+@njit_inline
+def _contact_pass(ctx, use_bias):
+    """One sequential-impulse pass over the contacts in the step's execution variant (with the position
+    bias: solve; without: relax); returns the largest velocity change (m/s)."""
+    sb, cf, ci = ctx.solver_bodies, ctx.cf, ctx.ci
+    soft = ctx.soft
+    max_push = ctx.params_f[PF_MAX_PUSH]
+    if ctx.bundled:
+        return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles,
+                                 ctx.overflow, ctx.part_overflow, ctx.regions, sb, ctx.h, use_bias,
+                                 soft[0], max_push, ctx.wide_change, ctx.region_change)
+    if ctx.nc > 0:
+        return solve_contacts(cf, ci, ctx.contact_order, 0, ctx.nc, sb, ctx.h, use_bias, soft[0], max_push)
+    return 0.0
+
+
+@njit_inline
+def _joint_pass(ctx, use_bias):
+    """One sequential-impulse pass over the rods and cables; returns the largest velocity change (m/s)."""
+    if ctx.nk == 0:
+        return 0.0
+    return solve_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h,
+                        use_bias, ctx.soft[1], ctx.vecs)
+
+
+@njit_inline
+def stage_solve(ctx, contacts):
+    """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
+    until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
+    tolerance = ctx.params_f[PF_TOLERANCE]
+    for _ in range(ctx.params_i[PI_ITERATIONS]):
+        ctx.iterations += 1
+        change = _joint_pass(ctx, True)
+        if contacts:
+            change = max(change, _contact_pass(ctx, True))
+        if change < tolerance:
+            break
+    if ctx.constrained:
+        store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
+    lap(ctx, ST_SOLVE)
+
+
+@njit_inline
+def _lcp_pass(ctx, use_bias):
+    """The LCP scheme: all contact and joint rows of the sub-step solved as one assembled LCP (with the
+    position bias, or without it to relax); returns the projected Gauss-Seidel sweeps used."""
+    params_f, params_i, soft = ctx.params_f, ctx.params_i, ctx.soft
+    return solve_lcp(ctx.bf, ctx.cf, ctx.ci, ctx.nc, ctx.kf, ctx.ki, ctx.nk,
+                     ctx.solver_bodies, ctx.nb, ctx.h, use_bias, soft[0], soft[1], params_f[PF_MAX_PUSH],
+                     params_i[PI_LCP_SWEEPS], params_f[PF_LCP_SOR], params_f[PF_TOLERANCE])
+
+
+@njit_inline
+def stage_solve_lcp(ctx):
+    """Stage "solve" of the LCP scheme: joints' and contacts' warm start on the solver bodies, then the
+    assembled LCP, which works on the body table."""
+    if ctx.constrained:
+        _warm_start_joints(ctx)
+        sb = ctx.solver_bodies
+        warm_start_contacts(ctx.cf, ctx.ci, ctx.nc, sb)
+        store_velocities(ctx.bf, ctx.bi, ctx.nb, sb)
+        ctx.iterations += _lcp_pass(ctx, True)
+    lap(ctx, ST_SOLVE)
+
+
+@njit_inline
+def stage_integrate_positions(ctx):
+    """Stage "integrate positions": poses from velocities by the chosen integrator, and the rotation since
+    the step began (for the solver's separations)."""
+    bf, bi, nb, h = ctx.bf, ctx.bi, ctx.nb, ctx.h
+    integrate_positions(ctx.params_i[PI_INTEGRATOR], bf, bi, nb, h)
+    for i in range(nb):
+        for k in range(3):
+            bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
+    if ctx.constrained:
+        prepare_solver_bodies(bf, bi, nb, ctx.solver_bodies)
+    lap(ctx, ST_INTEGRATE_POSITIONS)
+
+
+@njit_inline
+def stage_relax(ctx, contacts):
+    """Stage "relax" (sequential impulses): one pass over the joints and (when ``contacts``) the contacts
+    without position bias, so that the correction leaves no velocity behind."""
+    _joint_pass(ctx, False)
+    if contacts:
+        if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
+            load_bundle_bodies(ctx.wide_f, ctx.wide_i, ctx.bundles, ctx.solver_bodies, False)
+        _contact_pass(ctx, False)
+    if ctx.constrained:
+        store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
+    lap(ctx, ST_RELAX)
+
+
+@njit_inline
+def stage_relax_lcp(ctx):
+    """Stage "relax" of the LCP scheme: the assembled LCP without position bias."""
+    if ctx.constrained:
+        _lcp_pass(ctx, False)
+    lap(ctx, ST_RELAX)
+
+
+@njit_inline
+def stage_sum_impulses(ctx):
+    """Stage "sum impulses": the sub-step's impulses of contacts and joints added to the step's totals."""
+    cf = ctx.cf
+    if ctx.bundled:
+        accumulate_bundles(ctx.wide_f, ctx.bundles)
+        accumulate_listed(cf, ctx.overflow, ctx.n_overflow)
+    elif ctx.nc > 0:
+        accumulate_applied(cf, ctx.ci, ctx.nc)
+    kf, joint_totals = ctx.kf, ctx.joint_totals
+    for c in range(ctx.nk):
+        joint_totals[c] += kf[c, K_IMPULSE]
+    ctx.ws[W_PREV_DT] = ctx.h
+    lap(ctx, ST_SUM_IMPULSES)
+
+
+# --- end of step -----------------------------------------------------------------------------------------------
+@njit_inline
+def stage_restitution(ctx, on_body_table):
+    """Stage "restitution": the bundles' impulses back to the contact table, then closing contacts bounce.
+    ``on_body_table``: the scheme's last pass worked on the body table (LCP), so the solver bodies are
+    loaded from it first."""
+    bf, bi, nb, nc = ctx.bf, ctx.bi, ctx.nb, ctx.nc
+    cf, ci, sb = ctx.cf, ctx.ci, ctx.solver_bodies
+    if ctx.bundled:
+        store_bundles(ctx.wide_f, ctx.wide_i, ctx.bundles, cf)
     if nc > 0:
-        if solver != PENALTY:     # the penalty springs' damping gives the restitution
-            if solver == LCP:     # its relax pass worked on the body table
-                prepare_solver_bodies(bf, bi, nb, sb)
-            apply_restitution(cf, ci, nc, sb, params_f[P_RESTITUTION_SPEED])
-            store_velocities(bf, bi, nb, sb)
-        store_friction_state(cf, ci, nc)
-    if nk > 0:
-        record_joint_forces(bf, kf, ki, nk, dt, joint_totals, vecs)
-        break_overloaded(kf, ki, nk)
-    t = _lap(stats, ST_RESTITUTION, t, prof)
-    update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, params_f[P_SLEEP_LINEAR], params_f[P_SLEEP_ANGULAR],
-                 params_f[P_TIME_TO_SLEEP], parent, least_rest)
-    ws[W_TIME] += dt
+        if on_body_table:
+            prepare_solver_bodies(bf, bi, nb, sb)
+        apply_restitution(cf, ci, nc, sb, ctx.params_f[PF_RESTITUTION_SPEED])
+        store_velocities(bf, bi, nb, sb)
+    lap(ctx, ST_RESTITUTION)
+
+
+@njit_inline
+def stage_store_impulses(ctx):
+    """Stage "store impulses": each contact's friction state for the next step's warm start (a contact at
+    the cone slides); the joints' forces over the step."""
+    if ctx.nc > 0:
+        store_friction_state(ctx.cf, ctx.ci, ctx.nc)
+    if ctx.nk > 0:
+        record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
+                            ctx.joint_totals, ctx.vecs)
+    lap(ctx, ST_STORE_IMPULSES)
+
+
+@njit_inline
+def stage_break_constraints(ctx):
+    """Stage "break constraints": springs, rods and cables over their breaking force snap."""
+    if ctx.nk > 0:
+        break_overloaded(ctx.kf, ctx.ki, ctx.nk)
+    lap(ctx, ST_BREAK_CONSTRAINTS)
+
+
+@njit_inline
+def stage_islands_and_sleep(ctx):
+    """Stage "islands and sleep": islands, rest timers, resting islands asleep; the clock advances and the
+    force accumulators are cleared."""
+    bf, bi, nb = ctx.bf, ctx.bi, ctx.nb
+    params_f = ctx.params_f
+    update_sleep(bf, bi, nb, ctx.cf, ctx.ci, ctx.nc, ctx.ki, ctx.nk, params_f[PF_DT],
+                 params_f[PF_SLEEP_LINEAR], params_f[PF_SLEEP_ANGULAR], params_f[PF_TIME_TO_SLEEP],
+                 ctx.parent, ctx.least_rest)
+    ctx.ws[W_TIME] += params_f[PF_DT]
     for i in range(nb):
         for k in range(3):
             bf[i, FORCE + k] = 0.0
             bf[i, TORQUE + k] = 0.0
-    _lap(stats, ST_SLEEP, t, prof)
-    if prof:
-        stats[S_PROFILED_STEPS] += 1
-        stats[S_SUM_PAIRS] += n_pairs
-        stats[S_SUM_CONTACTS] += nc
-        stats[S_SUM_ITERATIONS] += iterations_used
-    # (the record's own references swap, not the borrowed views)
-    tables.cf, tables.pcf = tables.pcf, tables.cf
-    tables.ci, tables.pci = tables.pci, tables.ci
-    stats[S_CACHED] = nc
-    stats[S_CACHE_SIDE] = 1 - stats[S_CACHE_SIDE]
+    lap(ctx, ST_ISLANDS_AND_SLEEP)
+
+
+@njit_inline
+def finish_step(ctx):
+    """The step's counts into ``stats``, and this step's contacts become the next step's cache (the caller
+    swaps the context's two contact tables: :func:`swap_contact_tables`)."""
+    stats = ctx.stats
+    stats[STAT_ITERATIONS] = ctx.iterations
+    if ctx.params_i[PI_PROFILE] != 0:
+        stats[STAT_PROFILED_STEPS] += 1
+        stats[STAT_SUM_PAIRS] += ctx.n_pairs
+        stats[STAT_SUM_CONTACTS] += ctx.nc
+        stats[STAT_SUM_ITERATIONS] += ctx.iterations
+    stats[STAT_CACHED] = ctx.nc
+    stats[STAT_CACHE_SIDE] = 1 - stats[STAT_CACHE_SIDE]
     return OK
 
 
+@njit_inline
+def swap_contact_tables(record):
+    """After a completed step: the contact table the step filled becomes the cache, and the cache the
+    table the next step fills (the record's own references swap; ``stats`` already says which is which)."""
+    record.cf, record.pcf = record.pcf, record.cf
+    record.ci, record.pci = record.pci, record.ci
+
+
+# --- the steps of the three collision-handling schemes ----------------------------------------------------------
+@njit_inline
+def step_sequential_impulse(ctx):
+    """A step with contacts and joints solved by sequential impulses (the default scheme)."""
+    start_clock(ctx)
+    status = collide(ctx)
+    if status != OK:
+        return status
+    stage_match_and_wake(ctx)
+    stage_prepare(ctx, True)
+    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+        stage_integrate_velocities(ctx, False)
+        stage_warm_start(ctx)
+        stage_solve(ctx, True)
+        stage_integrate_positions(ctx)
+        stage_relax(ctx, True)
+        stage_sum_impulses(ctx)
+    stage_restitution(ctx, False)
+    stage_store_impulses(ctx)
+    stage_break_constraints(ctx)
+    stage_islands_and_sleep(ctx)
+    return finish_step(ctx)
+
+
+@njit_inline
+def step_penalty(ctx):
+    """A step with contacts as penalty springs (their damping gives the restitution) and joints by
+    sequential impulses."""
+    start_clock(ctx)
+    status = collide(ctx)
+    if status != OK:
+        return status
+    stage_match_and_wake(ctx)
+    stage_prepare(ctx, False)
+    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+        stage_integrate_velocities(ctx, True)
+        _warm_start_joints(ctx)
+        lap(ctx, ST_WARM_START)
+        stage_solve(ctx, False)
+        stage_integrate_positions(ctx)
+        stage_relax(ctx, False)
+        stage_sum_impulses(ctx)
+    stage_store_impulses(ctx)
+    stage_break_constraints(ctx)
+    stage_islands_and_sleep(ctx)
+    return finish_step(ctx)
+
+
+@njit_inline
+def step_lcp(ctx):
+    """A step with contacts and joints solved as one assembled LCP per sub-step (projected Gauss-Seidel)."""
+    start_clock(ctx)
+    status = collide(ctx)
+    if status != OK:
+        return status
+    stage_match_and_wake(ctx)
+    stage_prepare(ctx, False)
+    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+        stage_integrate_velocities(ctx, False)
+        stage_solve_lcp(ctx)
+        stage_integrate_positions(ctx)
+        stage_relax_lcp(ctx)
+        stage_sum_impulses(ctx)
+    stage_restitution(ctx, True)
+    stage_store_impulses(ctx)
+    stage_break_constraints(ctx)
+    stage_islands_and_sleep(ctx)
+    return finish_step(ctx)
+
+
 @njit
-def step_world_at(address):
-    """:func:`step_world` on the record at ``address`` (``tables.record_address``): the World's entry,
-    which passes an int rather than the record (~0.1 us less per call)."""
-    return step_world(record_at(address))
+def step_sequential_impulse_at(address):
+    """:func:`step_sequential_impulse` on the context at ``address`` (``_numba.record.record_address``): the
+    state's entry, which passes an int rather than the context (~0.1 us less per call)."""
+    record = context_at(address)
+    status = step_sequential_impulse(view(record))
+    if status == OK:
+        swap_contact_tables(record)
+    return status
+
+
+@njit
+def step_penalty_at(address):
+    """:func:`step_penalty` on the context at ``address``."""
+    record = context_at(address)
+    status = step_penalty(view(record))
+    if status == OK:
+        swap_contact_tables(record)
+    return status
+
+
+@njit
+def step_lcp_at(address):
+    """:func:`step_lcp` on the context at ``address``."""
+    record = context_at(address)
+    status = step_lcp(view(record))
+    if status == OK:
+        swap_contact_tables(record)
+    return status
+
+
+#: the compiled entry of each scheme's step, indexed by its code (SEQUENTIAL_IMPULSE, PENALTY, LCP)
+STEPS = (step_sequential_impulse_at, step_penalty_at, step_lcp_at)
+assert (SEQUENTIAL_IMPULSE, PENALTY, LCP) == (0, 1, 2)

@@ -1,10 +1,20 @@
-"""Column layout of the world's packed state tables (structure of arrays, one row per object).
+"""Column layout of every table of a world's state and of the step's scratch: the one place where a
+column, a parameter slot or a statistics slot is given its number.
 
 Bodies live in two tables: ``bf`` (float64, capacity x ``BF_COLS``) and ``bi`` (int64, capacity x
-``BI_COLS``).  Constraints (springs, rods, cables) live in ``kf``/``ki``, shapes in ``sf``/``si``.
-Passing a few packed tables keeps the fixed cost of a kernel call small (see ECOSYSTEM.md); the
-column names below are the only place the layout is spelled out.
+``BI_COLS``).  Constraints (springs, rods, cables) live in ``kf``/``ki``, shapes in ``sf``/``si``,
+contact points in ``cf``/``ci``.  The step reads its tunables from ``params_f``/``params_i`` and writes
+counts and profile totals to ``stats``; the sequential-impulse solver works on solver-body rows ``sb``
+and, for many contacts, on contact bundles ``wide_f``/``wide_i``.  Passing a few packed tables keeps the
+fixed cost of a kernel call small.
+
+Prefixes: body columns have none (``POS``, ``FLAGS``), ``F_`` body flags; ``S_`` shape columns; ``K_``
+constraint columns, ``KT_`` constraint types, ``KF_`` constraint flags; ``W_`` world scalars; ``C_``
+contact columns, ``CP_`` contact flags; ``PF_``/``PI_`` parameter slots; ``STAT_`` statistics slots;
+``SB_`` solver-body columns; ``WB_``/``WI_`` bundle fields.
 """
+from ..collision.broadphase import ALIVE as _BROADPHASE_ALIVE
+from ..collision.broadphase import STATIC as _BROADPHASE_STATIC
 
 # --- bodies, float table bf ---------------------------------------------------------------
 POS = 0            # position of the centre of mass (m), 3 columns
@@ -41,8 +51,8 @@ MASK = 4           # collision mask bits
 ISLAND = 5         # island id of the last step (-1: none)
 BI_COLS = 6
 
-F_ALIVE = 1        # slot holds a body (removed bodies keep their slot, flag cleared)
-F_STATIC = 2       # never moves
+F_ALIVE = _BROADPHASE_ALIVE     # slot holds a body (a removed body's slot is free until reused)
+F_STATIC = _BROADPHASE_STATIC   # never moves (the broad phase never pairs two of them)
 F_SENSOR = 4       # detects overlaps, exerts no force
 F_SLEEPING = 8     # resting island, not integrated until woken
 F_RESTART = 16     # Verlet: the previous position is unknown (new body or velocity/position set by hand)
@@ -75,12 +85,12 @@ KF_COLS = 14
 K_TYPE = 0         # constraint type, see C_* below
 K_BODY_A = 1       # body row of a
 K_BODY_B = 2       # body row of b, -1 for the world
-K_FLAGS = 3        # bit 0 alive, bit 1 broken
+K_FLAGS = 3        # KF_* bits
 KI_COLS = 4
 
-C_SPRING = 0
-C_ROD = 1
-C_CABLE = 2
+KT_SPRING = 0
+KT_ROD = 1
+KT_CABLE = 2
 KF_ALIVE = 1
 KF_BROKEN = 2
 
@@ -126,3 +136,95 @@ CI_COLS = 6
 CP_SLIDING = 1     # friction saturated (dynamic coefficient applies)
 CP_SENSOR = 2      # a sensor takes part: reported, not solved
 CP_MATCHED = 4     # warm-started from last step's contact with the same features
+
+# --- step parameters, float params_f (tunables travel as arguments, never as globals) ---------------
+PF_DT = 0
+PF_GRAVITY = 1          # 3 values (m/s^2)
+PF_SPECULATIVE = 4      # speculative distance (m)
+PF_CONTACT_HERTZ = 5    # stiffness of contact position correction (Hz)
+PF_CONTACT_ZETA = 6     # its damping ratio
+PF_JOINT_HERTZ = 7      # stiffness of rod/cable position correction (Hz)
+PF_JOINT_ZETA = 8       # its damping ratio
+PF_MAX_PUSH = 9         # fastest overlap removal (m/s)
+PF_SLIDE_SPEED = 10     # tangential speed above which a new contact slides (m/s)
+PF_TOLERANCE = 11       # adaptive iterations stop when no velocity changes more than this (m/s)
+PF_SLEEP_LINEAR = 12    # rest tolerance, linear (m/s)
+PF_SLEEP_ANGULAR = 13   # rest tolerance, angular (rad/s)
+PF_TIME_TO_SLEEP = 14   # seconds at rest before an island sleeps (<= 0: never)
+PF_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s)
+PF_SWEEP = 16           # 1: predict contacts along the step's motion (continuous collision), 0: only at rest
+PF_PENALTY_HERTZ = 17   # penalty scheme: frequency of the contact springs (Hz)
+PF_LCP_SOR = 18         # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
+PF_LEN = 19
+
+# --- step parameters, int params_i ------------------------------------------------------------------
+PI_INTEGRATOR = 0       # index into dynamics.integrators.INTEGRATORS
+PI_SUBSTEPS = 1
+PI_ITERATIONS = 2       # most velocity iterations per sub-step
+PI_BROADPHASE = 3       # code of collision.broadphase.METHODS
+PI_SOLVER = 4           # SEQUENTIAL_IMPULSE, PENALTY or LCP
+PI_LCP_SWEEPS = 5       # LCP scheme: most projected Gauss-Seidel sweeps per solve
+PI_PROFILE = 6          # 1: add each stage's processor cycles to stats (World.profiling)
+PI_THREADS = 7          # threads of the sequential-impulse contact passes (dynamics/contact_regions.py)
+PI_LEN = 8
+
+SEQUENTIAL_IMPULSE = 0  # solver codes, in the order of World's solver names
+PENALTY = 1
+LCP = 2
+
+# --- statistics, int64 stats, written by the step ---------------------------------------------------
+STAT_PAIRS = 0          # candidate pairs found by the broad phase
+STAT_CONTACTS = 1       # contact points found by the narrow phase
+STAT_ITERATIONS = 2     # velocity iterations used in the step (all sub-steps)
+STAT_CACHED = 3         # contact points of the last completed step: the rows of the cache table
+STAT_CACHE_SIDE = 4     # which of the world's two contact tables is the cache (0 or 1); flips every step
+# with PI_PROFILE on, the step also adds to these running totals (the World clears them):
+STAT_PROFILED_STEPS = 5  # steps profiled
+STAT_SUM_PAIRS = 6      # candidate pairs, summed over the profiled steps
+STAT_SUM_CONTACTS = 7   # contact points, summed
+STAT_SUM_ITERATIONS = 8  # velocity iterations, summed
+STAT_CYCLES = 9         # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
+
+# --- solver bodies, float sb: the solver's compact view of a body (dynamics/solver_bodies.py) --------
+SB_INV_MASS = 0         # 1/m (1/kg); 0 for a body that cannot move
+SB_INV_I = 1            # R I_body^-1 R^T, row-major (1/(kg m^2)), 9
+SB_V = 10               # linear velocity (m/s), 3
+SB_W = 13               # angular velocity (rad/s), 3
+SB_DP = 16              # displacement since the step began (m), 3
+SB_DTHETA = 19          # rotation vector since the step began (rad), 3
+SB_ISO = 22             # s if I_w^-1 = s E (spheres, cubes, and every body that cannot move: s = 0), else -1
+SB_COLS = 24            # 23 used, padded to three 64-byte cache lines
+
+# --- contact bundles (dynamics/contact_bundles.py): wide_f fields, one block of LANES values each ----
+WB_NORMAL = 0           # 3
+WB_RA = 3               # 3
+WB_RB = 6               # 3
+WB_T1 = 9               # 3
+WB_T2 = 12              # 3
+WB_MASS_N = 15
+WB_MASS_T1 = 16
+WB_MASS_T2 = 17
+WB_MU = 18              # the friction coefficient that applies (static while sticking, dynamic once sliding)
+WB_LAMBDA_N = 19
+WB_LAMBDA_T1 = 20
+WB_LAMBDA_T2 = 21
+WB_MAX_N = 22
+WB_VN0 = 23
+WB_NEW = 24             # 1 for a contact not warm-started from last step, else 0
+WB_ADJ_SEP = 25         # separation at detection (m)
+WB_SEPARATION = 26      # current separation (m), from the bodies' motion (load_bundle_bodies)
+WB_INV_MASS_A = 27
+WB_INV_I_A = 28         # 9, row-major world inverse inertia (right after the inverse mass)
+WB_INV_MASS_B = 37
+WB_INV_I_B = 38         # 9
+WB_SUM_N = 47           # impulses applied over the step's sub-steps
+WB_SUM_T = 48           # 3 (right after the normal total)
+BUNDLE_FIELDS = 51
+# wide_i blocks of LANES ints
+WI_READ_A = 0           # solver-body row read for a
+WI_READ_B = 1           # and for b
+WI_WRITE_A = 2          # row written for a (the sink row for a body that cannot move)
+WI_WRITE_B = 3          # and for b
+WI_CONTACT = 4          # the lane's contact (-1 for a pad lane)
+WI_TURNING = 5          # 1 in every lane if some lane's body has a world inverse inertia that turns with it
+BUNDLE_ROWS = 6

@@ -43,6 +43,31 @@ def _radius(rot, h, axis):
 
 
 @njit
+def _dominant_sign(v):
+    """The sign (1.0 or -1.0) of the component of ``v`` of largest magnitude (the first of equals; 1.0 for
+    the zero vector): unlike the first non-zero component, rounding-sized components cannot change it."""
+    x = v[0]
+    if abs(v[1]) > abs(x):
+        x = v[1]
+    if abs(v[2]) > abs(x):
+        x = v[2]
+    return 1.0 if x >= 0.0 else -1.0
+
+
+@njit
+def _side(d, axis):
+    """The sign (1.0 or -1.0) that turns ``axis`` towards ``d`` (the centre offset from the reference box to
+    the other).  When ``d`` is square to the axis, to rounding (``|d . axis| <= 1e-12 |d|``), the overlap is
+    the same either way: the normal ``side * axis`` then takes the direction whose dominant component has
+    the sign of ``d``'s dominant component, a choice that does not depend on which way the axis points
+    and that flips when the boxes swap (negating ``d``), as the normal must."""
+    t = dot(d, axis)
+    if abs(t) <= 1e-12 * length(d):
+        return _dominant_sign(d) * _dominant_sign(axis)
+    return 1.0 if t > 0.0 else -1.0
+
+
+@njit
 def _area2(px, py, qx, qy, rx, ry):
     """Twice the signed area of the 2-D triangle ``p q r``."""
     return (qx - px) * (ry - py) - (qy - py) * (rx - px)
@@ -156,7 +181,7 @@ def _face_contact(pos_r, rot_r, h_r, axis, pos_i, rot_i, h_i, ref_is_b, slop, pr
     cr = load(pos_r)
     ci = load(pos_i)
     ar = column(rot_r, axis)
-    s = 1.0 if dot(sub(ci, cr), ar) >= 0.0 else -1.0
+    s = _side(sub(ci, cr), ar)
     nref = scale(ar, s)
     uj = column(rot_r, (axis + 1) % 3)
     uk = column(rot_r, (axis + 2) % 3)
@@ -293,7 +318,7 @@ def collide_box_box(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, 
                 best_e = sep
                 edge_i = i
                 edge_j = j
-                edge_axis = axis if tl >= 0.0 else scale(axis, -1.0)
+                edge_axis = scale(axis, _side(t, axis))
     size = min(min(ha[0], ha[1]), min(ha[2], min(min(hb[0], hb[1]), hb[2])))
     bias = FACE_BIAS * size
     use_b = best_b > best_a + bias or best_a <= 0.0 < best_b

@@ -1,31 +1,25 @@
-"""The step's tables as one compiled record, so that a step is one kernel call with one argument.
+"""The step context: a world's tables, counts and the step's scratch as one compiled record, so that a step
+is one kernel call with one argument (Box2D v3's ``b2StepContext``).
 
-A call from Python into a compiled kernel unboxes every array argument (its data pointer, shape and
-strides read and a reference taken): about 35 ns per array through the compiled entry point, 60 ns
-through Numba's dispatcher, which also types each argument first.  The 22 tables of a world plus its
-scratch cost ~1.6 us per step that way, more than a free body's whole physics.  A Numba StructRef
-holding them crosses the boundary as one pointer (~0.17 us per call), and it also owns the step's
-per-body and per-contact scratch, so the step allocates none of it.
-
-The World keeps its own references to the same arrays (reads from Python cost nothing extra) and builds
-a new record with :func:`pack_tables` whenever it replaces one of them (growth, restore, a new broad
-phase); the record is never written from Python.  The step swaps the two contact tables inside the
-record and says in ``stats`` which one now holds the cache, so the World does no work per step.
+The state (``state/world_state.py``) keeps its own references to the same arrays (reads from Python cost
+nothing extra) and packs a new context with :func:`pack_context` whenever it replaces one of them (growth,
+restore, a new broad phase); Python never writes the context.  Besides the tables, the context carries
+the scratch of every stage (one row per body slot, constraint slot or contact) and the step's own scalars
+(contacts found, the execution variant the prepare stage chose, the profile clock), which the stages
+hand on to each other through it.  The step swaps the two contact tables inside the context and says in
+``stats`` which one now holds the cache, so the state does no work per step.
 """
-from types import SimpleNamespace
-
 import numba
 import numpy as np
 from numba import types
-from numba.core import cgutils
 from numba.experimental import structref
-from numba.extending import intrinsic
 
 from .._numba.jit import njit
+from .._numba.record import new_record_function, reader, viewer
 from .._numba.wide import LANES
-from ..dynamics.contact_bundles import BUNDLE_FIELDS, BUNDLE_ROWS, MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
+from ..dynamics.contact_bundles import MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
-from ..dynamics.solver_bodies import SB_COLS
+from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, SB_COLS
 from .collide import pose_tables
 
 #: most threads of the contact passes (World.threads)
@@ -33,31 +27,43 @@ MAX_THREADS = 64
 
 
 @structref.register
-class StepTablesType(types.StructRef):
-    """Numba type of the step's record (fields as in ``FIELDS``)."""
+class StepContextType(types.StructRef):
+    """Numba type of the step context (fields as in ``FIELDS``)."""
 
     def preprocess_fields(self, fields):
         return tuple((name, types.unliteral(typ)) for name, typ in fields)
 
 
-class StepTables(structref.StructRefProxy):
+class StepContext(structref.StructRefProxy):
     """A world's tables, counts and step scratch, as the compiled step sees them (opaque from Python)."""
 
 
-structref.define_boxing(StepTablesType, StepTables)
+structref.define_boxing(StepContextType, StepContext)
 
 _F1, _F2 = types.float64[::1], types.float64[:, ::1]
 _I1, _I2 = types.int64[::1], types.int64[:, ::1]
-#: The world's tables (layout.py) the record holds, in the order ``pack_tables`` takes them.
+#: The world's tables (state/layout.py) the context holds, in the order ``pack_context`` takes them.
 TABLE_FIELDS = (
     ("bf", _F2), ("bi", _I2), ("sf", _F2), ("si", _I2), ("kf", _F2), ("ki", _I2), ("ws", _F1),
     ("geom_f", _F1), ("geom_i", _I1), ("aabbs", _F2), ("bp_f", _F1), ("bp_i", _I1), ("pairs", _I2),
     ("raw_f", _F2), ("raw_i", _I1), ("cf", _F2), ("ci", _I2), ("pcf", _F2), ("pci", _I2),
     ("params_f", _F1), ("params_i", _I1), ("stats", _I1),
 )
-#: The record's fields: the tables, the counts, and the step's scratch.
+#: The context's fields: the tables, the counts, the step's scalars and the stages' scratch.
 FIELDS = TABLE_FIELDS + (
-    ("nb", types.int64), ("nk", types.int64),
+    ("nb", types.int64),      # body slots in use: the step visits rows 0 .. nb - 1 and skips free ones
+    ("nk", types.int64),      # constraint slots, likewise
+    # the step's scalars, written by one stage for the next
+    ("h", types.float64),     # sub-step length (s)
+    ("n_pairs", types.int64),       # candidate pairs the broad phase found
+    ("nc", types.int64),      # contact points the narrow phase found
+    ("constrained", types.boolean),  # the step has contacts or constraints (else the solver rests)
+    ("bundled", types.boolean),      # contacts solved in coloured bundles (chosen once, by prepare)
+    ("regions", types.int64),       # regions of the contact passes (1 unless threads)
+    ("bundles", types.int64),       # bundles of the step
+    ("n_overflow", types.int64),    # contacts no bundle takes
+    ("iterations", types.int64),    # velocity iterations used so far in the step
+    ("clock", types.int64),         # cycle counter at the end of the last profiled stage
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
     ("filters", _I2),         # (3, slots): the bodies' flags, groups and masks as contiguous rows
@@ -88,23 +94,26 @@ FIELDS = TABLE_FIELDS + (
     ("pose_state", types.int8[::1]),          # which of the two each row holds (pipeline/collide.py)
     ("pose_quat", _F1),       # a quaternion
 )
-STEP_TABLES = StepTablesType(list(FIELDS))
-
-_new_record = structref.new
-if numba.config.DISABLE_JIT:          # kernels run as Python: the record is a plain namespace
-    def _new_record(_type):
-        return SimpleNamespace()
+STEP_CONTEXT = StepContextType(list(FIELDS))
+_new_record = new_record_function()
+#: ``context_at(address)``: inside a kernel, the context whose address ``record_address`` gave
+context_at = reader(STEP_CONTEXT)
+#: ``view(ctx)``: inside a kernel, the context seen without reference counting (``_numba/record.py``):
+#: what the stages take, so that passing it and reading its tables cost nothing
+view = viewer(STEP_CONTEXT)
 
 
 @njit
 def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
           params_f, params_i, stats, nb, nk, threads):
-    t = _new_record(STEP_TABLES)
+    t = _new_record(STEP_CONTEXT)
     t.bf, t.bi, t.sf, t.si, t.kf, t.ki, t.ws = bf, bi, sf, si, kf, ki, ws
     t.geom_f, t.geom_i, t.aabbs, t.bp_f, t.bp_i, t.pairs = geom_f, geom_i, aabbs, bp_f, bp_i, pairs
     t.raw_f, t.raw_i, t.cf, t.ci, t.pcf, t.pci = raw_f, raw_i, cf, ci, pcf, pci
     t.params_f, t.params_i, t.stats = params_f, params_i, stats
     t.nb, t.nk = nb, nk
+    t.h, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 0, 0, False, False
+    t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
     t.filters = np.zeros((3, n_slots), dtype=np.int64)
@@ -138,9 +147,9 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     return t
 
 
-def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
+def pack_context(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
                 pcf, pci, params_f, params_i, stats, nb, nk, threads=1):
-    """A record of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
+    """A context of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
     constraints, and fresh scratch for as many body and constraint slots as the tables have rows, and for
     contact passes on up to ``threads`` threads.  Every table must be C-contiguous with the dtype and
     dimensions of ``TABLE_FIELDS``."""
@@ -152,55 +161,3 @@ def pack_tables(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
             raise TypeError(f"{name} must be a C-contiguous {typ.dtype} array of {typ.ndim} dimensions")
     return _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
                  pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)))
-
-
-@intrinsic
-def _meminfo_address(typingctx, record):
-    def codegen(context, builder, signature, args):
-        ref = cgutils.create_struct_proxy(signature.args[0])(context, builder, value=args[0])
-        return builder.ptrtoint(ref.meminfo, context.get_value_type(types.intp))
-    return types.intp(record), codegen
-
-
-@intrinsic
-def record_at(typingctx, address):
-    """The record whose memory-info block is at ``address`` (:func:`record_address`), as a new reference."""
-    def codegen(context, builder, signature, args):
-        ref = cgutils.create_struct_proxy(STEP_TABLES)(context, builder)
-        ref.meminfo = builder.inttoptr(args[0], ref.meminfo.type)
-        value = ref._getvalue()
-        context.nrt.incref(builder, STEP_TABLES, value)
-        return value
-    return STEP_TABLES(types.intp), codegen
-
-
-if numba.config.DISABLE_JIT:        # kernels run as Python: the "address" is the record itself
-    def record_at(address):
-        return address
-
-
-@njit
-def _address(record):
-    return _meminfo_address(record)
-
-
-def record_address(record):
-    """The address (an int) of ``record``'s memory-info block, which :func:`record_at` turns back into
-    the record inside a kernel.  A Python int crosses into compiled code in ~10 ns, a record in ~120 ns
-    (its proxy's attribute is read and unboxed).  The address is only valid while the caller keeps
-    ``record`` alive.  With ``NUMBA_DISABLE_JIT`` the record itself."""
-    if numba.config.DISABLE_JIT:
-        return record
-    return _address(record)
-
-
-def compiled_entry(kernel, argument):
-    """The compiled entry point of ``kernel`` for ``argument``'s type (compiled or loaded from the cache on
-    first use): calling it skips the dispatcher's typing of the argument (~60 ns for an int, ~0.5 us for
-    a record).  With ``NUMBA_DISABLE_JIT`` the kernel itself."""
-    if numba.config.DISABLE_JIT:
-        return kernel
-    key = (numba.typeof(argument),)
-    if key not in kernel.overloads:
-        kernel.compile(key)
-    return kernel.overloads[key].entry_point

@@ -1,0 +1,34 @@
+"""What a world reports: the contacts of the last step (``Contact``) and ray hits (``RayHit``)."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .body import Body
+
+
+@dataclass(frozen=True)
+class RayHit:
+    """The nearest surface a ray hit: ``body``, ``point`` (m), unit ``normal`` there, ``distance`` (m)."""
+
+    body: Body
+    point: np.ndarray
+    normal: np.ndarray
+    distance: float
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact point found by the last step's collision detection (at the poses the step began with).
+
+    ``normal`` points from ``body_a`` to ``body_b``; ``depth > 0`` is overlap (m), ``depth <= 0`` a
+    speculative contact with gap ``-depth``.  ``normal_impulse`` (N s) and ``tangent_impulse`` (N s,
+    world vector) are what the solver applied at this point over the step.
+    """
+
+    body_a: Body
+    body_b: Body
+    point: np.ndarray
+    normal: np.ndarray
+    depth: float
+    normal_impulse: float
+    tangent_impulse: np.ndarray

@@ -1,0 +1,69 @@
+"""The world's tunables and how they reach the step: validated floats on the World, written into the
+parameter slots ``params_f``/``params_i`` (``state/layout.py``) whenever the step length or a setting
+changes.  Kernels never read tunables from globals (Numba's cache would freeze them).
+
+docs/architecture.md explains each tunable in physical terms.
+"""
+import numpy as np
+
+from .._validate import as_float
+from ..collision.broadphase import METHODS as BROADPHASE_CODES
+from ..dynamics.integrators import INTEGRATORS
+from . import layout as L
+
+#: the collision-handling schemes, in the order of their codes (layout.SEQUENTIAL_IMPULSE, PENALTY, LCP)
+SOLVERS = ("sequential_impulse", "penalty", "lcp")
+
+
+class Tunable:
+    """A physical tunable of the world (a float): validated on assignment; the next step rewrites the
+    parameters."""
+
+    def __init__(self, default, doc, **rule):
+        self.default = default
+        self.rule = rule
+        self.__doc__ = doc
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        return obj._tunables.get(self.name, self.default)
+
+    def __set__(self, obj, value):
+        obj._tunables[self.name] = as_float(self.name, value, **self.rule)
+        obj._params_dt = None
+
+
+def write_params(world, dt, params_f, params_i):
+    """Fill ``params_f``/``params_i`` from ``world``'s settings for steps of ``dt`` seconds."""
+    pf, pi = params_f, params_i
+    pf[L.PF_DT] = dt
+    pf[L.PF_GRAVITY:L.PF_GRAVITY + 3] = world.gravity
+    h = dt / world.substeps
+    pf[L.PF_SPECULATIVE] = world.speculative_distance
+    # Contacts no stiffer than a quarter of the sub-step rate, joints half (stable for any dt).
+    pf[L.PF_CONTACT_HERTZ] = min(world.contact_hertz, 0.25 / h)
+    pf[L.PF_CONTACT_ZETA] = world.contact_damping_ratio
+    pf[L.PF_JOINT_HERTZ] = min(world.joint_hertz, 0.5 / h)
+    pf[L.PF_JOINT_ZETA] = world.joint_damping_ratio
+    pf[L.PF_MAX_PUSH] = world.max_push_speed
+    pf[L.PF_SLIDE_SPEED] = world.slide_speed
+    pf[L.PF_TOLERANCE] = world.velocity_tolerance
+    pf[L.PF_SLEEP_LINEAR] = world.sleep_linear_speed
+    pf[L.PF_SLEEP_ANGULAR] = world.sleep_angular_speed
+    pf[L.PF_TIME_TO_SLEEP] = world.time_to_sleep if world.sleeping else 0.0
+    # A contact closing no faster than gravity makes in one sub-step is resting, not bouncing.
+    pf[L.PF_RESTITUTION_SPEED] = float(np.linalg.norm(world.gravity)) * h
+    pf[L.PF_SWEEP] = 1.0 if world.ccd else 0.0
+    pi[L.PI_INTEGRATOR] = INTEGRATORS.index(world.integrator)
+    pi[L.PI_SUBSTEPS] = world.substeps
+    pi[L.PI_ITERATIONS] = world.iterations
+    pi[L.PI_BROADPHASE] = BROADPHASE_CODES[world.broadphase]
+    pi[L.PI_SOLVER] = SOLVERS.index(world.solver)
+    pi[L.PI_THREADS] = world.threads
+    pf[L.PF_PENALTY_HERTZ] = world.penalty_hertz
+    pi[L.PI_LCP_SWEEPS] = int(world.lcp_sweeps)
+    pf[L.PF_LCP_SOR] = world.lcp_relaxation

@@ -1,0 +1,275 @@
+"""``WorldState``: the tables of one world, their slots, growth, and the step context packed from them.
+
+Every table is a NumPy array whose columns ``state/layout.py`` names.  Bodies, their shapes and
+constraints take rows through :class:`~marbellous.state.slots.Slots`: a removed object's rows are freed
+and reused, so a world's step costs what is alive now, not what was ever made.  The tables grow by
+capacity doubling outside the kernels; whenever one is replaced the step context is packed again
+(``pipeline/context.py``), otherwise a step is one call of the compiled entry with an int.
+
+Nothing here validates user input: the World facade does, then calls these operations, which cannot
+fail on what it passes.
+"""
+import numpy as np
+
+from .._numba.record import compiled_entry, record_address
+from ..collision.broadphase import make_state as make_broadphase_state
+from ..pipeline.context import pack_context
+from ..pipeline.stages import STAGES
+from ..pipeline.step import GROW_PAIRS, OK, STEPS
+from . import layout as L
+from .slots import Slots
+
+
+def grow(arr, needed):
+    """``arr`` with at least ``needed`` rows (capacity doubling); new rows are zero."""
+    cap = arr.shape[0]
+    if needed <= cap:
+        return arr
+    new_cap = max(needed, 2 * cap, 8)
+    out = np.zeros((new_cap,) + arr.shape[1:], dtype=arr.dtype)
+    out[:cap] = arr
+    return out
+
+
+class WorldState:
+    """The tables of a world (bodies, shapes, constraints, contacts, broad phase, parameters, statistics)
+    and the compiled step over them."""
+
+    def __init__(self, broadphase_code):
+        self.params_f = np.zeros(L.PF_LEN)
+        self.params_i = np.zeros(L.PI_LEN, dtype=np.int64)
+        self.stats = np.zeros(L.STAT_CYCLES + len(STAGES), dtype=np.int64)
+        self.bf = np.zeros((8, L.BF_COLS))
+        self.bi = np.zeros((8, L.BI_COLS), dtype=np.int64)
+        self.sf = np.zeros((8, L.SF_COLS))
+        self.si = np.zeros((8, L.SI_COLS), dtype=np.int64)
+        self.kf = np.zeros((8, L.KF_COLS))
+        self.ki = np.zeros((8, L.KI_COLS), dtype=np.int64)
+        self.ws = np.zeros(L.WS_COLS)
+        # Bulk geometry of meshes and height fields, one segment per shape row (geom_sizes: its lengths)
+        self.geom_f = np.zeros(0)
+        self.geom_i = np.zeros(0, dtype=np.int64)
+        self.geom_sizes = {}
+        self.bodies = Slots()
+        self.shapes = Slots()
+        self.constraints = Slots()
+        # Collision detection: body boxes, broad-phase state, candidate pairs, the narrow phase's points,
+        # and two contact tables: the step fills one and keeps the other as its warm-start cache, then
+        # they swap roles (stats[STAT_CACHE_SIDE] says which is the cache).
+        self.aabbs = np.zeros((8, 6))
+        self.broadphase_code = broadphase_code
+        self.bp_f, self.bp_i = make_broadphase_state(broadphase_code, self.aabbs.shape[0])
+        self.pairs = np.zeros((64, 2), dtype=np.int64)
+        self.raw_f = np.zeros((64, 7))
+        self.raw_i = np.zeros(64, dtype=np.int64)
+        self.contact_f = [np.zeros((64, L.CF_COLS)), np.zeros((64, L.CF_COLS))]
+        self.contact_i = [np.zeros((64, L.CI_COLS), dtype=np.int64), np.zeros((64, L.CI_COLS), dtype=np.int64)]
+        self.threads = 1
+        self.solver = L.SEQUENTIAL_IMPULSE
+        # The step context of the current tables (None whenever one of them is replaced), the address the
+        # compiled step takes, and that step's entry point.
+        self.context = self._entry = self._address = None
+
+    # --- the step -----------------------------------------------------------------------------------------
+    def invalidate(self):
+        """Forget the packed context (a table was replaced, or the step's variant changed)."""
+        self.context = None
+
+    def pack(self):
+        """The step context of the current tables and the compiled entry of the scheme's step."""
+        self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
+                                    self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
+                                    self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
+                                    self.cache_f, self.cache_i, self.params_f, self.params_i, self.stats,
+                                    self.bodies.end, self.constraints.end, self.threads)
+        self._address = record_address(self.context)
+        self._entry = compiled_entry(STEPS[self.solver], self._address)
+
+    def step(self):
+        """One step with the parameters in ``params_f``/``params_i``; buffers that turn out too small are
+        grown and the step is run again (it changed nothing but scratch)."""
+        if self.context is None:
+            self.pack()
+        status = self._entry(self._address)
+        while status != OK:
+            if status == GROW_PAIRS:
+                self.pairs = grow(self.pairs, int(self.stats[L.STAT_PAIRS]))
+            else:
+                self.grow_contacts(int(self.stats[L.STAT_CONTACTS]))
+            self.pack()
+            status = self._entry(self._address)
+
+    # --- contacts -------------------------------------------------------------------------------------------
+    def contact_table_f(self, cache):
+        """The float contact table in the role ``cache`` (True: last step's contacts) or the one the next
+        step fills (False)."""
+        side = int(self.stats[L.STAT_CACHE_SIDE])
+        return self.contact_f[side if cache else 1 - side]
+
+    def contact_table_i(self, cache):
+        """The int contact table in that role."""
+        side = int(self.stats[L.STAT_CACHE_SIDE])
+        return self.contact_i[side if cache else 1 - side]
+
+    @property
+    def cache_f(self):
+        """Last step's contacts (float columns); its first :attr:`n_cached` rows are valid."""
+        return self.contact_table_f(True)
+
+    @property
+    def cache_i(self):
+        """Last step's contacts (int columns)."""
+        return self.contact_table_i(True)
+
+    @property
+    def n_cached(self):
+        """Contact points of the last step."""
+        return int(self.stats[L.STAT_CACHED])
+
+    def grow_contacts(self, n):
+        """Room for ``n`` contact points in the narrow-phase buffer and both contact tables, all grown to one
+        capacity (the tables swap roles every step, so the step's scratch is sized by either)."""
+        self.invalidate()
+        n = max(n, self.contact_f[0].shape[0], self.contact_f[1].shape[0], self.raw_f.shape[0])
+        self.raw_f = grow(self.raw_f, n)
+        self.raw_i = grow(self.raw_i, n)
+        self.contact_f = [grow(t, n) for t in self.contact_f]
+        self.contact_i = [grow(t, n) for t in self.contact_i]
+
+    def forget_contacts_of(self, body_row):
+        """Drop last step's contacts of a body (it is being removed): nothing reports or warm-starts them."""
+        n = self.n_cached
+        cf, ci = self.cache_f, self.cache_i
+        keep = (ci[:n, L.C_BODY_A] != body_row) & (ci[:n, L.C_BODY_B] != body_row)
+        m = int(keep.sum())
+        if m < n:
+            cf[:m] = cf[:n][keep]
+            ci[:m] = ci[:n][keep]
+            self.stats[L.STAT_CACHED] = m
+
+    # --- broad phase ------------------------------------------------------------------------------------------
+    def set_broadphase(self, code):
+        """Switch the broad phase (a fresh state, rebuilt by the next step)."""
+        self.broadphase_code = code
+        self.bp_f, self.bp_i = make_broadphase_state(code, self.aabbs.shape[0])
+        self.params_i[L.PI_BROADPHASE] = code
+        self.invalidate()
+
+    # --- bodies -------------------------------------------------------------------------------------------------
+    def insert_body(self, parts, pos, quat, vel, omega, mass, inertia, inverse_inertia, material, flags,
+                    static_box):
+        """Write a validated body and its shapes into free rows; returns the body's row.
+
+        ``parts``: (shape, local position, local orientation) in the body's frame (centre of mass);
+        ``mass`` (kg, inf for static), ``inertia``/``inverse_inertia`` (3x3 body frame, None for static);
+        ``material``: (friction, static friction, restitution, rolling friction); ``flags``: F_* bits
+        besides F_ALIVE; ``static_box``: the world AABB of a static body (None for dynamic ones)."""
+        self.invalidate()
+        i = self.bodies.allocate()
+        self.bf = grow(self.bf, self.bodies.end)
+        self.bi = grow(self.bi, self.bodies.end)
+        if self.aabbs.shape[0] < self.bf.shape[0]:
+            self.aabbs = grow(self.aabbs, self.bf.shape[0])
+            self.bp_f, self.bp_i = make_broadphase_state(self.broadphase_code, self.bf.shape[0])
+        s0 = self._insert_shapes(parts, i)
+        bf = self.bf[i]
+        bf[:] = 0.0
+        bf[L.POS:L.POS + 3] = pos
+        bf[L.PREV_POS:L.PREV_POS + 3] = pos
+        bf[L.QUAT:L.QUAT + 4] = quat
+        bf[L.VEL:L.VEL + 3] = vel
+        bf[L.OMEGA:L.OMEGA + 3] = omega
+        bf[L.MASS] = mass
+        bf[L.FRICTION], bf[L.STATIC_FRICTION], bf[L.RESTITUTION], bf[L.ROLLING] = material
+        if inertia is not None:
+            bf[L.INV_MASS] = 1.0 / mass
+            bf[L.I_BODY:L.I_BODY + 9] = inertia.ravel()
+            bf[L.INV_I:L.INV_I + 9] = inverse_inertia.ravel()
+        self.bi[i] = (flags | L.F_ALIVE | L.F_RESTART, s0, len(parts), 1, -1, -1)
+        self.aabbs[i] = 0.0 if static_box is None else static_box
+        return i
+
+    def _insert_shapes(self, parts, body_row):
+        """Shape rows (consecutive) and bulk geometry for ``parts`` of body ``body_row``; returns the first row."""
+        s0 = self.shapes.allocate(len(parts))
+        self.sf = grow(self.sf, self.shapes.end)
+        self.si = grow(self.si, self.shapes.end)
+        geom_f, geom_i = [self.geom_f], [self.geom_i]
+        off_f, off_i = self.geom_f.size, self.geom_i.size
+        for k, (s, p, q) in enumerate(parts):
+            row = s0 + k
+            self.sf[row] = 0.0
+            self.sf[row, L.S_PARAMS:L.S_PARAMS + 8] = s._params()
+            self.sf[row, L.S_LOCAL_POS:L.S_LOCAL_POS + 3] = p
+            self.sf[row, L.S_LOCAL_QUAT:L.S_LOCAL_QUAT + 4] = q
+            self.sf[row, L.S_RADIUS] = s.bounding_radius()
+            gf, gi = s._geometry()
+            self.si[row] = (s._type, body_row, off_f, off_i)
+            self.geom_sizes[row] = (gf.size, gi.size)
+            geom_f.append(gf)
+            geom_i.append(gi)
+            off_f += gf.size
+            off_i += gi.size
+        if off_f > self.geom_f.size or off_i > self.geom_i.size:
+            self.geom_f = np.concatenate(geom_f)
+            self.geom_i = np.concatenate(geom_i).astype(np.int64)
+        return s0
+
+    def free_body(self, i):
+        """Free body row ``i``, its shape rows and their geometry, and forget its contacts."""
+        self.invalidate()
+        s0, ns = int(self.bi[i, L.SHAPE_START]), int(self.bi[i, L.SHAPE_COUNT])
+        for row in range(s0, s0 + ns):
+            self._free_geometry(row)
+            self.si[row] = (0, -1, 0, 0)
+        self.shapes.free(s0, ns)
+        self.forget_contacts_of(i)
+        self.bf[i] = 0.0
+        self.bi[i] = 0
+        self.aabbs[i] = 0.0
+        self.bodies.free(i)
+
+    def _free_geometry(self, row):
+        """Cut shape ``row``'s segment out of the bulk geometry; later segments move down."""
+        nf, ni = self.geom_sizes.pop(row)
+        off_f, off_i = int(self.si[row, L.S_OFF_F]), int(self.si[row, L.S_OFF_I])
+        end = self.shapes.end
+        live = self.si[:end, L.S_BODY] >= 0
+        if nf:
+            self.geom_f = np.concatenate([self.geom_f[:off_f], self.geom_f[off_f + nf:]])
+            moved = live & (self.si[:end, L.S_OFF_F] > off_f)
+            self.si[:end, L.S_OFF_F][moved] -= nf
+        if ni:
+            self.geom_i = np.concatenate([self.geom_i[:off_i], self.geom_i[off_i + ni:]])
+            moved = live & (self.si[:end, L.S_OFF_I] > off_i)
+            self.si[:end, L.S_OFF_I][moved] -= ni
+
+    def wake(self, i):
+        """Wake body row ``i`` (and reset its rest timer)."""
+        self.bi[i, L.FLAGS] &= ~L.F_SLEEPING
+        self.bf[i, L.SLEEP_TIME] = 0.0
+
+    # --- constraints ---------------------------------------------------------------------------------------
+    def insert_constraint(self, ctype, ia, ib, anchor_a, anchor_b, length, stiffness, damping, breaking_force):
+        """Write a validated constraint between body rows ``ia`` and ``ib`` (-1: the world); returns its row."""
+        self.invalidate()
+        c = self.constraints.allocate()
+        self.kf = grow(self.kf, self.constraints.end)
+        self.ki = grow(self.ki, self.constraints.end)
+        row = self.kf[c]
+        row[:] = 0.0
+        row[L.K_ANCHOR_A:L.K_ANCHOR_A + 3] = anchor_a
+        row[L.K_ANCHOR_B:L.K_ANCHOR_B + 3] = anchor_b
+        row[L.K_LENGTH] = length
+        row[L.K_STIFFNESS] = stiffness
+        row[L.K_DAMPING] = damping
+        row[L.K_BREAKING] = breaking_force
+        self.ki[c] = (ctype, ia, ib, L.KF_ALIVE)
+        return c
+
+    def free_constraint(self, c):
+        """Free constraint row ``c``."""
+        self.invalidate()
+        self.kf[c] = 0.0
+        self.ki[c] = 0
+        self.constraints.free(c)
