@@ -7,7 +7,7 @@ import pytest
 
 import marbellous as mb
 from marbellous.render.body_solids import PLANE_SCALE, body_solids
-from marbellous.render.bounds import shape_bounds, world_points
+from marbellous.render.bounds import shape_points, world_points
 from marbellous.render.draw_lists import GRID, OCTANTS, PLAIN, WorldFrame
 from marbellous.render.geometry import heightfield_triangles
 from marbellous.render.orbit_camera import OrbitCamera
@@ -34,8 +34,9 @@ def test_scaled_meshes_have_the_shape_s_size(shape):
     mesh = shape_mesh(shape)
     pos, nrm = mesh.triangles()
     scaled = pos * mesh.scale
-    lo, hi = shape_bounds(shape, np.zeros(3), np.eye(3))
-    assert np.allclose(scaled.min(axis=0), lo, atol=2e-3) and np.allclose(scaled.max(axis=0), hi, atol=2e-3)
+    outline = shape_points(shape, np.zeros(3), np.eye(3))
+    assert np.allclose(scaled.min(axis=0), outline.min(axis=0), atol=2e-3)
+    assert np.allclose(scaled.max(axis=0), outline.max(axis=0), atol=2e-3)
     assert np.allclose(np.linalg.norm(nrm, axis=1), 1.0, atol=1e-5)
 
 
@@ -94,6 +95,17 @@ def test_world_points_leave_out_planes_and_add_fixed_anchors():
     w.add_spring(b, None, rest_length=1.0, stiffness=10.0, anchor_b=(0.0, 4.0, 0.0))
     pts = world_points(w)
     assert np.allclose(pts.min(axis=0), [-0.5, 0.5, -0.5]) and np.allclose(pts.max(axis=0), [0.5, 4.0, 0.5])
+
+
+def test_meshes_and_fields_are_outlined_by_their_surface():
+    q = np.array([math.cos(0.2), 0.0, 0.0, math.sin(0.2)])
+    r = quat_to_matrix(q)
+    field = mb.HeightField([[0.0, 1.0], [2.0, 0.5]], spacing=(3.0, 2.0), origin=(1.0, -1.0, 0.5))
+    pts = shape_points(field, np.array([1.0, 2.0, 3.0]), r)
+    local = np.array([[1.0, -1.0, 0.5], [1.0, 0.0, 2.5], [4.0, 1.0, 0.5], [4.0, -0.5, 2.5]])
+    assert np.allclose(pts, local @ r.T + [1.0, 2.0, 3.0])
+    v = np.array([[0.0, 0, 0], [1, 2, 0], [0, 0, 1]])
+    assert np.allclose(shape_points(mb.TriangleMesh(v, [[0, 2, 1]]), np.zeros(3), r), v @ r.T)
 
 
 def test_framing_shows_every_point_and_fills_the_view():
