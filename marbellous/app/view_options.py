@@ -70,7 +70,4 @@ def initial_camera(world, camera, aspect):
         eye, target = camera
     except (TypeError, ValueError):
         raise TypeError(f"camera must be None or a pair (eye, target) of 3-vectors, got {camera!r}") from None
-    eye, target = as_vec3("camera eye", eye), as_vec3("camera target", target)
-    if (eye == target).all():
-        raise ValueError("camera eye and target must differ")
-    return OrbitCamera.looking(eye, target)
+    return OrbitCamera.looking(as_vec3("camera eye", eye), as_vec3("camera target", target))

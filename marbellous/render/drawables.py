@@ -51,7 +51,8 @@ def check_layers(layers):
     names = tuple(layers)
     unknown = [n for n in names if n not in DRAWABLES]
     if unknown:
-        raise ValueError(f"layers: unknown {', '.join(map(repr, unknown))}; known: {', '.join(DRAWABLES)}")
+        known = "; ".join(f"{name} ({d.help})" for name, d in DRAWABLES.items())
+        raise ValueError(f"layers: unknown {', '.join(map(repr, unknown))}; known: {known}")
     return names
 
 

@@ -50,7 +50,7 @@ class WorldRenderer:
     ``shadow_size`` the side of the shadow map in texels.
     """
 
-    def __init__(self, ctx, size=(640, 360), *, samples=4, shadow_size=2048):
+    def __init__(self, ctx, size=(640, 360), *, samples=4, shadow_size=1024):
         self.ctx = ctx
         self.size = tuple(int(s) for s in size)
         self.solid = ctx.program(vertex_shader=glsl.SOLID_VS, fragment_shader=glsl.SOLID_FS)
