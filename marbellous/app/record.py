@@ -4,10 +4,11 @@ draws one frame to an array or a PNG.
 Both render offscreen through EGL (Mesa's llvmpipe needs no display and no GPU).  The camera frames
 every body at the start unless ``camera = (eye, target)`` places it, and then stays put.
 """
-import time
+import math
 
 from .._validate import as_float, as_int
 from ..render.video import FORMATS, VideoWriter
+from .sim_runner import SimRunner
 from .stats import stats_line
 from .view_options import check_flag, check_size, check_suffix, check_world, initial_camera, layers_for
 
@@ -45,18 +46,16 @@ def record(world, path, *, seconds, dt=1.0 / 60.0, fps=30, size=(640, 360), came
     check_flag("stats", stats)
     frames = max(1, round(seconds * fps))
     cam = initial_camera(world, camera, size[0] / size[1]).view()
+    # every step a frame's time holds, however many (the runner's cap is never reached)
+    runner = SimRunner(world, dt, max_steps=math.ceil(1.0 / (fps * dt)) + 1)
     ctx, renderer = _headless_renderer(size, "record")
-    step_seconds = None
     try:
         with VideoWriter(out, fps) as writer:
             for _ in range(frames):
-                hud = [stats_line(world, contacts=len(world.contacts()), step_seconds=step_seconds)] if stats else ()
+                hud = ([stats_line(world, contacts=len(world.contacts()), step_seconds=runner.step_seconds)]
+                       if stats else ())
                 writer.write(renderer.render_to_array(world, cam, layers=layers, hud_lines=hud))
-                t0, wall = world.time, time.perf_counter()
-                world.advance(1.0 / fps, dt)
-                n = round((world.time - t0) / dt)
-                if n:
-                    step_seconds = (time.perf_counter() - wall) / n
+                runner.advance(1.0 / fps)
     finally:
         ctx.release()
     return out

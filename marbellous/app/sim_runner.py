@@ -17,7 +17,7 @@ class SimRunner:
     def __init__(self, world, dt, *, paused=False, max_steps=4):
         self.world = world
         self.dt = as_float("dt", dt, positive=True)
-        self.max_steps = as_int("max_steps_per_frame", max_steps, lo=1, hi=1000)
+        self.max_steps = as_int("max_steps_per_frame", max_steps, lo=1)
         self.paused = paused
         self.start = world.snapshot()
         #: Steps taken since the start or the last reset.
@@ -41,6 +41,7 @@ class SimRunner:
         self.steps = 0
 
     def _timed(self, run):
+        """Call ``run()``, which steps the world, and count and time the steps it took."""
         t0 = self.world.time
         wall = time.perf_counter()
         run()
