@@ -25,7 +25,12 @@ PRINT_INTERVAL = 0.5
 def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False, boxes=False, camera=None,
          max_steps_per_frame=4, print_state=False):
     """Open a window on ``world`` and step it by ``dt`` seconds as real time passes, until the window is
-    closed (see the module docstring for the mouse and keys).
+    closed.
+
+    Mouse: drag turns the camera, right- or middle-drag (or shift-drag) pans, scrolling zooms.  Keys:
+    space pauses and resumes, N or the right arrow takes one step (pausing first), C toggles contacts
+    and normals, B broad-phase boxes, R returns to the state the window opened with, F frames every
+    body again, Esc closes the window.
 
     ``paused`` starts it paused; ``size`` = (width, height) pixels of the window; ``contacts`` and
     ``boxes`` start with those overlays on; ``camera`` is None (frame every body) or ``(eye, target)``
