@@ -35,6 +35,17 @@ class Constraint:
         return np.array(self._rows()[0][L.K_FORCE:L.K_FORCE + 3])
 
     @property
+    def anchor_a(self):
+        """Where the constraint holds ``body_a``: a point in body_a's frame (m)."""
+        return np.array(self._rows()[0][L.K_ANCHOR_A:L.K_ANCHOR_A + 3])
+
+    @property
+    def anchor_b(self):
+        """Where the constraint holds ``body_b``: a point in body_b's frame, or a fixed world point when
+        ``body_b`` is None (m)."""
+        return np.array(self._rows()[0][L.K_ANCHOR_B:L.K_ANCHOR_B + 3])
+
+    @property
     def length(self):
         """Rest length (spring), length (rod) or maximum length (cable), m."""
         return float(self._rows()[0][L.K_LENGTH])

@@ -1,4 +1,8 @@
-"""Shared fixtures: compile the kernels once per session so tests time physics, not compilation."""
+"""Shared fixtures: compile the kernels once per session so tests time physics, not compilation; a fresh
+X server for the window tests."""
+import os
+import shutil
+import subprocess
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -16,3 +20,20 @@ def warm_kernels():
     w.add_body(mb.Sphere(0.5), position=(0.0, 1.0, 0.0))
     w.step(1.0 / 60.0)
     yield
+
+
+@pytest.fixture
+def xvfb():
+    """A fresh X server (Xvfb picks a free display number and reports it); yields the display name."""
+    for tool in ("Xvfb", "xdotool"):
+        if shutil.which(tool) is None:
+            pytest.fail(f"{tool} is needed: apt-get install xvfb xdotool")
+    r, w = os.pipe()
+    proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
+                            pass_fds=(w,), stderr=subprocess.DEVNULL)
+    os.close(w)
+    with os.fdopen(r) as f:
+        display = ":" + f.readline().strip()
+    yield display
+    proc.terminate()
+    proc.wait(10)

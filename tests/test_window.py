@@ -2,33 +2,14 @@
 import os
 import queue
 import re
-import shutil
 import subprocess
 import sys
 import threading
 import time
 
 import numpy as np
-import pytest
 
 LINE = re.compile(r"t=([\d.]+) position=([-\d.]+),([-\d.]+),([-\d.]+)")
-
-
-@pytest.fixture
-def xvfb():
-    """A fresh X server (Xvfb picks a free display number and reports it)."""
-    for tool in ("Xvfb", "xdotool"):
-        if shutil.which(tool) is None:
-            pytest.fail(f"{tool} is needed: apt-get install xvfb xdotool")
-    r, w = os.pipe()
-    proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
-                            pass_fds=(w,), stderr=subprocess.DEVNULL)
-    os.close(w)
-    with os.fdopen(r) as f:
-        display = ":" + f.readline().strip()
-    yield display
-    proc.terminate()
-    proc.wait(10)
 
 
 def reader(stream, q):

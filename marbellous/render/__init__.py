@@ -1,1 +1,1 @@
-"""Rendering for the Marbellous game: moderngl scenes, headless video, a pyglet window."""
+"""Rendering with moderngl: the game's level renderer, a renderer of any World with its drawables, headless video."""

@@ -1,8 +1,8 @@
-"""Triangles for drawing: a level's colliders, the marble, the goal flag.
+"""Triangles for drawing: shapes about their own origin, a level's colliders, the marble, the goal flag.
 
 Every function returns ``(positions, normals)``: float32 arrays of shape (3 T, 3), three vertices per
 triangle, counter-clockwise seen from outside, in world space for level colliders and in the local
-frame for the marble.  Drawing needs no index buffers and each face keeps its own normal.
+frame for shapes and the marble.  Drawing needs no index buffers and each face keeps its own normal.
 """
 import numpy as np
 import trimesh
@@ -46,9 +46,24 @@ def heightfield_triangles(heights, spacing, origin):
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     a = (i[:-1, :-1] * nz + j[:-1, :-1]).ravel()
     b, c, d = a + nz, a + 1, a + nz + 1
-    # counter-clockwise seen from above (+y): (a, c, b) and (b, c, d)
-    tris = np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)])
+    # split along the diagonal (i, j)-(i + 1, j + 1) like the physics' HeightField; counter-clockwise
+    # seen from above (+y): (a, d, b) and (a, c, d)
+    tris = np.concatenate([np.stack([a, d, b], 1), np.stack([a, c, d], 1)])
     return smooth(verts, tris, normals)
+
+
+def box_triangles(half_extents):
+    """A box of ``half_extents`` (m) about the origin, 12 triangles with face normals."""
+    m = trimesh.creation.box(extents=2.0 * np.asarray(half_extents, np.float64))
+    return flat(m.vertices, m.faces)
+
+
+def capsule_triangles(radius, half_height, count=24):
+    """A capsule along local y: a cylinder of ``radius`` and length ``2 half_height`` (m) with
+    hemispherical caps, smooth normals, ``count`` segments around and per cap."""
+    m = trimesh.creation.capsule(height=2.0 * half_height, radius=radius, count=[count, count])
+    to_y = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])   # trimesh's axis is z, ours is y
+    return smooth(m.vertices @ to_y.T, m.faces, m.vertex_normals @ to_y.T)
 
 
 def collider_triangles(collider, center=(0.0, 0.0, 0.0)):
@@ -76,14 +91,11 @@ def collider_triangles(collider, center=(0.0, 0.0, 0.0)):
             pos, nrm = flat(quad, [[0, 2, 1], [0, 3, 2]])
         return pos, nrm
     if collider.kind == "box":
-        m = trimesh.creation.box(extents=2.0 * np.asarray(p["half_extents"]))
-        local = flat(m.vertices, m.faces)
+        local = box_triangles(p["half_extents"])
     elif collider.kind == "sphere":
         local = uv_sphere(p["radius"], 16, 32)
-    else:  # capsule: trimesh's axis is z, ours is y
-        m = trimesh.creation.capsule(height=2.0 * p["half_height"], radius=p["radius"], count=[24, 24])
-        to_y = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])
-        local = smooth(m.vertices @ to_y.T, m.faces, m.vertex_normals @ to_y.T)
+    else:
+        local = capsule_triangles(p["radius"], p["half_height"])
     r = quat_to_matrix(collider.orientation)
     return ((local[0] @ r.T + collider.position).astype(np.float32), (local[1] @ r.T).astype(np.float32))
 

@@ -4,21 +4,37 @@ from PIL import Image, ImageDraw, ImageFont
 
 from .transforms import orthographic
 
+_HUD_VS = """
+#version 330
+uniform mat4 u_mvp;
+in vec3 in_pos;
+in vec2 in_uv;
+out vec2 v_uv;
+void main() { v_uv = in_uv; gl_Position = u_mvp * vec4(in_pos, 1.0); }
+"""
+_HUD_FS = """
+#version 330
+uniform sampler2D u_tex;
+in vec2 v_uv;
+out vec4 f_color;
+void main() { f_color = texture(u_tex, v_uv); }
+"""
+
 
 class HudText:
     """Draws lines of text in the top-left corner of a frame.
 
-    ``ctx`` is the moderngl context and ``program`` the renderer's textured-quad program (inputs
-    ``in_pos``, ``in_uv``; uniforms ``u_mvp``, ``u_tex``, ``u_wave``).  The texture is rebuilt only
-    when the text changes.
+    ``ctx`` is the moderngl context; the HUD compiles its own textured-quad program.  The texture is
+    rebuilt only when the text changes.
     """
 
-    def __init__(self, ctx, program):
-        self.ctx, self.program = ctx, program
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.program = ctx.program(vertex_shader=_HUD_VS, fragment_shader=_HUD_FS)
         self._text, self._tex, self._tex_size = None, None, (1, 1)
         self.font_size = None
         self.vbo = ctx.buffer(reserve=6 * 5 * 4)
-        self.vao = ctx.vertex_array(program, [(self.vbo, "3f 2f", "in_pos", "in_uv")])
+        self.vao = ctx.vertex_array(self.program, [(self.vbo, "3f 2f", "in_pos", "in_uv")])
 
     def set_font_size(self, size):
         """Use Pillow's scalable default font at ``size`` pixels."""
@@ -58,7 +74,6 @@ class HudText:
         pixels = orthographic(w / 2, h / 2, -1.0, 1.0)
         pixels[:2, 3] = -1.0
         self.program["u_mvp"].write(np.ascontiguousarray(pixels.T, np.float32).tobytes())
-        self.program["u_wave"].value = 0.0
         self._tex.use(2)
         self.program["u_tex"].value = 2
         self.vao.render()

@@ -204,7 +204,7 @@ class Renderer:
         self.shadow_tex.compare_func = ""
         self.shadow_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
-        self.hud = HudText(ctx, self.textured)
+        self.hud = HudText(ctx)
         self.grid_cell = grid_cell
         self._grid_lines = None
         self.line_vbo = ctx.buffer(reserve=6 * 4 * 2 * 1024)

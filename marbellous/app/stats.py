@@ -1,0 +1,17 @@
+"""The stats line of the viewer and recorder: bodies, contacts, time per step, simulated time."""
+
+
+def stats_line(world, *, contacts, step_seconds=None, paused=False):
+    """One line about ``world``: its bodies (how many static and asleep), ``contacts`` (the number of
+    contact points of the last step), ``step_seconds`` (wall-clock seconds per step; None leaves it
+    out), the simulated time and whether the simulation is ``paused``."""
+    bodies = world.bodies
+    static = sum(b.is_static for b in bodies)
+    asleep = sum(not b.is_static and b.is_sleeping for b in bodies)
+    parts = [f"bodies {len(bodies)} ({static} static, {asleep} asleep)", f"contacts {contacts}"]
+    if step_seconds is not None:
+        parts.append(f"step {step_seconds * 1e3:.2f} ms")
+    parts.append(f"t {world.time:.2f} s")
+    if paused:
+        parts.append("paused")
+    return "  |  ".join(parts)

@@ -1,0 +1,50 @@
+"""Points that outline a world's bodies, for framing the camera.
+
+A sphere, box or capsule is outlined by the corners of its box (exact for boxes), a triangle mesh by
+its vertices and a height field by its grid points, so a large ramp or terrain frames by its surface
+rather than by its box; infinite planes have no outline and are left out.
+"""
+import numpy as np
+
+from ..shapes.heightfield import HeightField
+from ..shapes.mesh import TriangleMesh
+from ..shapes.primitives import Box, Capsule, Plane, Sphere
+from .transforms import quat_to_matrix
+
+_CORNER_SIGNS = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+
+
+def shape_points(shape, position, rotation):
+    """Points (K, 3) (m) whose bounding box is that of ``shape`` placed at ``position`` (m) with
+    ``rotation`` (3, 3); none for a plane."""
+    if isinstance(shape, Plane):
+        return np.zeros((0, 3))
+    if isinstance(shape, TriangleMesh):
+        return shape.vertices @ rotation.T + position
+    if isinstance(shape, HeightField):
+        nx, nz = shape.heights.shape
+        i, j = np.meshgrid(np.arange(nx), np.arange(nz), indexing="ij")
+        local = np.stack([i * shape.dx, shape.heights, j * shape.dz], axis=-1).reshape(-1, 3) + shape.origin
+        return local @ rotation.T + position
+    if isinstance(shape, Sphere):
+        half = np.full(3, shape.radius)
+    elif isinstance(shape, Box):
+        half = np.abs(rotation) @ shape.half_extents
+    elif isinstance(shape, Capsule):
+        half = np.abs(rotation[:, 1]) * shape.half_height + shape.radius
+    else:
+        raise TypeError(f"shape must be a Sphere, Box, Capsule, Plane, HeightField or TriangleMesh, got {shape!r}")
+    return position + _CORNER_SIGNS * half
+
+
+def world_points(world):
+    """Points (K, 3) (m) that outline ``world``: those of every shape of its bodies
+    (:func:`shape_points`), and the fixed world anchors of its constraints."""
+    parts = []
+    for b in world.bodies:
+        rot = quat_to_matrix(b.orientation)
+        pos = b.position
+        for shape, local_pos, local_quat in b.shapes:
+            parts.append(shape_points(shape, pos + rot @ local_pos, rot @ quat_to_matrix(local_quat)))
+    parts.append(np.array([c.anchor_b for c in world.constraints if c.body_b is None]).reshape(-1, 3))
+    return np.concatenate(parts)

@@ -1,0 +1,62 @@
+"""The registry of drawables: for each kind of object in a world, how it is drawn.
+
+A :class:`Drawable` has a ``name`` (the layer it can be toggled by), a ``draw`` function that turns a
+:class:`~marbellous.render.draw_lists.WorldFrame` into a list of ``Solids``, ``Lines`` and ``Points``,
+and whether it is ``shown`` by default.  The renderer draws the layers asked for in registry order.
+A new kind of object (joints, particles, cloth, soft bodies, fluid slices) is drawn by registering
+one more drawable::
+
+    register(Drawable("particles", draw_particles, shown=True, help="particles as dots"))
+"""
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from .body_solids import body_solids
+from .overlays import box_outlines, constraint_lines, contact_marks
+
+
+@dataclass(frozen=True)
+class Drawable:
+    """A layer of the drawing: ``draw(frame) -> list`` of draw lists; ``shown`` by default or not;
+    ``help`` says in a few words what it shows."""
+
+    name: str
+    draw: Callable
+    shown: bool
+    help: str
+
+
+#: The drawables by name, in drawing order.
+DRAWABLES = {}
+
+
+def register(drawable):
+    """Add ``drawable`` (a :class:`Drawable`) to :data:`DRAWABLES`; its name must be new."""
+    if not isinstance(drawable, Drawable):
+        raise TypeError(f"drawable must be a Drawable, got {drawable!r}")
+    if drawable.name in DRAWABLES:
+        raise ValueError(f"drawable name {drawable.name!r} is already registered")
+    DRAWABLES[drawable.name] = drawable
+
+
+def default_layers():
+    """Names of the drawables shown by default, in drawing order."""
+    return tuple(name for name, d in DRAWABLES.items() if d.shown)
+
+
+def check_layers(layers):
+    """``layers`` (names of drawables) as a tuple, or ``ValueError`` naming ``layers`` and the known names."""
+    if isinstance(layers, str):
+        raise TypeError(f"layers must be a collection of layer names, got the string {layers!r}")
+    names = tuple(layers)
+    unknown = [n for n in names if n not in DRAWABLES]
+    if unknown:
+        known = "; ".join(f"{name} ({d.help})" for name, d in DRAWABLES.items())
+        raise ValueError(f"layers: unknown {', '.join(map(repr, unknown))}; known: {known}")
+    return names
+
+
+register(Drawable("bodies", body_solids, shown=True, help="every body's shapes"))
+register(Drawable("constraints", constraint_lines, shown=True, help="springs, rods and cables"))
+register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))
+register(Drawable("boxes", box_outlines, shown=False, help="broad-phase bounding boxes"))

@@ -1,0 +1,41 @@
+"""The colours of a drawn world: what each kind and state of body, and each debug layer, looks like.
+
+Colours are linear RGB in [0, 1].  A body's colour says what it is at a glance: stone grey for static
+bodies, warm hues (orange, coral, amber, gold, in turn by body) for moving dynamic bodies, slate blue
+for sleeping ones and translucent green for sensors.  The debug layers use colours no body has:
+yellow contacts, cyan bounding boxes, magenta springs, white rods and brown cables.
+"""
+import numpy as np
+
+#: Background (clear colour) of the viewer, and the colour distant geometry fades into.
+BACKGROUND = (0.16, 0.18, 0.22)
+#: Static bodies: stone grey (drawn with a grid that shows the scale).
+STATIC = (0.62, 0.62, 0.60)
+#: Moving dynamic bodies, by body index in turn: warm hues, so neighbours in a stack stand apart.
+DYNAMIC = np.array([(0.93, 0.45, 0.13), (0.90, 0.30, 0.24), (0.95, 0.62, 0.16), (0.86, 0.52, 0.30),
+                    (0.92, 0.38, 0.10), (0.97, 0.72, 0.25)])
+#: Sleeping dynamic bodies, by body index in turn: slate blues.
+SLEEPING = np.array([(0.38, 0.46, 0.72), (0.30, 0.38, 0.62), (0.45, 0.52, 0.78)])
+#: Sensors (any kind): green, drawn translucent with opacity :data:`SENSOR_ALPHA`.
+SENSOR = (0.30, 0.90, 0.42)
+#: Opacity of sensors, in [0, 1].
+SENSOR_ALPHA = 0.35
+#: Contact points and their normals.
+CONTACT = (1.0, 0.88, 0.10)
+#: Broad-phase bounding boxes.
+BOX = (0.15, 0.90, 1.0)
+#: Constraint lines by kind, and their anchor points.
+SPRING = (0.95, 0.25, 0.85)
+ROD = (0.96, 0.96, 0.96)
+CABLE = (0.62, 0.40, 0.20)
+
+
+def body_color(index, *, static, sleeping, sensor):
+    """RGB colour (3,) of the body at ``index`` (its creation order) in the given state."""
+    if sensor:
+        return np.array(SENSOR)
+    if static:
+        return np.array(STATIC)
+    if sleeping:
+        return SLEEPING[index % len(SLEEPING)].copy()
+    return DYNAMIC[index % len(DYNAMIC)].copy()

@@ -1,0 +1,201 @@
+"""Drawing any World with moderngl: lit, shadowed bodies, debug overlays and a text line, into a window
+or offscreen.
+
+A frame asks each layer of the drawable registry (``drawables.py``) for its draw lists, then draws:
+a shadow map from the sun over the region the camera looks at; the opaque solids, lit and shadowed;
+translucent solids (sensors); lines and dots over everything; the HUD text.  Distances that depend on
+the scale of the world (the drawn extent of planes, fog, the grid cell, the clip planes, the shadow
+region) follow the camera's distance to its target, so a 5 cm marble and a 500 m terrain both read.
+"""
+import math
+from collections import defaultdict
+
+import moderngl
+import numpy as np
+
+from . import palette
+from . import world_shaders as glsl
+from .draw_lists import Lines, Points, Solids, WorldFrame
+from .drawables import DRAWABLES, check_layers, default_layers
+from .hud import HudText
+from .mesh_cache import MeshCache
+from .transforms import look_at, orthographic, perspective
+
+#: Unit vector towards the sun.
+SUN = np.array([0.45, 0.85, 0.30]) / np.linalg.norm([0.45, 0.85, 0.30])
+#: Fog starts at this many camera distances from the eye and is complete this many further on.
+FOG_START, FOG_LENGTH = 3.0, 6.0
+#: The far clip plane, in camera distances; the near one is this many times closer.
+FAR, NEAR_RATIO = 10.0, 5000.0
+#: Floats per vertex of the overlay buffers: position, colour, width or size.
+_OVERLAY_FLOATS = 7
+
+
+def _f32(m):
+    """A (4, 4) matrix as column-major float32 bytes for a GLSL ``mat4``."""
+    return np.ascontiguousarray(np.asarray(m, np.float64).T, dtype=np.float32).tobytes()
+
+
+def grid_cell(distance):
+    """The grid cell (m) drawn on static bodies seen from ``distance`` (m): a power of ten near a
+    tenth of it."""
+    return 10.0 ** round(math.log10(distance / 8.0))
+
+
+class WorldRenderer:
+    """Draws worlds with moderngl into any framebuffer.
+
+    ``ctx`` is a moderngl context (headless EGL or a window's); ``size`` (width, height) in pixels of
+    the offscreen target of :meth:`render_to_array`; ``samples`` of multisampling there;
+    ``shadow_size`` the side of the shadow map in texels.
+    """
+
+    def __init__(self, ctx, size=(640, 360), *, samples=4, shadow_size=1024):
+        self.ctx = ctx
+        self.size = tuple(int(s) for s in size)
+        self.solid = ctx.program(vertex_shader=glsl.SOLID_VS, fragment_shader=glsl.SOLID_FS)
+        self.depth = ctx.program(vertex_shader=glsl.DEPTH_VS, fragment_shader=glsl.DEPTH_FS)
+        self.lines = ctx.program(vertex_shader=glsl.LINES_VS, geometry_shader=glsl.LINES_GS,
+                                 fragment_shader=glsl.LINES_FS)
+        self.points = ctx.program(vertex_shader=glsl.POINTS_VS, geometry_shader=glsl.POINTS_GS,
+                                  fragment_shader=glsl.POINTS_FS)
+        self.meshes = MeshCache(ctx, self.solid, self.depth)
+        self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
+        self.shadow_tex.compare_func = ""
+        self.shadow_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
+        self.overlay_vbo = ctx.buffer(reserve=1024 * _OVERLAY_FLOATS * 4, dynamic=True)
+        layout = (self.overlay_vbo, "3f 3f 1f", "in_pos", "in_color")
+        self.lines_vao = ctx.vertex_array(self.lines, [layout + ("in_width",)])
+        self.points_vao = ctx.vertex_array(self.points, [layout + ("in_size",)])
+        self.hud = HudText(ctx)
+        self._samples = samples
+        self._offscreen = None
+
+    # ------------------------------------------------------------------ drawing
+    def render(self, fbo, world, view, *, layers=None, hud_lines=(), viewport=None):
+        """Draw ``world`` seen from ``view`` (a :class:`~marbellous.render.view.CameraView`) into ``fbo``
+        (a moderngl framebuffer, e.g. ``ctx.screen``), within ``viewport`` (x, y, width, height pixels;
+        None: all of ``fbo``).
+
+        ``layers`` names the drawables to draw (None: those shown by default, see ``drawables.py``);
+        ``hud_lines`` are text lines for the top-left corner.
+        """
+        layers = default_layers() if layers is None else check_layers(layers)
+        ctx = self.ctx
+        w, h = viewport[2:] if viewport else fbo.size
+        eye = np.asarray(view.eye, np.float64)
+        target = np.asarray(view.target, np.float64)
+        distance = max(float(np.linalg.norm(eye - target)), 1e-6)
+        frame = WorldFrame(world, target, distance)
+        solids, lines, points = [], [], []
+        for name, drawable in DRAWABLES.items():
+            if name in layers:
+                for item in drawable.draw(frame):
+                    {Solids: solids, Lines: lines, Points: points}[type(item)].append(item)
+        opaque, translucent = self._upload(solids)
+
+        vp = perspective(view.fov, w / h, FAR * distance / NEAR_RATIO, FAR * distance) @ look_at(eye, target)
+        half = 1.5 * distance * math.tan(view.fov / 2.0) * max(w / h, 1.0)
+        light_vp = (orthographic(half, half, 0.0, 8.0 * half)
+                    @ look_at(target + 4.0 * half * SUN, target, (0.0, 0.0, 1.0)))
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        self.shadow_fbo.use()
+        self.shadow_fbo.clear(depth=1.0)
+        self.depth["u_light_view_proj"].write(_f32(light_vp))
+        for m in opaque:
+            m.depth.render(instances=m.count)
+
+        fbo.use()
+        if viewport:
+            ctx.viewport = viewport
+        fbo.clear(*palette.BACKGROUND, 1.0, depth=1.0)
+        s = self.solid
+        s["u_view_proj"].write(_f32(vp))
+        s["u_light_view_proj"].write(_f32(light_vp))
+        s["u_sun"].value = tuple(SUN)
+        s["u_eye"].value = tuple(eye)
+        s["u_grid"].value = grid_cell(distance)
+        s["u_fog"].value = (FOG_START * distance, FOG_LENGTH * distance)
+        s["u_background"].value = palette.BACKGROUND
+        self.shadow_tex.use(0)
+        s["u_shadow"].value = 0
+        s["u_alpha"].value = 1.0
+        for m in opaque:
+            m.solid.render(instances=m.count)
+        if translucent:
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+            fbo.depth_mask = False
+            for alpha, m in translucent:
+                s["u_alpha"].value = alpha
+                m.solid.render(instances=m.count)
+            fbo.depth_mask = True
+            ctx.disable(moderngl.BLEND)
+
+        ctx.disable(moderngl.DEPTH_TEST)
+        self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h),
+                      [(x.segments.reshape(-1, 3), np.repeat(x.colors, 2, axis=0), x.width) for x in lines])
+        self._overlay(self.points, self.points_vao, moderngl.POINTS, vp, (w, h),
+                      [(x.positions, x.colors, x.size) for x in points])
+        if hud_lines:
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+            self.hud.draw(list(hud_lines), (w, h))
+            ctx.disable(moderngl.BLEND)
+
+    def _upload(self, solids):
+        """Write the instances of ``solids`` (merged by mesh and opacity) to their GPU meshes; returns
+        the opaque meshes and the translucent ``(alpha, mesh)`` pairs."""
+        groups = defaultdict(list)
+        for item in solids:
+            groups[(item.mesh.key, item.alpha)].append(item)
+        opaque, translucent = [], []
+        for (_key, alpha), items in groups.items():
+            m = self.meshes.get(items[0].mesh, alpha)
+            m.write(np.concatenate([x.models for x in items]), np.concatenate([x.colors for x in items]),
+                    np.concatenate([x.patterns for x in items]))
+            if alpha >= 1.0:
+                opaque.append(m)
+            else:
+                translucent.append((alpha, m))
+        self.meshes.keep_only(set(groups))
+        return opaque, translucent
+
+    def _overlay(self, program, vao, mode, vp, size, parts):
+        """Draw ``parts`` ((K, 3) positions, (K, 3) colours, pixels) with ``program`` as ``mode`` primitives."""
+        if not parts:
+            return
+        rows = np.concatenate([np.column_stack([p, c, np.full(len(p), px)]) for p, c, px in parts])
+        raw = rows.astype(np.float32).tobytes()
+        if len(raw) > self.overlay_vbo.size:
+            self.overlay_vbo.orphan(max(len(raw), 2 * self.overlay_vbo.size))
+        self.overlay_vbo.write(raw)
+        program["u_view_proj"].write(_f32(vp))
+        program["u_viewport"].value = tuple(float(v) for v in size)
+        vao.render(mode, vertices=len(rows))
+
+    # ------------------------------------------------------------------ offscreen
+    def render_to_array(self, world, view, *, layers=None, hud_lines=()):
+        """Render offscreen at :attr:`size` (see :meth:`render`) and return the image as a
+        (height, width, 3) uint8 array, top row first."""
+        if self._offscreen is None:
+            self._offscreen = self._make_offscreen()
+        draw, resolve = self._offscreen
+        self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
+        if resolve is not draw:
+            self.ctx.copy_framebuffer(resolve, draw)
+        raw = resolve.read(components=3, alignment=1)
+        return np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)[::-1].copy()
+
+    def _make_offscreen(self):
+        ctx = self.ctx
+        resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
+                                  depth_attachment=ctx.depth_renderbuffer(self.size))
+        samples = min(self._samples, ctx.max_samples)
+        if samples <= 1:
+            return resolve, resolve
+        draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],
+                               depth_attachment=ctx.depth_renderbuffer(self.size, samples=samples))
+        return draw, resolve

@@ -1,0 +1,192 @@
+"""Drawing any World headless (EGL): each part of a world appears where the camera puts it, in the colour
+of what it is; the overlays draw contacts, boxes and constraint lines; meshes are uploaded once."""
+import numpy as np
+import pytest
+import viewer_scene
+
+import marbellous as mb
+from marbellous.render import palette
+from marbellous.render.draw_lists import Points
+from marbellous.render.drawables import DRAWABLES, Drawable, register
+from marbellous.render.orbit_camera import OrbitCamera
+from marbellous.render.transforms import look_at, perspective, quat_to_matrix
+from marbellous.render.world_renderer import WorldRenderer
+
+SIZE = (480, 270)
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    from marbellous.render.context import headless_context
+
+    ctx = headless_context()
+    yield WorldRenderer(ctx, SIZE)
+    ctx.release()
+
+
+@pytest.fixture
+def scene():
+    w, parts = viewer_scene.build()
+    for _ in range(10):
+        w.step(1 / 60)
+    return w, parts
+
+
+VIEW = OrbitCamera.looking(*viewer_scene.CAMERA).view()
+
+
+def project(point, view=VIEW, size=SIZE):
+    """Pixel (column, row from the top) of a world point (m) with the renderer's camera matrices."""
+    c = perspective(view.fov, size[0] / size[1], 0.05, 400.0) @ look_at(view.eye, view.target) @ np.append(point, 1)
+    ndc = c[:3] / c[3]
+    return int(round((ndc[0] + 1) / 2 * size[0])), int(round((1 - ndc[1]) / 2 * size[1]))
+
+
+def patch(img, point, r=2, view=VIEW):
+    """Pixels (K, 3) int of the (2 r + 1)^2 square around the projection of ``point`` seen from ``view``."""
+    x, y = project(point, view)
+    return img[y - r:y + r + 1, x - r:x + r + 1].reshape(-1, 3).astype(int)
+
+
+def warm(px):
+    """Warm hues (dynamic bodies), lit or in shade."""
+    return (px[:, 0] >= px[:, 1]) & (px[:, 0] > 2 * px[:, 2] + 15)
+
+
+def grey(px):
+    """Neutral greys brighter than the background (static bodies), lit or in shade."""
+    return (px.max(axis=1) - px.min(axis=1) < 30) & (px.mean(axis=1) > 65)
+
+
+def near(px, color, tol=40):
+    return np.all(np.abs(px - 255 * np.asarray(color)) < tol, axis=1)
+
+
+def test_every_part_is_drawn_where_the_camera_puts_it(renderer, scene):
+    w, parts = scene
+    img = renderer.render_to_array(w, VIEW)
+    assert img.shape == (SIZE[1], SIZE[0], 3) and img.dtype == np.uint8
+    # the stack's boxes: warm dynamic colours, each a different hue from its neighbour
+    centres = [patch(img, b.position) for b in parts["stack"]]
+    assert all(warm(p).all() for p in centres)
+    assert not np.array_equal(centres[0].mean(axis=0).round(), centres[1].mean(axis=0).round())
+    # the triangle-mesh floor: grey, between the stack and the camera
+    assert grey(patch(img, (0.5, 0.0, 3.5))).all()
+    # the background above the scene
+    assert near(img[:5, -5:].reshape(-1, 3).astype(int), palette.BACKGROUND, 3).all()
+    # the hanging ball and the ball on the spring (without the constraints' dots over their centres)
+    bodies = renderer.render_to_array(w, VIEW, layers=("bodies",))
+    assert warm(patch(bodies, parts["bob"].position, 2)).all()
+    assert warm(patch(bodies, parts["ball"].position, 2)).all()
+    # the sensor: translucent green over the floor
+    px = patch(img, parts["sensor"].position, 1)
+    assert np.all((px[:, 1] > px[:, 0] + 25) & (px[:, 1] > px[:, 2] + 25))
+    # lit and shaded: many shades in the picture
+    assert len(np.unique(img.reshape(-1, 3) // 8, axis=0)) > 40
+
+
+@pytest.mark.parametrize("name, color", [("rod", palette.ROD), ("spring", palette.SPRING)])
+def test_constraints_are_lines_between_their_world_anchors(renderer, scene, name, color):
+    w, parts = scene
+    c = parts[name]
+    img = renderer.render_to_array(w, VIEW)
+    a = c.body_a.position + quat_to_matrix(c.body_a.orientation) @ c.anchor_a
+    b = c.anchor_b
+    for t in (0.2, 0.35, 0.5, 0.65, 0.8):
+        assert near(patch(img, a + t * (b - a), 2), color, 45).any(), t
+    off = np.array([0.6, 0.0, 0.0])
+    assert not near(patch(img, 0.5 * (a + b) + off, 1), color, 45).any()
+    # without the constraints layer the line is gone
+    bare = renderer.render_to_array(w, VIEW, layers=("bodies",))
+    assert not near(patch(bare, 0.5 * (a + b), 1), color, 45).any()
+
+
+def test_contacts_overlay_marks_the_contact_points(renderer, scene):
+    w, _ = scene
+    contacts = w.contacts()
+    assert contacts
+    plain = renderer.render_to_array(w, VIEW)
+    marked = renderer.render_to_array(w, VIEW, layers=("bodies", "constraints", "contacts"))
+    changed = np.any(plain != marked, axis=-1)
+    assert changed.sum() > 50
+    assert near(marked[changed].astype(int), palette.CONTACT, 60).mean() > 0.5
+    hits = [near(patch(marked, c.point, 3), palette.CONTACT, 60).any() for c in contacts]
+    assert np.mean(hits) > 0.8          # (a few may hide under other dots' dark rims)
+
+
+def test_boxes_overlay_outlines_the_broad_phase_boxes(renderer, scene):
+    w, parts = scene
+    plain = renderer.render_to_array(w, VIEW, layers=("bodies",))
+    boxed = renderer.render_to_array(w, VIEW, layers=("bodies", "boxes"))
+    changed = np.any(plain != boxed, axis=-1)
+    assert near(boxed[changed].astype(int), palette.BOX, 60).mean() > 0.6
+    top = parts["stack"][-1]
+    corner = top.position + (0.4, 0.3, 0.4)
+    assert near(patch(boxed, corner, 4), palette.BOX, 60).any()
+
+
+def test_sleeping_bodies_turn_blue(renderer, scene):
+    w, parts = scene
+    for _ in range(120):
+        w.step(1 / 60)
+    assert parts["stack"][0].is_sleeping
+    px = patch(renderer.render_to_array(w, VIEW), parts["stack"][0].position)
+    assert np.all(px[:, 2] > px[:, 0] + 30)
+
+
+def test_a_registered_drawable_is_drawn_in_its_layer(renderer, scene):
+    w, parts = scene
+    spot = np.array([0.0, 2.5, 0.0])
+    register(Drawable("test-dot", lambda frame: [Points(spot[None], np.array([[0.1, 1.0, 0.1]]), 12.0)],
+                      shown=False, help="a green dot"))
+    try:
+        img = renderer.render_to_array(w, VIEW, layers=("bodies", "test-dot"))
+        assert near(patch(img, spot, 2), (0.1, 1.0, 0.1), 30).all()
+        with pytest.raises(ValueError, match="already registered"):
+            register(DRAWABLES["test-dot"])
+    finally:
+        del DRAWABLES["test-dot"]
+    with pytest.raises(ValueError, match="layers: unknown 'test-dot'"):
+        renderer.render_to_array(w, VIEW, layers=("bodies", "test-dot"))
+
+
+def test_heightfields_capsules_and_planes_are_drawn(renderer):
+    heights = np.fromfunction(lambda i, j: 0.4 + 0.15 * np.sin(i / 2.0) * np.cos(j / 3.0), (12, 12))
+    field = mb.HeightField(heights, spacing=(0.4, 0.4), origin=(-2.2, 0.0, -2.2))
+    view = OrbitCamera.looking((4.0, 3.0, 4.0), (0.0, 0.5, 0.0)).view()
+    w = mb.World()
+    w.add_static(field)
+    cap = w.add_body(mb.Capsule(0.2, 0.5), position=(0.0, 1.2, 0.0), orientation=(0.7071, 0.0, 0.0, 0.7071))
+    img = renderer.render_to_array(w, view)
+    assert warm(patch(img, cap.position, 2, view)).all() and warm(patch(img, cap.position + (0.4, 0, 0), 1, view)).all()
+    # the field's surface is grey where the field is, and there is nothing beyond its edges
+    for x, z in ((1.2, 1.6), (-1.4, 1.0), (1.0, -1.4)):     # (none behind the capsule)
+        assert grey(patch(img, (x, field.height_at(x, z), z), 1, view)).all()
+    for p in ((3.0, 0.0, 0.0), (0.0, 0.0, 3.0)):
+        assert near(patch(img, p, 1, view), palette.BACKGROUND, 3).all()
+    # an infinite plane reaches far beyond: grey ground, fading to the background at the horizon
+    w.add_static(mb.Plane())
+    img = renderer.render_to_array(w, view)
+    for p in ((3.0, 0.0, 0.0), (0.0, 0.0, 3.0), (-6.0, 0.0, 6.0)):
+        assert grey(patch(img, p, 1, view)).all()
+    assert near(img[2, SIZE[0] // 2][None].astype(int), palette.BACKGROUND, 3).all()
+
+
+def test_meshes_are_uploaded_once_and_only_poses_change():
+    from marbellous.render.context import headless_context
+
+    terrain = viewer_scene.floor_mesh(half=20.0, cells=256)          # 131072 triangles
+    assert len(terrain.triangles) == 131072
+    w = mb.World()
+    w.add_static(terrain)
+    boxes = [w.add_body(mb.Box((0.3, 0.3, 0.3)), position=(0.8 * k, 0.3, 0.0)) for k in range(5)]
+    w.add_body(mb.Sphere(0.3), position=(0.0, 2.0, 0.0))
+    r = WorldRenderer(headless_context(), (160, 90))      # its own cache, counted from zero
+    frames = []
+    for _ in range(4):
+        frames.append(r.render_to_array(w, VIEW))
+        w.step(1 / 60)
+        boxes[0].position = boxes[0].position + (0.0, 0.0, 0.05)
+    assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
+    assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
+    r.ctx.release()
