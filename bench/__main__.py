@@ -144,8 +144,8 @@ def _sanity_text(s):
 
 def table(results, engines):
     """The results as a text table: ms/step, steps/s, ratio to PyBullet's steps/s, sanity."""
-    lines = [f"{'scene':24s} {'engine':13s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}  ok    "
-             f"sanity"]
+    lines = [f"{'scene':24s} {'engine':13s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}"
+             f"  ok    sanity"]
     for name, per in results.items():
         ref = per.get("pybullet", {}).get("steps_per_s")
         for engine in engines:

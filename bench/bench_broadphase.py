@@ -96,7 +96,7 @@ def run_method(code, centres, half, velocity, steps):
     times = []
     counts = []
     last = None
-    for step in range(steps + 1):
+    for _ in range(steps + 1):
         a = aabbs_of(c, half)
         t0 = time.perf_counter()
         count = find_pairs(code, a, flags, bits, bits, n, state_f, state_i, out)
@@ -110,7 +110,7 @@ def run_method(code, centres, half, velocity, steps):
     state_f, state_i = make_state(code, n)
     c = centres.copy()
     maintain = []
-    for step in range(steps + 1):
+    for _ in range(steps + 1):
         a = aabbs_of(c, half)
         t0 = time.perf_counter()
         update(code, a, flags, n, state_f, state_i)

@@ -38,7 +38,8 @@ def describe(root, peer_versions):
     import marbellous
 
     commit, dirty = git_commit(root)
-    return {"date": datetime.date.today().isoformat(), "time_utc": datetime.datetime.utcnow().isoformat(timespec="seconds"),
+    return {"date": datetime.date.today().isoformat(),
+            "time_utc": datetime.datetime.utcnow().isoformat(timespec="seconds"),
             "hostname": socket.gethostname(), "cpu": cpu_model(), "cores": os.cpu_count(),
             "os": platform.platform(), "python": platform.python_version(), "numpy": numpy.__version__,
             "numba": numba.__version__, "marbellous": marbellous.__version__, "peers": peer_versions,

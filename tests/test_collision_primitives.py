@@ -483,7 +483,6 @@ def test_box_stacked_on_equal_box_keeps_corner_ids():
 @given(gap=hst.floats(-0.1, -0.001), ya=hst.floats(-0.3, 0.3), xb=hst.floats(-0.3, 0.3))
 def test_crossed_edges_give_one_point(gap, ya, xb):
     """Box a with a ridge along z, box b above with a ridge along x: edge on edge."""
-    s = math.sqrt(0.5)
     a = Shape(st.BOX, [0.5, 0.5, 1.0], (0.0, ya, 0.0), axis_angle((0, 0, 1), math.pi / 4))
     # a's ridge is at ya + 0.5 sqrt(2), b's lowest edge at b.y - 0.5 sqrt(2): gap apart
     b = Shape(st.BOX, [1.0, 0.5, 0.5], (xb, ya + math.sqrt(2.0) + gap, 0.0), axis_angle((1, 0, 0), math.pi / 4))

@@ -14,7 +14,8 @@ vec3 = st.tuples(finite, finite, finite).map(np.array)
 
 def closed_form(e0, v0, omega, t):
     """Critically damped response x'' = -w^2 x - 2 w x' from x(0) = e0, x'(0) = v0."""
-    return (e0 + (v0 + omega * e0) * t) * math.exp(-omega * t), (v0 - omega * (v0 + omega * e0) * t) * math.exp(-omega * t)
+    decay = math.exp(-omega * t)
+    return (e0 + (v0 + omega * e0) * t) * decay, (v0 - omega * (v0 + omega * e0) * t) * decay
 
 
 @settings(max_examples=300)

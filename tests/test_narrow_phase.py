@@ -80,8 +80,9 @@ def reference_narrow_phase(w, pairs, sweep):
             if not sensor or (fa & L.F_STATIC and fb & L.F_STATIC):
                 continue
         prediction = 0.0 if sensor else SPECULATIVE + sweep[a] + sweep[b]
-        for sa in range(w._state.bi[a, L.SHAPE_START], w._state.bi[a, L.SHAPE_START] + w._state.bi[a, L.SHAPE_COUNT]):
-            for sb in range(w._state.bi[b, L.SHAPE_START], w._state.bi[b, L.SHAPE_START] + w._state.bi[b, L.SHAPE_COUNT]):
+        bi = w._state.bi
+        for sa in range(bi[a, L.SHAPE_START], bi[a, L.SHAPE_START] + bi[a, L.SHAPE_COUNT]):
+            for sb in range(bi[b, L.SHAPE_START], bi[b, L.SHAPE_START] + bi[b, L.SHAPE_COUNT]):
                 m = reference_pair(w, sa, a, sb, b, prediction, out_f, out_i, n)
                 rows += [(a, b, sa, sb, out_i[c], L.CP_SENSOR if sensor else 0) for c in range(n, m)]
                 n = m
@@ -146,7 +147,8 @@ def collide_input(w):
     aabbs = np.zeros((nb, 6))
     sweep = np.empty(nb)
     pos_t, rot_t, _, q = pose_tables(w._state.sf.shape[0])
-    update_aabbs(w._state.bf, w._state.bi, w._state.sf, w._state.si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
+    st = w._state
+    update_aabbs(st.bf, st.bi, st.sf, st.si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
     pairs = np.array([(a, b) for a in range(nb) for b in range(a + 1, nb)], dtype=np.int64)
     return pairs, sweep
 
@@ -155,7 +157,8 @@ def run_narrow_phase(w, pairs, sweep, capacity):
     raw_f = np.zeros((capacity, 7))
     raw_i = np.zeros(capacity, np.int64)
     ci = np.zeros((capacity, L.CI_COLS), np.int64)
-    n = narrow_phase(w._state.bf, w._state.bi, w._state.sf, w._state.si, w._state.geom_f, w._state.geom_i, pairs, len(pairs), sweep, SPECULATIVE,
+    st = w._state
+    n = narrow_phase(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, pairs, len(pairs), sweep, SPECULATIVE,
                      raw_f, raw_i, ci, *pose_tables(w._state.sf.shape[0]))
     return n, raw_f, raw_i, ci
 

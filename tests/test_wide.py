@@ -65,9 +65,9 @@ def test_gather_and_scatter_move_rows_like_fancy_indexing(row_list, seed):
     rows = np.array(row_list, dtype=np.int64)
     picked = rows[2:2 + LANES]
     expected = table.copy()
-    for lane, row in enumerate(picked):       # lanes in order: a row named twice keeps the last lane's
+    for row in picked:       # lanes in order: a row named twice keeps the last lane's
         expected[row, 13:19] = table[row, 3:9]
-    for lane, row in enumerate(picked):
+    for row in picked:
         expected[row, 0], expected[row, 1] = table[row, 9], table[row, 8]
     for move in (_compiled_move, _move):
         t = table.copy()

@@ -2,9 +2,10 @@
 
 Numba keys a cached kernel by its own source file only, so when a kernel calls or inlines a kernel of
 another file and that file changes, the cached caller is stale: it may compute with the old callee or
-crash.  Here every kernel of the package is keyed by a fingerprint of the whole package's source (the
-SHA-256 of every ``.py`` file's path and content): any edit anywhere recompiles what is used, and an
-unchanged tree (a fresh clone, another checkout of the same commit) reuses its cache.
+crash.  Here a kernel is keyed by the fingerprint of its file together with every file of the package
+that it imports, directly or through others (the SHA-256 of their paths and contents): a kernel can
+only reach code it imports, so editing a file recompiles exactly the kernels that may depend on it,
+and an unchanged tree (a fresh clone, another checkout of the same commit) reuses its cache.
 
 The cache directory is the first writable one of: ``$MARBELLOUS_CACHE_DIR``; ``__pycache__/kernels``
 inside the package (a clone or a user install); ``$XDG_CACHE_HOME/marbellous`` or ``~/.cache/marbellous``;
@@ -15,6 +16,7 @@ by pointing ``MARBELLOUS_CACHE_DIR`` at a directory they can read (and the first
 import functools
 import hashlib
 import os
+import re
 import tempfile
 
 import numba
@@ -24,18 +26,64 @@ from numba.core import caching
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-@functools.lru_cache(maxsize=None)
-def source_fingerprint():
-    """SHA-256 (hex) of the path and content of every ``.py`` file of the package."""
+def _module_file(module):
+    """The file of package module ``module`` (dotted), or None if it is not a file of the package."""
+    rel = module.split(".")[1:]
+    base = os.path.join(PACKAGE_DIR, *rel)
+    for path in (base + ".py", os.path.join(base, "__init__.py")):
+        if os.path.isfile(path):
+            return path
+    return None
+
+
+#: an import statement: (leading dots, module, imported names) of ``from ... import ...``, or the module of
+#: ``import ...``
+_IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+(\.*)([\w.]*)[ \t]+import[ \t]+(\([^)]*\)|[^\n#]*)"
+                     r"|import[ \t]+([\w.]+))", re.M)
+
+
+@functools.cache
+def _read(path):
+    """``(digest, text)`` of the file at ``path``."""
+    with open(path, "rb") as f:
+        data = f.read()
+    return hashlib.sha256(data).digest(), data.decode("utf-8")
+
+
+@functools.cache
+def _imported_files(path):
+    """The package files that the file at ``path`` imports (at any depth of its code)."""
+    rel = os.path.relpath(path, PACKAGE_DIR)[:-3].split(os.sep)
+    package = ["marbellous"] + rel[:-1]
+    found = set()
+    for dots, module, names, plain in _IMPORT.findall(_read(path)[1]):
+        if plain:
+            candidates = [plain]
+        else:
+            base = package[:len(package) - len(dots) + 1] if dots else []
+            module = ".".join(base + ([module] if module else []))
+            candidates = [module] + [f"{module}.{n.split(' as ')[0].strip()}"
+                                     for n in names.strip("()").replace("\n", " ").split(",") if n.strip()]
+        for name in candidates:
+            target = _module_file(name) if name.startswith("marbellous") else None
+            if target is not None and target != path:
+                found.add(target)
+    return frozenset(found)
+
+
+@functools.cache
+def source_fingerprint(path):
+    """SHA-256 (hex) of the file at ``path`` and of every package file it imports, transitively."""
+    closure, todo = set(), [os.path.abspath(path)]
+    while todo:
+        p = todo.pop()
+        if p not in closure:
+            closure.add(p)
+            todo.extend(_imported_files(p))
     h = hashlib.sha256()
-    for root, dirs, files in os.walk(PACKAGE_DIR):
-        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
-        for name in sorted(files):
-            if name.endswith(".py"):
-                path = os.path.join(root, name)
-                h.update(os.path.relpath(path, PACKAGE_DIR).encode())
-                with open(path, "rb") as f:
-                    h.update(f.read())
+    for p in sorted(closure):
+        h.update(os.path.relpath(p, PACKAGE_DIR).encode())
+        h.update(_read(p)[0])
     return h.hexdigest()
 
 
@@ -68,9 +116,10 @@ CACHE_DIR = _choose_cache_dir()
 
 class PackageCacheLocator(caching._CacheLocator):
     """Numba cache locator for the package's kernels: files under :data:`CACHE_DIR`, freshness by
-    :func:`source_fingerprint`."""
+    :func:`source_fingerprint` of the kernel's file."""
 
     def __init__(self, py_func, py_file):
+        self._py_file = py_file
         self._lineno = py_func.__code__.co_firstlineno
         self._cache_path = os.path.join(CACHE_DIR, os.path.relpath(os.path.dirname(py_file), PACKAGE_DIR))
 
@@ -78,7 +127,7 @@ class PackageCacheLocator(caching._CacheLocator):
         return self._cache_path
 
     def get_source_stamp(self):
-        return source_fingerprint()
+        return source_fingerprint(self._py_file)
 
     def get_disambiguator(self):
         return str(self._lineno)

@@ -2,8 +2,9 @@
 
 Every kernel in Marbellous is a plain function over NumPy arrays decorated with :func:`njit`.
 Kernels are compiled on first use and cached on disk (``_numba/cache.py``: where, and why an edit
-anywhere in the package never leaves a stale kernel), so the second start of a program is fast.  Tunables travel as arguments, never as globals (the cache freezes
-globals).  ``NUMBA_DISABLE_JIT=1`` in the environment runs every kernel as plain Python.
+anywhere in the package never leaves a stale kernel), so the second start of a program is fast.
+Tunables travel as arguments, never as globals (the cache freezes globals).  ``NUMBA_DISABLE_JIT=1`` in the
+environment runs every kernel as plain Python.
 """
 import numba
 from numba.core import cgutils, types

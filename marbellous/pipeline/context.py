@@ -9,7 +9,6 @@ the scratch of every stage (one row per body slot, constraint slot or contact) a
 hand on to each other through it.  The step swaps the two contact tables inside the context and says in
 ``stats`` which one now holds the cache, so the state does no work per step.
 """
-import numba
 import numpy as np
 from numba import types
 from numba.experimental import structref

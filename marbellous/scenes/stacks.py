@@ -46,8 +46,9 @@ def sphere_pile(world=None, *, count=1000, radius=0.5, seed=0):
     w.add_static(Plane(), friction=0.5)
     wall = 0.5
     height = 4.0 * radius + count / (side / (2.2 * radius)) ** 2 * 2.2 * radius + 2.0
-    for sx, sz, px, pz in ((wall, side / 2 + wall, -(side / 2 + wall), 0.0), (wall, side / 2 + wall, side / 2 + wall, 0.0),
-                           (side / 2 + wall, wall, 0.0, -(side / 2 + wall)), (side / 2 + wall, wall, 0.0, side / 2 + wall)):
+    reach = side / 2 + wall
+    for sx, sz, px, pz in ((wall, reach, -reach, 0.0), (wall, reach, reach, 0.0),
+                           (reach, wall, 0.0, -reach), (reach, wall, 0.0, reach)):
         w.add_static(Box((sx, height / 2, sz)), position=(px, height / 2, pz), friction=0.5)
     rng = np.random.default_rng(seed)
     pitch = 2.2 * radius

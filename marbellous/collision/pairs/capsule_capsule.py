@@ -4,8 +4,9 @@ With ``s, t`` the parameters of the closest points ``x_a, x_b`` of the segments,
 ``depth = r_a + r_b - |x_b - x_a|`` along ``normal = (x_b - x_a) / |x_b - x_a|``.  When the axes are
 parallel (``|u_a x u_b| < PARALLEL_SIN``) and their projections overlap, the manifold has two points,
 at the ends of the overlap on a's axis, each paired with the closest point of b's segment (its own
-normal and depth from that pair: exactly the common ones when the axes are parallel).  Coincident or crossing axes fall back to ``u_a x u_b`` or to a
-direction perpendicular to a's axis, oriented from a's centre towards b's.
+normal and depth from that pair: exactly the common ones when the axes are parallel).  Coincident or
+crossing axes fall back to ``u_a x u_b`` or to a direction perpendicular to a's axis, oriented from a's
+centre towards b's.
 """
 from ..._numba.jit import njit
 from ..tolerances import PARALLEL_SIN

@@ -1,0 +1,77 @@
+"""The kernel cache: each kernel keyed by its file and everything that file imports, and a place to live
+even when the package and the home directory cannot be written."""
+import os
+import subprocess
+import sys
+
+from marbellous._numba import cache
+
+PKG = cache.PACKAGE_DIR
+
+
+def _closure(rel):
+    out, todo = set(), [os.path.join(PKG, rel)]
+    while todo:
+        p = todo.pop()
+        if p not in out:
+            out.add(p)
+            todo.extend(cache._imported_files(p))
+    return {os.path.relpath(p, PKG) for p in out}
+
+
+def test_a_kernel_is_keyed_by_everything_it_can_reach():
+    step = _closure(os.path.join("pipeline", "step.py"))
+    # the step inlines the narrow phase, which calls the pair tests, and the solvers
+    assert {os.path.join("dynamics", "contact_solver.py"), os.path.join("collision", "pairs", "sphere_sphere.py"),
+            os.path.join("collision", "mesh", "mesh_collide.py"), os.path.join("_numba", "record.py"),
+            os.path.join("state", "layout.py")} <= step
+    # but not by the facade, the game or the renderer, whose edits cannot change a kernel
+    assert not {f for f in step if f.startswith(("world.py", "body.py", "game", "render", "app"))}
+    # a leaf kernel file depends on little
+    assert _closure("math3d.py") <= {"math3d.py", os.path.join("_numba", "jit.py"), os.path.join("_numba", "cache.py"),
+                                     os.path.join("_numba", "__init__.py")}
+
+
+def test_the_fingerprint_follows_the_content_of_every_file_reached(monkeypatch):
+    step = os.path.join(PKG, "pipeline", "step.py")
+    leaf = os.path.join(PKG, "math3d.py")
+    solver = os.path.join(PKG, "dynamics", "contact_solver.py")
+    before_step, before_leaf = cache.source_fingerprint(step), cache.source_fingerprint(leaf)
+    real = cache._read
+
+    def edited(path):          # the solver's file as if it had been edited
+        digest, text = real(path)
+        return (b"edited" + digest, text) if path == solver else (digest, text)
+    monkeypatch.setattr(cache, "_read", edited)
+    cache.source_fingerprint.cache_clear()
+    try:
+        assert cache.source_fingerprint(step) != before_step
+        assert cache.source_fingerprint(leaf) == before_leaf
+    finally:
+        cache.source_fingerprint.cache_clear()
+
+
+def test_no_writable_place_means_kernels_compile_in_memory():
+    """With every candidate directory unwritable (simulated: the write test fails), importing works and
+    kernels still run, compiled without a cache."""
+    code = """
+import tempfile
+def refuse(*a, **k):
+    raise OSError("read-only")
+tempfile.TemporaryFile = refuse
+import marbellous as mb
+from marbellous._numba import cache, jit
+from marbellous.math3d import dot3
+import numpy as np
+print(cache.CACHE_DIR, jit.CACHING, dot3(np.ones(3), np.ones(3)))
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["None", "False", "3.0"]
+
+
+def test_the_cache_directory_can_be_chosen(tmp_path):
+    code = "from marbellous._numba import cache; print(cache.CACHE_DIR)"
+    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path / "kernels"))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+    assert r.stdout.strip() == env["MARBELLOUS_CACHE_DIR"]
