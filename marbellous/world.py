@@ -281,7 +281,8 @@ class World:
         the body's origin becomes the compound's centre of mass).  Give ``mass`` (kg) or ``density``
         (kg/m^3, default 1000), not both.  ``friction`` is the sliding (dynamic) Coulomb coefficient,
         ``static_friction`` the sticking one (None: same), ``restitution`` in [0, 1],
-        ``rolling_friction`` (m) the lever arm of the rolling resistance.
+        ``rolling_friction`` (m) the lever arm of the rolling resistance: the resisting torque is at most
+        ``rolling_friction * normal force`` (0.01 = 1 cm).
         """
         parts = _parse_shapes(shape)
         for s, _, _ in parts:
@@ -310,7 +311,10 @@ class World:
 
     def add_static(self, shape, *, position=(0.0, 0.0, 0.0), orientation=(1.0, 0.0, 0.0, 0.0),
                    friction=0.5, static_friction=None, restitution=0.0, rolling_friction=0.0, sensor=False):
-        """Add a static (immovable) body: any shape, including Plane, HeightField and TriangleMesh."""
+        """Add a static (immovable) body: any shape, including Plane, HeightField and TriangleMesh.
+
+        ``friction``, ``static_friction``, ``restitution`` and ``rolling_friction`` (m) as for :meth:`add_body`.
+        """
         parts = _parse_shapes(shape)
         pos = as_vec3("position", position)
         quat = as_quat("orientation", orientation)

@@ -18,7 +18,7 @@ A level is a TOML file (read with ``tomllib``, never evaluated).  Keys, units in
     friction = 0.7                  # Coulomb coefficient while sliding
     static_friction = 0.8           # optional, while sticking (default: friction)
     restitution = 0.2               # in [0, 1]
-    rolling_friction = 0.01         # optional
+    rolling_friction = 0.01         # optional, m: lever arm of rolling resistance (0.01 = 1 cm)
     color = [r, g, b]               # optional, each in [0, 1]
 
     [[colliders]]                   # any number; each has a type and a material
