@@ -1,6 +1,7 @@
 """The kernel cache: each kernel keyed by its file and everything that file imports, and a place to live
 even when the package and the home directory cannot be written."""
 import os
+import shutil
 import subprocess
 import sys
 
@@ -75,3 +76,34 @@ def test_the_cache_directory_can_be_chosen(tmp_path):
     env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path / "kernels"))
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
     assert r.stdout.strip() == env["MARBELLOUS_CACHE_DIR"]
+
+
+STEP_ONCE = """
+import marbellous as mb
+w = mb.World(threads=2)
+w.add_static(mb.Plane())
+for k in range(80):
+    w.add_body(mb.Sphere(0.25), position=(0.51 * (k % 9), 0.25 + 0.51 * (k // 81), 0.51 * (k // 9)))
+for _ in range(3):
+    w.step(1 / 60)
+print(len(w.contacts()))
+"""
+
+
+def test_a_step_recompiled_against_cached_kernels_loads_in_the_next_process(tmp_path):
+    """The step compiled in a process that loaded every other kernel from the cache (what an edit of the
+    step's file leads to) is saved whole: the next process loads and runs it."""
+    import marbellous as mb
+
+    w = mb.World()                           # the step and its kernels in this process's cache
+    w.add_body(mb.Sphere(0.5))
+    w.step(1 / 60)
+    shutil.copytree(cache.CACHE_DIR, tmp_path / "kernels")
+    for f in (tmp_path / "kernels" / "pipeline").glob("step.*"):
+        f.unlink()
+    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path / "kernels"))
+    runs = [subprocess.run([sys.executable, "-c", STEP_ONCE], capture_output=True, text=True, env=env,
+                           timeout=1200) for _ in range(2)]          # compiles the step, then loads it
+    for r in runs:
+        assert r.returncode == 0, r.stderr[-2000:]
+    assert runs[0].stdout == runs[1].stdout and int(runs[0].stdout) > 64

@@ -23,8 +23,11 @@ njit = numba.njit(cache=CACHING, nogil=True, fastmath=False)
 #: counted) would cost more than the work.
 njit_inline = numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="always")
 
-#: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).
-njit_parallel = numba.njit(cache=CACHING, nogil=True, fastmath=False, parallel=True)
+#: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).  Not cached
+#: on its own: a kernel compiled against a parallel kernel loaded from the cache is saved broken by Numba
+#: 0.68 (it crashes when loaded in the next process), so a parallel kernel is compiled with each caller,
+#: whose own cache entry then holds it.
+njit_parallel = numba.njit(cache=False, nogil=True, fastmath=False, parallel=True)
 
 
 def _borrow_codegen(context, builder, signature, args):
