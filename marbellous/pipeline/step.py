@@ -34,6 +34,7 @@ from ..dynamics.contact_bundles import (
     accumulate_bundles,
     bundle_capacity,
     load_bundle_bodies,
+    refresh_bundle_masses,
     store_bundles,
     warm_start_bundles,
 )
@@ -43,7 +44,9 @@ from ..dynamics.contact_solver import (
     accumulate_applied,
     accumulate_listed,
     apply_restitution,
+    has_turning_contacts,
     prepare_contacts,
+    refresh_turning_masses,
     solve_contacts,
     store_friction_state,
     warm_start_contacts,
@@ -265,6 +268,8 @@ def step_world(tables):
                                      wide_f, wide_i, part_bundles, overflow, part_overflow)
             load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
     n_over = part_overflow[regions + 1] if wide else 0
+    # contacts on bodies whose world inertia turns get their effective masses again after each position update
+    turning = nc > 0 and solver != LCP and has_turning_contacts(ci, nc, sb)
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -330,6 +335,10 @@ def step_world(tables):
                 bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
         if constrained:
             prepare_solver_bodies(bf, bi, nb, sb)
+        if turning:     # (the contact table's too when bundled: the overflow and restitution read it)
+            refresh_turning_masses(cf, ci, None, nc, sb)
+            if wide:
+                refresh_bundle_masses(wide_f, wide_i, bundles, sb)
         t = _lap(stats, ST_INTEGRATE_X, t, prof)
         if solver == LCP and constrained:
             solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, False, contact_soft, joint_soft, params_f[P_MAX_PUSH],
