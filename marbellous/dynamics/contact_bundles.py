@@ -56,7 +56,7 @@ from ..state.layout import (
 )
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
-from .solver_bodies import SB_DP, SB_INV_MASS, SB_ISO, SB_V, effective_mass_along
+from .solver_bodies import SB_DP, SB_INV_MASS, SB_ISO, SB_V, effective_mass_along, lighter
 
 #: most colours; contacts that find none free go to the overflow (one bit per colour in an int64 mask)
 MAX_COLOURS = 63
@@ -297,9 +297,10 @@ def load_bundle_bodies(wide_f, wide_i, bundles, sb, all_masses):
 
 @njit
 def refresh_bundle_masses(wide_f, wide_i, bundles, sb):
-    """The effective masses along the normal and tangents of every lane of the bundles whose bodies turn
-    (``contact_solver.refresh_turning_masses``, lane by lane with the same arithmetic, so the bundles stay
-    bit for bit the scalar pass): after each sub-step's position update."""
+    """The effective masses along the normal and tangents of every lane of the bundles whose bodies turn,
+    and the accumulated impulses scaled with them (``contact_solver.refresh_turning_masses``, lane by lane
+    with the same arithmetic, so the bundles stay bit for bit the scalar pass): after each sub-step's
+    position update."""
     for bundle in range(bundles):
         if not _turning(wide_i, bundle):
             continue
@@ -315,10 +316,13 @@ def refresh_bundle_masses(wide_f, wide_i, bundles, sb):
                   wide_f[_at(bundle, WB_RA + 2) + lane])
             rb = (wide_f[_at(bundle, WB_RB) + lane], wide_f[_at(bundle, WB_RB + 1) + lane],
                   wide_f[_at(bundle, WB_RB + 2) + lane])
-            for field, direction in ((WB_MASS_N, WB_NORMAL), (WB_MASS_T1, WB_T1), (WB_MASS_T2, WB_T2)):
+            for field, direction, impulse in ((WB_MASS_N, WB_NORMAL, WB_LAMBDA_N), (WB_MASS_T1, WB_T1, WB_LAMBDA_T1),
+                                              (WB_MASS_T2, WB_T2, WB_LAMBDA_T2)):
                 d = (wide_f[_at(bundle, direction) + lane], wide_f[_at(bundle, direction + 1) + lane],
                      wide_f[_at(bundle, direction + 2) + lane])
-                wide_f[_at(bundle, field) + lane] = effective_mass_along(sb, a, ra, b, rb, d)
+                m = effective_mass_along(sb, a, ra, b, rb, d)
+                wide_f[_at(bundle, impulse) + lane] *= lighter(m, wide_f[_at(bundle, field) + lane])
+                wide_f[_at(bundle, field) + lane] = m
 
 
 @njit

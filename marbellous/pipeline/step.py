@@ -281,7 +281,7 @@ def step_world(tables):
     for _ in range(substeps):
         if solver == PENALTY:
             add_penalty_forces(bf, cf, ci, nc, sb, nb, h, params_f[P_PENALTY_HERTZ], params_f[P_SLIDE_SPEED],
-                               user_forces)
+                               user_forces, params_f[P_RESTITUTION_SPEED])
         integrate_velocities(params_i[P_INTEGRATOR], bf, bi, kf, ki, nb, nk, gravity, F, T, h, ws[W_PREV_DT],
                              1.0 / substeps, vecs)
         if solver == PENALTY:
