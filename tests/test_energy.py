@@ -153,6 +153,22 @@ def test_penalty_springs_never_gain_energy_where_they_can_hold(shape, orientatio
         _check(shape, orientation, spin, gap, floor, "penalty", integrator)
 
 
+# Open: examples the hypothesis test above has found that still gain energy (kept as failing examples until
+# fixed; strict, so a fix shows up as an unexpected pass).
+@pytest.mark.xfail(strict=True, reason="open: a 3.6 m x 2 cm rod spinning at 96 rad/s gains 4% of K0 (SI)")
+def test_open_spinning_rod_with_sequential_impulse():
+    _check(mb.Box((0.01, 1.7782794100389228, 0.01)), tuple(np.array([1.0, -1.0, -1.0, -0.75]) / 1.887458608817687),
+           (39.19183588453085, 78.3836717690617, -39.19183588453085), 0.0, "plane", "sequential_impulse",
+           "semi_implicit_euler")
+
+
+@pytest.mark.xfail(strict=True, reason="open: the LCP lets a 20 m x 2 mm x 2 cm blade through the floor; "
+                                       "with RK4 it then explodes")
+def test_open_thin_blade_with_lcp():
+    _check(mb.Box((10.0, 0.001, 0.01)), (0.0, 0.0, 1.0, 0.0), (0.0, 0.4472135954999579, 0.8944271909999159), 0.0,
+           "plane", "lcp", "rk4")
+
+
 def _free_fall_gain(body, steps):
     """What explicit Euler adds in free fall over ``steps`` steps of 4 sub-steps: m g^2 h^2 / 2 each."""
     h = DT / 4
@@ -217,3 +233,57 @@ def test_free_rotation_of_a_thin_rod_keeps_energy_and_momentum_for_any_step():
             lw = b.inertia @ b.angular_velocity
             assert np.linalg.norm(lw - l0) <= 1e-9 * np.linalg.norm(l0), integrator
             assert 0.5 * b.angular_velocity @ lw == pytest.approx(k0, rel=1e-8), integrator
+
+
+# --- heavy on light ------------------------------------------------------------------------------------
+def heavy_on_light(solver, ratio, steps=300):
+    """A 1 kg cube of 1 m on the ground and a cube of ``ratio`` kg on it; 5 s.  Returns both bodies and
+    the lowest the light cube's centre went."""
+    w = mb.World(solver=solver)
+    w.add_static(mb.Plane())
+    light = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 0.5, 0.0), mass=1.0)
+    heavy = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 1.5, 0.0), mass=ratio)
+    lowest = math.inf
+    for _ in range(steps):
+        w.step(DT)
+        lowest = min(lowest, light.position[1])
+    return light, heavy, lowest
+
+
+@pytest.mark.parametrize("ratio", [1e3, 1e4, 1e6])
+def test_a_heavy_box_stands_on_a_light_one(ratio):
+    # The contact of the heavy box with the light one is solved once more per pass with the light one held
+    # (shock propagation): the stack stands as an equal-mass one does, each contact level sinking
+    # g / (2 pi f)^2 = 0.07 mm (contact_hertz 60 Hz) and the speculative and soft slop of a millimetre.
+    light, heavy, lowest = heavy_on_light("sequential_impulse", ratio)
+    assert lowest > 0.5 - 1e-3                                  # never below the floor, nor into it
+    assert light.position[1] == pytest.approx(0.5, abs=1e-3)
+    assert heavy.position[1] == pytest.approx(1.5, abs=2e-3)
+    assert np.linalg.norm(heavy.velocity) < 1e-2
+
+
+def test_penalty_heavy_on_light_sinks_by_the_spring_law():
+    # Penalty springs have k = m_n omega^2 from the contact's effective mass: four corners of a light cube
+    # on the ground (m_n = m / 4 each) hold (M + m) g with k = m omega^2, and four between the cubes
+    # (m_n = 1 / (4/m + 4/M)) hold M g with k = omega^2 m M / (m + M): the heavy cube sinks by
+    # 2 (M + m) g / (m omega^2) in all, so the stack stands while that is well below the light cube's
+    # half height: M / m < (0.5 m) omega^2 / (2 g), about 230 at 60 Hz (omega = 96.5 rad/s).
+    m, big = 1.0, 100.0
+    omega = 2.0 * math.pi * STABLE_FRACTION / (DT / 4)
+    light, heavy, _ = heavy_on_light("penalty", big, steps=600)
+    assert 0.5 - light.position[1] == pytest.approx((big + m) * G / (m * omega ** 2), rel=0.02)
+    assert 1.5 - heavy.position[1] == pytest.approx(2.0 * (big + m) * G / (m * omega ** 2), rel=0.02)
+
+
+def test_bodies_spawned_into_one_another_keep_a_bounded_number_of_contacts():
+    # 300 spheres at one point are 44,850 overlapping pairs; once the broad phase finds more than
+    # MAX_PAIRS_PER_BODY pairs per body, each movable body keeps at most that many (the first in the canonical
+    # order), so the contacts stay below MAX_PAIRS_PER_BODY per body (one point per sphere pair).
+    from marbellous.pipeline.collide import MAX_PAIRS_PER_BODY
+
+    w = mb.World()
+    w.add_static(mb.Plane())
+    balls = [w.add_body(mb.Sphere(0.1), position=(0.0, 1.0, 0.0)) for _ in range(300)]
+    w.step(DT)
+    assert 0 < len(w.contacts()) <= MAX_PAIRS_PER_BODY * len(balls)
+    assert all(np.all(np.isfinite(b.position)) for b in balls)

@@ -16,6 +16,8 @@ A speculative contact (separation s > 0) lets the bodies approach by exactly s i
 """
 import math
 
+import numpy as np
+
 from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, row3
 from ..state.layout import (
@@ -56,6 +58,7 @@ from ..state.layout import (
 )
 from .contact_basis import contact_basis
 from .solver_bodies import (
+    SB_INV_MASS,
     SB_ISO,
     effective_mass_along,
     lighter,
@@ -302,6 +305,129 @@ def solve_contacts(cf, ci, order, first, last, sb, h, use_bias, soft, max_push):
         if sb[b, SB_ISO] != 0.0:
             set_velocity(sb, b, ub)
     return largest
+
+
+#: A contact is "heavy on light" when the body above (along -g) is at least this many times heavier than
+#: the movable body below it (see :func:`solve_supported`).
+HEAVY_ON_LIGHT = 10.0
+
+
+@njit
+def _above_below(cf, ci, c, gravity, g):
+    """``(upper, lower)`` bodies of contact ``c`` if its normal is within 60 degrees of ``-gravity``, else
+    ``(-1, -1)``."""
+    up = -(cf[c, C_NORMAL] * gravity[0] + cf[c, C_NORMAL + 1] * gravity[1] + cf[c, C_NORMAL + 2] * gravity[2]) / g
+    if abs(up) < 0.5:
+        return -1, -1
+    # n points from a to b: b is above when n points up
+    if up > 0.0:
+        return ci[c, C_BODY_B], ci[c, C_BODY_A]
+    return ci[c, C_BODY_A], ci[c, C_BODY_B]
+
+
+@njit
+def heavy_on_light(bi, cf, ci, nc, sb, gravity):
+    """The contacts whose body above, along the contact normal within 60 degrees of ``-gravity``, is at least
+    HEAVY_ON_LIGHT times heavier than the movable body below, after the contacts on which those light
+    bodies rest themselves (bottom up), as a (k, 2) table: the contact's row, and room for its
+    :func:`solve_supported` impulse.  None if there are none (most scenes: then nothing else is done)."""
+    g = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
+    if g == 0.0:
+        return None
+    light = np.zeros(sb.shape[0], dtype=np.bool_)
+    heavy = np.zeros(nc, dtype=np.bool_)
+    count = 0
+    for c in range(nc):
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        high, low = _above_below(cf, ci, c, gravity, g)
+        if high < 0:
+            continue
+        m_low, m_high = sb[low, SB_INV_MASS], sb[high, SB_INV_MASS]
+        if m_low > 0.0 and m_high > 0.0 and m_low >= HEAVY_ON_LIGHT * m_high:
+            heavy[c] = True
+            light[low] = True
+            count += 1
+    if count == 0:
+        return None
+    found = np.zeros((nc, 2))
+    count = 0
+    for c in range(nc):                 # the light bodies' own supports first
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0 or heavy[c]:
+            continue
+        high, low = _above_below(cf, ci, c, gravity, g)
+        if high >= 0 and light[high]:
+            found[count, 0] = c
+            count += 1
+    for c in range(nc):
+        if heavy[c]:
+            found[count, 0] = c
+            count += 1
+    return found[:count]
+
+
+#: Passes of :func:`solve_supported` over its contacts (a body above rests on several points of one below).
+SUPPORTED_PASSES = 4
+
+
+@njit
+def solve_supported(cf, ci, supported, sb, h, use_bias, soft, max_push, gravity):
+    """Passes over the heavy-on-light contacts ``supported`` (:func:`heavy_on_light`) with the light body
+    below held still (shock propagation, Guendelman, Bridson and Fedkiw 2003): the normal impulse
+
+        d lambda_s = -m_up (v_n + bias),   m_up = 1 / (m_up^-1 + (r x n) . I_up^-1 (r x n))
+
+    with the effective mass of the body above alone, applied to that body alone, its own accumulated
+    ``lambda_s >= 0`` (``supported[:, 1]``: started at zero by the solve call of each sub-step, carried
+    into its relax call, which takes the position correction's velocity out again).  The light body never
+    feels these impulses, so nothing is warm-started from them.
+
+    Sequential impulses move momentum between two bodies by about the lighter one's mass times their
+    relative speed per pass, so a 1e4 kg box on a 1 kg box needs thousands of passes to stop, and its
+    soft contact, as stiff as the light box's mass allows (``k = m_light omega^2``), lets it sink
+    ``M g / (m_light omega^2)``: at 1:1000 the heavy box ended inside the light one, at 1:1e4 it pressed
+    the light one through the floor.  Bottom up, the light body first stopped on its own supports, then
+    the heavy one held on it, the heavy one stops within these passes.  Called after the solve passes
+    (with the position bias) and after the relax pass (without).
+    """
+    g = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
+    if use_bias:
+        for k in range(supported.shape[0]):
+            supported[k, 1] = 0.0
+    for _ in range(SUPPORTED_PASSES):
+        for k in range(supported.shape[0]):
+            c = int(supported[k, 0])
+            a = ci[c, C_BODY_A]
+            b = ci[c, C_BODY_B]
+            n = row3(cf, c, C_NORMAL)
+            up = -(n[0] * gravity[0] + n[1] * gravity[1] + n[2] * gravity[2]) / g
+            ra = row3(cf, c, C_RA)
+            rb = row3(cf, c, C_RB)
+            ua = velocity(sb, a)
+            ub = velocity(sb, b)
+            s = contact_separation(sb, cf, c, a, b)
+            if s > 0.0:
+                bias = s / h
+            elif use_bias:
+                bias = max(soft[0] * s, -max_push)
+            else:
+                bias = 0.0
+            vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
+            # the effective mass of the body above alone (the one below held)
+            if up > 0.0:
+                m_up = effective_mass_along(sb, b, rb, -1, rb, n)
+            else:
+                m_up = effective_mass_along(sb, a, ra, -1, ra, n)
+            old = supported[k, 1]
+            new = max(old - m_up * (vn + bias), 0.0)
+            d = new - old
+            if d == 0.0:
+                continue
+            supported[k, 1] = new
+            if up > 0.0:
+                set_velocity(sb, b, push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0))
+            else:
+                set_velocity(sb, a, push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0))
 
 
 @njit

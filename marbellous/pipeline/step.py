@@ -45,9 +45,11 @@ from ..dynamics.contact_solver import (
     accumulate_listed,
     apply_restitution,
     has_turning_contacts,
+    heavy_on_light,
     prepare_contacts,
     refresh_turning_masses,
     solve_contacts,
+    solve_supported,
     store_friction_state,
     warm_start_contacts,
     warm_start_listed,
@@ -78,7 +80,7 @@ from ..state.layout import (
     W_PREV_DT,
     W_TIME,
 )
-from .collide import narrow_phase, update_aabbs
+from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .tables import record_at
 
 # params_f layout (tunables travel as arguments, never as globals)
@@ -223,6 +225,8 @@ def step_world(tables):
     t = _lap(stats, ST_BROAD, t, prof)
     if n_pairs > pairs.shape[0]:
         return GROW_PAIRS
+    if n_pairs > MAX_PAIRS_PER_BODY * nb:      # bodies spawned into one another: bound the contacts
+        n_pairs = limit_pairs_per_body(pairs, n_pairs, bi, nb, MAX_PAIRS_PER_BODY)
     nc = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, params_f[P_SPECULATIVE],
                       raw_f, raw_i, ci, pose_pos, pose_rot, pose_state, pose_quat)
     stats[S_CONTACTS] = nc
@@ -270,6 +274,10 @@ def step_world(tables):
     n_over = part_overflow[regions + 1] if wide else 0
     # contacts on bodies whose world inertia turns get their effective masses again after each position update
     turning = nc > 0 and solver != LCP and has_turning_contacts(ci, nc, sb)
+    # contacts of a heavy body on a light one get a pass with the light one held (contact_solver.solve_supported)
+    supported = None
+    if nc > 0 and solver == SEQUENTIAL_IMPULSE and not wide:
+        supported = heavy_on_light(bi, cf, ci, nc, sb, gravity)
 
     # --- sub-steps ---------------------------------------------------------------------------------------
     soft_coefficients(params_f[P_CONTACT_HERTZ], params_f[P_CONTACT_ZETA], h, contact_soft)
@@ -314,6 +322,8 @@ def step_world(tables):
                                                         params_f[P_MAX_PUSH]))
                 if change < params_f[P_TOLERANCE]:
                     break
+            if supported is not None:
+                solve_supported(cf, ci, supported, sb, h, True, contact_soft, params_f[P_MAX_PUSH], gravity)
         elif solver == PENALTY:
             for _ in range(params_i[P_ITERATIONS]):
                 iterations_used += 1
@@ -352,6 +362,8 @@ def step_world(tables):
                                   False, contact_soft, params_f[P_MAX_PUSH], wide_change, region_change)
             elif solver == SEQUENTIAL_IMPULSE and nc > 0:
                 solve_contacts(cf, ci, order, 0, nc, sb, h, False, contact_soft, params_f[P_MAX_PUSH])
+                if supported is not None:
+                    solve_supported(cf, ci, supported, sb, h, False, contact_soft, params_f[P_MAX_PUSH], gravity)
             if constrained:
                 store_velocities(bf, bi, nb, sb)
         if wide:
