@@ -287,3 +287,22 @@ def test_bodies_spawned_into_one_another_keep_a_bounded_number_of_contacts():
     w.step(DT)
     assert 0 < len(w.contacts()) <= MAX_PAIRS_PER_BODY * len(balls)
     assert all(np.all(np.isfinite(b.position)) for b in balls)
+
+
+@pytest.mark.parametrize("dt", [0.5, 1.0])
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_huge_steps_gain_no_energy(solver, dt):
+    # Steps of half a second and a second (2 and 1 Hz): contacts are softened to a quarter of the sub-step
+    # rate (contact_hertz, penalty frequency), so bodies sink in (not tested: at 1 Hz a resting cube sinks
+    # g / (2 pi)^2 = 25 cm per contact level), but nothing may gain energy or become NaN.
+    from marbellous.scenes.stacks import box_tower
+
+    w, boxes = box_tower(mb.World(solver=solver), height=10)
+    bodies = boxes + [w.add_body(mb.Sphere(0.3), position=(2.0 + 0.7 * i, 0.3 + 0.1 * i, 0.0)) for i in range(12)]
+    e0 = sum(energy(b)[0] for b in bodies)
+    tolerance = sum(b.mass for b in bodies) * G * 1e-3
+    for _ in range(int(round(10.0 / dt))):
+        w.step(dt)
+        e = sum(energy(b)[0] for b in bodies)
+        assert math.isfinite(e)
+        assert e <= e0 + tolerance
