@@ -164,3 +164,37 @@ def test_bundles_solve_spheres_as_the_scalar_pass(pile):
 def test_bundles_solve_turning_boxes_as_the_scalar_pass(slabs):
     b = _compare_passes(slabs)
     assert all(b.block(k, WI_TURNING)[0] for k in range(b.bundles))
+
+
+def test_bundles_refresh_the_masses_of_turned_bodies_as_the_scalar_pass(slabs):
+    # After the flat boxes turned (0.3 rad about a tilted axis), the effective masses of their contacts
+    # change and their impulses are scaled down with them: lane by lane as the contact table's.
+    from marbellous.dynamics.contact_bundles import WB_MASS_N, WB_MASS_T1, WB_MASS_T2, refresh_bundle_masses
+    from marbellous.dynamics.contact_solver import refresh_turning_masses
+    from marbellous.math3d import quat_step
+
+    b = Bundled(slabs)
+    cf = b.cf.copy()
+    bf = slabs._bf.copy()
+    axis = np.array([0.3, 0.8, -0.5]) / np.linalg.norm([0.3, 0.8, -0.5])
+    for i in range(slabs._nb):
+        if not slabs._bi[i, L.FLAGS] & L.F_STATIC:
+            bf[i, L.QUAT:L.QUAT + 4] = quat_step(tuple(bf[i, L.QUAT:L.QUAT + 4]), tuple(0.3 * axis), 1.0)
+    sb = _solver_bodies(bf, slabs._bi, slabs._nb)
+    refresh_turning_masses(cf, b.ci, None, b.nc, sb)
+    refresh_bundle_masses(b.wide_f, b.wide_i, b.bundles, sb)
+    changed = 0
+    for bundle in range(b.bundles):
+        for lane, c in enumerate(b.block(bundle, WI_CONTACT)):
+            if c < 0:
+                continue
+            for field, column in ((WB_MASS_N, L.C_MASS_N), (WB_MASS_T1, L.C_MASS_T1), (WB_MASS_T2, L.C_MASS_T2)):
+                value = b.wide_f[(bundle * BUNDLE_FIELDS + field) * LANES + lane]
+                assert value == cf[c, column]
+                changed += value != b.cf[c, column]
+    stored = b.cf.copy()
+    store_bundles(b.wide_f, b.wide_i, b.bundles, stored)
+    for column in (L.C_LAMBDA_N, L.C_LAMBDA_T1, L.C_LAMBDA_T2):
+        assert np.array_equal(stored[:, column], cf[:, column])
+        assert np.all(np.abs(cf[:, column]) <= np.abs(b.cf[:, column]))     # scaled down, never up
+    assert changed > 0

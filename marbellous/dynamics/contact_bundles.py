@@ -36,7 +36,7 @@ from ..state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, CP_MATCHED, CP_SENSOR, C
                             WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
-
+from .solver_bodies import effective_mass_along, lighter
 
 #: most colours; contacts that find none free go to the overflow (one bit per colour in an int64 mask)
 MAX_COLOURS = 63
@@ -244,6 +244,36 @@ def load_bundle_bodies(wide_f, wide_i, bundles, sb, all_masses):
                                    motion_b, _vector(wide_f, _at(bundle, WB_RB)))
         store_w(wide_f, _at(bundle, WB_SEPARATION),
                 load_w(wide_f, _at(bundle, WB_ADJ_SEP)) + _dot(moved, _vector(wide_f, _at(bundle, WB_NORMAL))))
+
+
+@njit
+def refresh_bundle_masses(wide_f, wide_i, bundles, sb):
+    """The effective masses along the normal and tangents of every lane of the bundles whose bodies turn,
+    and the accumulated impulses scaled with them (``contact_solver.refresh_turning_masses``, lane by lane
+    with the same arithmetic, so the bundles stay bit for bit the scalar pass): after each sub-step's
+    position update."""
+    for bundle in range(bundles):
+        if not _turning(wide_i, bundle):
+            continue
+        rows = bundle * BUNDLE_ROWS * LANES
+        for lane in range(LANES):
+            if wide_i[rows + WI_CONTACT * LANES + lane] < 0:
+                continue
+            a = wide_i[rows + WI_READ_A * LANES + lane]
+            b = wide_i[rows + WI_READ_B * LANES + lane]
+            if sb[a, SB_ISO] >= 0.0 and sb[b, SB_ISO] >= 0.0:
+                continue
+            ra = (wide_f[_at(bundle, WB_RA) + lane], wide_f[_at(bundle, WB_RA + 1) + lane],
+                  wide_f[_at(bundle, WB_RA + 2) + lane])
+            rb = (wide_f[_at(bundle, WB_RB) + lane], wide_f[_at(bundle, WB_RB + 1) + lane],
+                  wide_f[_at(bundle, WB_RB + 2) + lane])
+            for field, direction, impulse in ((WB_MASS_N, WB_NORMAL, WB_LAMBDA_N), (WB_MASS_T1, WB_T1, WB_LAMBDA_T1),
+                                              (WB_MASS_T2, WB_T2, WB_LAMBDA_T2)):
+                d = (wide_f[_at(bundle, direction) + lane], wide_f[_at(bundle, direction + 1) + lane],
+                     wide_f[_at(bundle, direction + 2) + lane])
+                m = effective_mass_along(sb, a, ra, b, rb, d)
+                wide_f[_at(bundle, impulse) + lane] *= lighter(m, wide_f[_at(bundle, field) + lane])
+                wide_f[_at(bundle, field) + lane] = m
 
 
 @njit

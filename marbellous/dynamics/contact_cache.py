@@ -7,7 +7,8 @@ friction (re-projected onto the new tangents) and rolling impulses and the slidi
 """
 from .._numba.jit import njit, njit_inline
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
-                            C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED, CP_SLIDING)
+                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED,
+                            CP_SLIDING)
 from .contact_basis import contact_basis
 
 
@@ -48,6 +49,10 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
                     cf[c, C_LAMBDA_R + k] = pcf[q, C_LAMBDA_R + k]
                 cf[c, C_LAMBDA_T1] = p1
                 cf[c, C_LAMBDA_T2] = p2
+                # (the effective masses they were applied with: prepare_contacts scales them, see there)
+                cf[c, C_MASS_N] = pcf[q, C_MASS_N]
+                cf[c, C_MASS_T1] = pcf[q, C_MASS_T1]
+                cf[c, C_MASS_T2] = pcf[q, C_MASS_T2]
                 ci[c, C_FLAGS] |= CP_MATCHED | (pci[q, C_FLAGS] & CP_SLIDING)
                 break
             q += 1

@@ -14,8 +14,15 @@ coefficient of restitution ``e`` of the pair: the spring lets go with ``e`` time
 Stability.  The semi-implicit Euler update of a damped oscillator is stable for
 ``(omega h)^2 + 4 zeta omega h < 4``; a column of contacts has modes up to twice the single-contact
 frequency, so ``f`` is capped at ``STABLE_FRACTION / h`` (omega h <= 0.4, i.e. at most 2 omega h = 0.8 in
-a stack: 0.64 + 3.2 zeta < 4 for zeta <= 1).  A resting body sinks in by ``g / omega^2`` per contact
-layer (about 1 mm at h = 1/240 s), the price of the method; more sub-steps make the springs stiffer.
+a stack: 0.64 + 3.2 zeta < 4 for zeta <= 1).  Every force is taken at the sub-step's start (a Jacobi
+update), so the dashpots of the contacts on one body add up: their common mode's approach speed is
+scaled by ``2 zeta omega h R`` in a sub-step, ``R`` the coupling of :func:`_dashpot_coupling`, and the
+damping force of a contact approaching faster than gravity makes in a sub-step (``g h``, at which
+restitution starts too) is capped at ``2 m_n omega max(|v_n| / (2 omega h R), zeta g h)`` so that they
+never throw a body back by more than that speed (at critical damping a box landing flat on four corners
+left at 2.2 times its landing speed).  Resting contacts, slower, keep their full damping.  A resting body sinks
+in by ``g / omega^2`` per contact layer (about 1 mm at h = 1/240 s), the price of the method; more
+sub-steps make the springs stiffer.
 
 Friction is a tangential spring at the contact (Cundall and Strack 1979), stretched by the sliding of
 the contact points and limited by Coulomb's cone, with a critically damped dashpot beside it:
@@ -44,9 +51,10 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
+from ..math3d import row3
 from ..state.layout import (CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                             C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL,
-                            C_RA, C_RB, C_ROLL, C_T1, C_T2, FORCE, OMEGA, SB_INV_I, TORQUE)
+                            C_RA, C_RB, C_ROLL, C_T1, C_T2, FORCE, OMEGA, SB_INV_I, SB_INV_MASS, SB_ISO, TORQUE)
 from .contact_solver import contact_separation
 from .rigid import relative_velocity
 
@@ -96,13 +104,15 @@ def damping_ratio(e):
 
 
 @njit
-def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
+def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, rest_speed=0.0):
     """Stage "penalty forces": add every contact spring's force and torque to the accumulators.
 
     ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step;
     a contact breaking loose from the static cone slides if its tangential speed exceeds ``slide_speed`` (m/s).
     The accumulators' previous contents (the user's forces) are kept in ``saved`` (nb, 6) for
-    :func:`restore_user_forces`.
+    :func:`restore_user_forces`.  Contacts approaching faster than ``rest_speed`` (m/s; the step passes
+    the speed gravity gives in a sub-step) have their dashpots capped so that those of one body cannot
+    throw it back (:func:`_dashpot_coupling`); slower ones, resting contacts, are damped in full.
     """
     for i in range(nb):
         for k in range(6):
@@ -113,6 +123,7 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
     T = bf[:, TORQUE:TORQUE + 3]
     dv = np.empty(3)
     f = np.empty(3)
+    coupling = _dashpot_coupling(cf, ci, nc, sb, nb)
     for c in range(nc):
         for k in range(3):
             cf[c, C_LAMBDA_R + k] = 0.0
@@ -136,7 +147,12 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
         sliding = last_n > 0.0 and (_on_cone(last_t, cf[c, C_MU_D] * last_n)
                                     or (fast and _on_cone(last_t, cf[c, C_MU_S] * last_n)))
         mu = cf[c, C_MU_D] if sliding else cf[c, C_MU_S]
+        # n dashpots on one body act at once (all from the sub-step's start): above the speed gravity gives in
+        # a sub-step, at most 2 zeta omega h R <= 1 (see _dashpot_coupling)
         zeta = damping_ratio(cf[c, C_E])
+        speed = abs(vn)
+        if speed > rest_speed:
+            zeta = max(min(zeta, 1.0 / (2.0 * omega * h * coupling[c])), zeta * rest_speed / speed)
         fn = max(m_n * omega * (omega * depth - 2.0 * zeta * vn), 0.0)
         if fn == 0.0:
             cf[c, C_LAMBDA_T1] = 0.0
@@ -171,6 +187,70 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved):
         cf[c, C_MAX_N] = max(cf[c, C_MAX_N], fn * h)
         if cf[c, C_ROLL] > 0.0:
             _rolling_torque(bf, cf, c, sb, a, b, cf[c, C_ROLL] * fn, h, T)
+
+
+@njit
+def _dashpot_coupling(cf, ci, nc, sb, nb):
+    """For each touching contact ``i``, a bound ``R_i >= 1`` on how many times over the dashpots of all the
+    contacts on its bodies, each evaluated at the sub-step's start, stop their common motion: the
+    Gershgorin row sum of the contacts' normal coupling scaled by the contact's effective mass,
+
+        R_i = m_i sum_j |J_i M_b^-1 J_j^T|,
+        J_i M_b^-1 J_j^T = s_i s_j (n_i . n_j / m_b + (r_i x n_i) . I_b^-1 (r_j x n_j))
+
+    over the contacts ``j`` touching body ``b`` (each movable body of ``i``, counted apart; ``s`` = -1 on a,
+    +1 on b).  It bounds the largest eigenvalue of ``D J M^-1 J^T`` (``D`` the effective masses), the factor
+    by which a common mode's approach speed is scaled by the dashpots: ``2 zeta omega h R``, kept <= 1 so
+    they never throw a body back (at critical damping, four of them threw a box landing flat on its
+    corners off at 2.2 times its landing speed).  A cube resting on four corners has R = 2 on the ground,
+    4 in a tower.  Contacts not touching get 1.
+    """
+    touching = np.zeros(nc, dtype=np.bool_)
+    start = np.zeros(nb + 1, dtype=np.int64)
+    for c in range(nc):
+        a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+        if (ci[c, C_FLAGS] & CP_SENSOR) == 0 and cf[c, C_MASS_N] > 0.0 and contact_separation(sb, cf, c, a, b) < 0.0:
+            touching[c] = True
+            for body in (a, b):
+                if sb[body, SB_ISO] != 0.0:
+                    start[body + 1] += 1
+    for i in range(nb):
+        start[i + 1] += start[i]
+    fill = start.copy()
+    members = np.empty(max(start[nb], 1), dtype=np.int64)
+    for c in range(nc):
+        if touching[c]:
+            for body in (ci[c, C_BODY_A], ci[c, C_BODY_B]):
+                if sb[body, SB_ISO] != 0.0:
+                    members[fill[body]] = c
+                    fill[body] += 1
+    out = np.ones(nc)
+    for c in range(nc):
+        if not touching[c]:
+            continue
+        n = row3(cf, c, C_NORMAL)
+        total = 0.0
+        for side in range(2):
+            body = ci[c, C_BODY_A + side]
+            if sb[body, SB_ISO] == 0.0:
+                continue
+            r = row3(cf, c, C_RA + 3 * side)
+            u = (r[1] * n[2] - r[2] * n[1], r[2] * n[0] - r[0] * n[2], r[0] * n[1] - r[1] * n[0])
+            w = (sb[body, SB_INV_I] * u[0] + sb[body, SB_INV_I + 1] * u[1] + sb[body, SB_INV_I + 2] * u[2],
+                 sb[body, SB_INV_I + 3] * u[0] + sb[body, SB_INV_I + 4] * u[1] + sb[body, SB_INV_I + 5] * u[2],
+                 sb[body, SB_INV_I + 6] * u[0] + sb[body, SB_INV_I + 7] * u[1] + sb[body, SB_INV_I + 8] * u[2])
+            sign = -1.0 if side == 0 else 1.0
+            for q in range(start[body], start[body + 1]):
+                j = members[q]
+                nj = row3(cf, j, C_NORMAL)
+                sj = -1.0 if ci[j, C_BODY_A] == body else 1.0
+                rj = row3(cf, j, C_RA) if sj < 0.0 else row3(cf, j, C_RB)
+                uj = (rj[1] * nj[2] - rj[2] * nj[1], rj[2] * nj[0] - rj[0] * nj[2], rj[0] * nj[1] - rj[1] * nj[0])
+                entry = (sb[body, SB_INV_MASS] * (n[0] * nj[0] + n[1] * nj[1] + n[2] * nj[2])
+                         + w[0] * uj[0] + w[1] * uj[1] + w[2] * uj[2])
+                total += abs(sign * sj * entry)
+        out[c] = max(cf[c, C_MASS_N] * total, 1.0)
+    return out
 
 
 @njit

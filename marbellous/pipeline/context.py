@@ -62,6 +62,8 @@ FIELDS = TABLE_FIELDS + (
     ("bundles", types.int64),       # bundles of the step
     ("n_overflow", types.int64),    # contacts no bundle takes
     ("iterations", types.int64),    # velocity iterations used so far in the step
+    ("turning", types.boolean),     # some contact touches a body whose world inertia turns with it
+    ("n_supported", types.int64),   # heavy-on-light contacts of the step (rows of ``supported``)
     ("clock", types.int64),         # cycle counter at the end of the last profiled stage
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
@@ -92,6 +94,9 @@ FIELDS = TABLE_FIELDS + (
     ("pose_rot", types.float64[:, :, ::1]),   # and its rotation matrix
     ("pose_state", types.int8[::1]),          # which of the two each row holds (pipeline/collide.py)
     ("pose_quat", _F1),       # a quaternion
+    ("supported", _F2),       # heavy-on-light contacts and their impulses (dynamics/contact_solver.py)
+    ("light", types.boolean[::1]),  # solver-body rows that carry a body much heavier than themselves
+    ("heavy", types.boolean[::1]),  # contacts of a heavy body on a light one
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -113,6 +118,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.nb, t.nk = nb, nk
     t.h, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 0, 0, False, False
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
+    t.turning, t.n_supported = False, 0
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
     t.filters = np.zeros((3, n_slots), dtype=np.int64)
@@ -143,6 +149,9 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.colour_fill = np.zeros(MAX_COLOURS + 1, dtype=np.int64)
     t.wide_change = np.zeros((MAX_THREADS + 1) * LANES)
     t.pose_pos, t.pose_rot, t.pose_state, t.pose_quat = pose_tables(sf.shape[0])
+    t.supported = np.zeros((contacts, 2))
+    t.light = np.zeros(n_slots + 2, dtype=np.bool_)
+    t.heavy = np.zeros(contacts, dtype=np.bool_)
     return t
 
 

@@ -24,12 +24,12 @@ from .._numba.wide import LANES
 from ..collision.broadphase import find_pairs
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
-                                        load_bundle_bodies, store_bundles, warm_start_bundles)
+                                        load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
-from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, prepare_contacts,
-                                       solve_contacts, store_friction_state, warm_start_contacts,
-                                       warm_start_listed)
+from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, has_turning_contacts,
+                                       heavy_on_light, prepare_contacts, refresh_turning_masses, solve_contacts,
+                                       solve_supported, store_friction_state, warm_start_contacts, warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
@@ -48,7 +48,7 @@ from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLA
                             POS0, SEQUENTIAL_IMPULSE, STAT_CACHE_SIDE, STAT_CACHED, STAT_CONTACTS, STAT_CYCLES,
                             STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
                             STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
-from .collide import narrow_phase, update_aabbs
+from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .stages import (ST_AABBS, ST_BREAK_CONSTRAINTS, ST_BROAD_PHASE, ST_INTEGRATE_POSITIONS,
                      ST_INTEGRATE_VELOCITIES, ST_ISLANDS_AND_SLEEP, ST_MATCH_AND_WAKE, ST_NARROW_PHASE, ST_PREPARE,
@@ -156,6 +156,8 @@ def collide(ctx):
     stage_broad_phase(ctx)
     if ctx.n_pairs > ctx.pairs.shape[0]:
         return GROW_PAIRS
+    if ctx.n_pairs > MAX_PAIRS_PER_BODY * ctx.nb:      # bodies spawned into one another: bound the contacts
+        ctx.n_pairs = limit_pairs_per_body(ctx.pairs, ctx.n_pairs, ctx.bi, ctx.nb, MAX_PAIRS_PER_BODY)
     stage_narrow_phase(ctx)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
@@ -176,11 +178,13 @@ def stage_match_and_wake(ctx):
 
 # --- prepare -------------------------------------------------------------------------------------------------
 @njit_inline
-def stage_prepare(ctx, may_bundle):
+def stage_prepare(ctx, may_bundle, may_turn):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
-    and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle`` and
-    enough contacts, in regions when ``threads`` > 1) or one scalar pass.  Also the soft-constraint
-    coefficients of the sub-step and the springs' force records."""
+    and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle``, the
+    sequential-impulse scheme, and enough contacts, in regions when ``threads`` > 1) or one scalar pass.
+    With ``may_turn`` (the schemes that solve on the solver bodies) the contacts of turning bodies are
+    marked for fresh effective masses after each position update.  Also the soft-constraint coefficients
+    of the sub-step and the springs' force records."""
     bf, bi, nb, nc, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nc, ctx.nk
     params_f = ctx.params_f
     dt = params_f[PF_DT]
@@ -226,6 +230,13 @@ def stage_prepare(ctx, may_bundle):
     ctx.regions = regions
     ctx.bundles = bundles
     ctx.n_overflow = ctx.part_overflow[regions + 1] if bundled else 0
+    # contacts on bodies whose world inertia turns get their effective masses again after each position
+    # update; contacts of a heavy body on a light one get passes with the light one held (scalar pass only)
+    ctx.turning = nc > 0 and may_turn and has_turning_contacts(ctx.ci, nc, sb)
+    ctx.n_supported = 0
+    if nc > 0 and may_bundle and not bundled:
+        ctx.n_supported = heavy_on_light(ctx.cf, ctx.ci, nc, sb, params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.light,
+                                         ctx.heavy, ctx.supported)
     soft = ctx.soft
     soft_coefficients(params_f[PF_CONTACT_HERTZ], params_f[PF_CONTACT_ZETA], ctx.h, soft[0])
     soft_coefficients(params_f[PF_JOINT_HERTZ], params_f[PF_JOINT_ZETA], ctx.h, soft[1])
@@ -245,7 +256,7 @@ def stage_integrate_velocities(ctx, penalty):
     sb, user_forces = ctx.solver_bodies, ctx.user_forces
     if penalty:
         add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ],
-                           params_f[PF_SLIDE_SPEED], user_forces)
+                           params_f[PF_SLIDE_SPEED], user_forces, params_f[PF_RESTITUTION_SPEED])
     integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
                          params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
                          ctx.ws[W_PREV_DT], 1.0 / params_i[PI_SUBSTEPS], ctx.vecs)
@@ -304,6 +315,14 @@ def _joint_pass(ctx, use_bias):
 
 
 @njit_inline
+def _supported_pass(ctx, use_bias):
+    """The heavy-on-light contacts' passes with the light body held (``contact_solver.solve_supported``)."""
+    if ctx.n_supported > 0:
+        solve_supported(ctx.cf, ctx.ci, ctx.supported[:ctx.n_supported], ctx.solver_bodies, ctx.h, use_bias,
+                        ctx.soft[0], ctx.params_f[PF_MAX_PUSH], ctx.params_f[PF_GRAVITY:PF_GRAVITY + 3])
+
+
+@njit_inline
 def stage_solve(ctx, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
     until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
@@ -315,6 +334,8 @@ def stage_solve(ctx, contacts):
             change = max(change, _contact_pass(ctx, True))
         if change < tolerance:
             break
+    if contacts:
+        _supported_pass(ctx, True)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
     lap(ctx, ST_SOLVE)
@@ -353,7 +374,12 @@ def stage_integrate_positions(ctx):
         for k in range(3):
             bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
     if ctx.constrained:
-        prepare_solver_bodies(bf, bi, nb, ctx.solver_bodies)
+        sb = ctx.solver_bodies
+        prepare_solver_bodies(bf, bi, nb, sb)
+        if ctx.turning:     # (the contact table's too when bundled: the overflow and restitution read it)
+            refresh_turning_masses(ctx.cf, ctx.ci, None, ctx.nc, sb)
+            if ctx.bundled:
+                refresh_bundle_masses(ctx.wide_f, ctx.wide_i, ctx.bundles, sb)
     lap(ctx, ST_INTEGRATE_POSITIONS)
 
 
@@ -366,6 +392,7 @@ def stage_relax(ctx, contacts):
         if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
             load_bundle_bodies(ctx.wide_f, ctx.wide_i, ctx.bundles, ctx.solver_bodies, False)
         _contact_pass(ctx, False)
+        _supported_pass(ctx, False)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
     lap(ctx, ST_RELAX)
@@ -483,7 +510,7 @@ def step_sequential_impulse(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, True)
+    stage_prepare(ctx, True, True)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
         stage_integrate_velocities(ctx, False)
         stage_warm_start(ctx)
@@ -507,7 +534,7 @@ def step_penalty(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, False)
+    stage_prepare(ctx, False, True)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
         stage_integrate_velocities(ctx, True)
         _warm_start_joints(ctx)
@@ -530,7 +557,7 @@ def step_lcp(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, False)
+    stage_prepare(ctx, False, False)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
         stage_integrate_velocities(ctx, False)
         stage_solve_lcp(ctx)
