@@ -122,6 +122,7 @@ class Collider:
     ``kind`` is the collider type; ``params`` its validated shape parameters; ``position`` (m) and
     ``orientation`` (w, x, y, z) its placement.  Meshes carry ``vertices`` (V, 3) float64 and
     ``triangles`` (T, 3) int64; height fields carry ``heights`` (nx, nz) float64 (m above ``origin``).
+    ``built`` caches the shape (made when the level is loaded, so that its problems name the file).
     """
 
     kind: str
@@ -440,7 +441,9 @@ class _Parser:
             col.shape()
         except (ValueError, TypeError) as e:
             key = f"{where}.file" if kind == "mesh" else f"{where}.image" if kind == "heightfield" else where
-            raise LevelError(f"{self.path.name}: {key}: {e}") from None
+            source = f" ({pathlib.Path(col.params.get('file') or col.params.get('image')).name})" \
+                if kind in ("mesh", "heightfield") else ""
+            raise LevelError(f"{self.path.name}: {key}{source}: {e}") from None
         return col
 
     def orientation(self, c, where):

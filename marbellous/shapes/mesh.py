@@ -157,7 +157,11 @@ class TriangleMesh(Shape):
     diagonal): vertices closer than this count as one for adjacency.
 
     Problems (degenerate, duplicate or flipped triangles, non-manifold edges) give a warning with
-    their counts; :meth:`check` returns the full report.  Degenerate triangles never collide.
+    their counts; :meth:`check` returns the full report.  Degenerate triangles never collide; a mesh
+    whose triangles are all degenerate is refused (ValueError).  Limits: at most ``MAX_TRIANGLES``
+    triangles and vertices, vertices within +-1e12 m, ``weld_tolerance`` between 1e-12 and 1 times the
+    mesh's diagonal.  Immutable: ``vertices`` and ``triangles`` are read-only arrays, and assigning any
+    attribute raises AttributeError.
     """
 
     __slots__ = ("_vertices", "_triangles", "_accel", "_weld_tolerance", "_lo", "_hi", "_adj", "_report",

@@ -46,7 +46,7 @@ class MarbellousEnv(gym.Env):
 
     def __init__(self, level=None, *, frame_skip=4, max_episode_steps=1500, goal_reward=10.0,
                  fall_penalty=5.0, start_jitter=0.3, render_mode=None, size=(320, 180)):
-        if render_mode not in (None, "rgb_array") or not (render_mode is None or isinstance(render_mode, str)):
+        if not (render_mode is None or (isinstance(render_mode, str) and render_mode == "rgb_array")):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         frame_skip = as_int("frame_skip", frame_skip, lo=1, hi=MAX_FRAME_SKIP)
         max_episode_steps = as_int("max_episode_steps", max_episode_steps, lo=1, hi=MAX_EPISODE_STEPS)
