@@ -40,6 +40,8 @@ def _subnormal():
         lambda x: st.sampled_from([x, -x]))
 
 
+#: kinds for which +inf is a valid value (an unbounded ray)
+INF_OK = {"max_distance"}
 SCALAR_RULES = {   # kind: (lo, hi) of the valid range (None: unbounded; lo > 0 means positive)
     "size": (1e-6, 1e6), "coord": (-1e12, 1e12), "length": (TINY, 2e12), "length0": (0.0, 2e12),
     "rod_length": (TINY, 2e12), "mass": (1e-30, 1e30), "density": (1e-6, 1e6), "friction": (0.0, 1e3),
@@ -69,7 +71,8 @@ def bad_values(kind):
     if kind in SCALAR_RULES:
         lo, hi = SCALAR_RULES[kind]
         extra = [_subnormal()] if lo is not None and lo > 0 else []     # (subnormal is fine where 0 is)
-        return st.one_of(listed, _wrong_scalar_types(), _nonfinite(), _out_of_range(lo, hi), *extra)
+        nonfinite = _nonfinite().filter(lambda x: x != math.inf) if kind in INF_OK else _nonfinite()
+        return st.one_of(listed, _wrong_scalar_types(), nonfinite, _out_of_range(lo, hi), *extra)
     if kind in ("vec3", "speed3", "accel3", "force3", "point3", "offset3", "direction", "quat", "half_extents",
                 "action"):
         n = {"quat": 4, "action": 2}.get(kind, 3)
