@@ -5,24 +5,38 @@ revision when the body was made: once the body is removed (or a restore drops it
 on, and any use of the handle raises instead of touching whatever body takes the row next.  The same
 ``Body`` object is handed back wherever the world refers to that body.
 """
+import functools
+
 import numpy as np
 
-from ._validate import as_quat, as_vec3
+from ._validate import MAX_FORCE, MAX_SPEED, as_quat, as_vec3
 from .math3d import quat_to_matrix_np
 from .state import layout as L
 
+_as_speed = functools.partial(as_vec3, bound=MAX_SPEED, unit="m/s")
+_as_angular_speed = functools.partial(as_vec3, bound=MAX_SPEED, unit="rad/s")
+
 
 class Body:
-    """A rigid body in a :class:`marbellous.World` (created by ``add_body`` or ``add_static``)."""
+    """A rigid body in a :class:`marbellous.World` (created by ``add_body`` or ``add_static``).
 
-    __slots__ = ("_world", "_index", "_revision", "shapes", "__weakref__")
+    Setters validate as ``add_body`` does: positions within +-1e12 m, velocities within +-1e9 m/s
+    (rad/s), forces, torques and impulses within +-1e20 N (N m, N s) per component.  A handle has no
+    other attributes: assigning an unknown one raises AttributeError."""
+
+    __slots__ = ("_world", "_index", "_revision", "_shapes", "__weakref__")
 
     def __init__(self, world, index, revision, shapes):
         self._world = world
         self._index = index
         self._revision = revision
-        #: The body's shapes as ``(shape, local_position, local_orientation)`` tuples (frame: centre of mass).
-        self.shapes = shapes
+        self._shapes = tuple((s, _frozen(p), _frozen(q)) for s, p, q in shapes)
+
+    @property
+    def shapes(self):
+        """The body's shapes as a list of ``(shape, local_position (m), local_orientation (w, x, y, z))``
+        tuples in the frame of its centre of mass (new arrays: editing them changes nothing)."""
+        return [(s, p.copy(), q.copy()) for s, p, q in self._shapes]
 
     # --- internals ---------------------------------------------------------------------------
     def _state(self):
@@ -71,7 +85,7 @@ class Body:
 
     @velocity.setter
     def velocity(self, value):
-        self._set_state(L.VEL, 3, value, "velocity", as_vec3)
+        self._set_state(L.VEL, 3, value, "velocity", _as_speed)
 
     @property
     def angular_velocity(self):
@@ -80,7 +94,7 @@ class Body:
 
     @angular_velocity.setter
     def angular_velocity(self, value):
-        self._set_state(L.OMEGA, 3, value, "angular_velocity", as_vec3)
+        self._set_state(L.OMEGA, 3, value, "angular_velocity", _as_angular_speed)
 
     @property
     def mass(self):
@@ -118,7 +132,7 @@ class Body:
         The torque about the centre of mass is ``(point - x) x force``.
         """
         row = self._row()
-        f = as_vec3("force", force)
+        f = as_vec3("force", force, bound=MAX_FORCE, unit="N")
         p = None if point is None else as_vec3("point", point)
         if self.is_static:
             return
@@ -130,7 +144,7 @@ class Body:
     def apply_torque(self, torque):
         """Add a world-space ``torque`` (N m) for the next step."""
         row = self._row()
-        t = as_vec3("torque", torque)
+        t = as_vec3("torque", torque, bound=MAX_FORCE, unit="N m")
         if self.is_static:
             return
         row[L.TORQUE:L.TORQUE + 3] += t
@@ -142,7 +156,7 @@ class Body:
         ``dv = J / m``, ``domega = I_w^-1 ((point - x) x J)``.
         """
         row = self._row()
-        j = as_vec3("impulse", impulse)
+        j = as_vec3("impulse", impulse, bound=MAX_FORCE, unit="N s")
         p = None if point is None else as_vec3("point", point)
         if self.is_static:
             return
@@ -161,3 +175,10 @@ class Body:
             return "<Body removed>"
         x, y, z = (float(v) for v in self.position)
         return f"<Body {kind} #{self._index} at ({x:.4g}, {y:.4g}, {z:.4g})>"
+
+
+def _frozen(arr):
+    """A read-only float64 copy of ``arr``."""
+    out = np.array(arr, dtype=np.float64)
+    out.flags.writeable = False
+    return out

@@ -7,6 +7,9 @@
 Each subcommand is a :class:`Command`: a name, a one-line help, a function that adds its arguments to
 an ``argparse`` parser, and a function that runs it and returns the exit code.  To add one, append a
 ``Command`` to :data:`COMMANDS`.
+
+Bad arguments and bad level files end in one line on stderr, ``marbellous COMMAND: error: ...``, and
+exit status 2 (no traceback).
 """
 import argparse
 import sys
@@ -43,6 +46,11 @@ def _demo_arguments(p):
                    help="also save a PNG every 4 s of video and of the last frame into DIR")
 
 
+#: Longest demo (simulated seconds) and the range of its frame rate (frames per second).
+MAX_DEMO_SECONDS = 3600.0
+FPS_RANGE = (1, 240)
+
+
 def _parse_size(text):
     try:
         w, h = (int(v) for v in text.lower().split("x"))
@@ -56,8 +64,10 @@ def _parse_size(text):
 def _run_demo(args):
     from .app.demo import run_demo
 
-    if not args.seconds > 0:
-        raise ValueError(f"--seconds must be > 0, got {args.seconds}")
+    if not 0 < args.seconds <= MAX_DEMO_SECONDS:
+        raise ValueError(f"--seconds must be > 0 and at most {MAX_DEMO_SECONDS:g}, got {args.seconds}")
+    if not FPS_RANGE[0] <= args.fps <= FPS_RANGE[1]:
+        raise ValueError(f"--fps must be between {FPS_RANGE[0]} and {FPS_RANGE[1]}, got {args.fps}")
     if not args.out.lower().endswith((".mp4", ".gif")):
         raise ValueError(f"--out must end in .mp4 or .gif, got {args.out!r}")
     result = run_demo(args.level, args.out, args.seconds, fps=args.fps, size=_parse_size(args.size),
@@ -100,13 +110,20 @@ COMMANDS = [
 ]
 
 
+class _Parser(argparse.ArgumentParser):
+    """An ``argparse`` parser whose usage errors are one line on stderr (exit status 2)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser():
     """The ``argparse`` parser with every command in :data:`COMMANDS`."""
     from . import __version__
 
-    parser = argparse.ArgumentParser(prog="marbellous", description="Marbellous: a marble game and its physics engine")
+    parser = _Parser(prog="marbellous", description="Marbellous: a marble game and its physics engine")
     parser.add_argument("--version", action="version", version=f"marbellous {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True, parser_class=_Parser)
     for cmd in COMMANDS:
         cmd.add_arguments(sub.add_parser(cmd.name, help=cmd.help, description=cmd.help))
     return parser
@@ -119,8 +136,11 @@ def main(argv=None):
     run = {c.name: c.run for c in COMMANDS}[args.command]
     try:
         return run(args)
-    except (ValueError, OSError) as e:
-        print(f"marbellous {args.command}: error: {e}", file=sys.stderr)
+    except (ValueError, OSError, RecursionError, MemoryError) as e:
+        text = " ".join(str(e).split()) or type(e).__name__
+        if isinstance(e, (RecursionError, MemoryError)):
+            text = f"{type(e).__name__}: {text}"
+        print(f"marbellous {args.command}: error: {text}", file=sys.stderr)
         return 2
 
 

@@ -7,16 +7,24 @@ from .state import layout as L
 class Constraint:
     """Base of the constraint handles: a thin view over one row of the world's constraint table."""
 
-    __slots__ = ("_world", "_index", "_revision", "body_a", "body_b", "__weakref__")
+    __slots__ = ("_world", "_index", "_revision", "_body_a", "_body_b", "__weakref__")
 
     def __init__(self, world, index, revision, body_a, body_b):
         self._world = world
         self._index = index
         self._revision = revision
-        #: The first body (``Body``).
-        self.body_a = body_a
-        #: The second body, or None when the constraint is attached to the world.
-        self.body_b = body_b
+        self._body_a = body_a
+        self._body_b = body_b
+
+    @property
+    def body_a(self):
+        """The first body (``Body``)."""
+        return self._body_a
+
+    @property
+    def body_b(self):
+        """The second body (``Body``), or None when the constraint is attached to the world."""
+        return self._body_b
 
     def _rows(self):
         w = self._world

@@ -6,7 +6,10 @@ import platform
 import numpy as np
 
 from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
-from ._validate import as_choice, as_float, as_int, as_quat, as_vec3
+from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_FRICTION, MAX_HERTZ,
+                        MAX_INERTIA_RATIO, MAX_MASS,
+                        MAX_SIZE, MAX_SPEED, MAX_STIFFNESS, MIN_DENSITY, MIN_DT, MIN_HERTZ, MIN_MASS, as_choice,
+                        as_direction, as_flag, as_float, as_int, as_quat, as_vec3)
 from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import Cable, Constraint, Rod, Spring
@@ -29,6 +32,10 @@ BROADPHASES = tuple(BROADPHASE_CODES)
 DEFAULT_DENSITY = 1000.0
 DEFAULT_SUBSTEPS = 4
 DEFAULT_ITERATIONS = 4
+#: ``World.advance`` with ``max_steps=None`` takes at most this much simulated time (s) per call.
+MAX_ADVANCE_TIME = 0.25
+#: Most steps one ``World.advance`` call may be asked to take.
+MAX_ADVANCE_STEPS = 1_000_000
 
 
 def _parse_shapes(shape):
@@ -42,10 +49,13 @@ def _parse_shapes(shape):
     parts = []
     for k, item in enumerate(items):
         name = "shape" if len(items) == 1 else f"shape[{k}]"
+        if type(item) is Shape or (isinstance(item, tuple) and item and type(item[0]) is Shape):
+            raise TypeError(f"{name} must be a concrete shape (Sphere, Box, Capsule, Plane, HeightField, "
+                            "TriangleMesh), not the base class Shape")
         if isinstance(item, Shape):
             parts.append((item, np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])))
         elif isinstance(item, tuple) and 2 <= len(item) <= 3 and isinstance(item[0], Shape):
-            pos = as_vec3(f"{name} position", item[1])
+            pos = as_vec3(f"{name} position", item[1], bound=MAX_SIZE)
             quat = as_quat(f"{name} orientation", item[2]) if len(item) == 3 else np.array([1.0, 0, 0, 0])
             parts.append((item[0], pos, quat))
         else:
@@ -54,17 +64,15 @@ def _parse_shapes(shape):
 
 
 def _material(friction, static_friction, restitution, rolling_friction):
-    mu = as_float("friction", friction, nonnegative=True)
-    mu_s = mu if static_friction is None else as_float("static_friction", static_friction, nonnegative=True)
+    mu = as_float("friction", friction, nonnegative=True, hi=MAX_FRICTION)
+    mu_s = mu if static_friction is None else as_float("static_friction", static_friction, nonnegative=True,
+                                                        hi=MAX_FRICTION)
     e = as_float("restitution", restitution, lo=0.0, hi=1.0)
-    roll = as_float("rolling_friction", rolling_friction, nonnegative=True)
+    roll = as_float("rolling_friction", rolling_friction, nonnegative=True, hi=MAX_SIZE, unit="m")
     return mu, mu_s, e, roll
 
 
-def _check_flag(name, value):
-    if not isinstance(value, bool):
-        raise TypeError(f"{name} must be True or False, got {value!r}")
-    return value
+_check_flag = as_flag
 
 
 class World:
@@ -79,24 +87,29 @@ class World:
 
     # Physical tunables: validated on assignment; docs/architecture.md explains each in physical terms.
     speculative_distance = Tunable(0.02, "gap (m) below which a contact is made before bodies touch",
-                                    nonnegative=True)
+                                    nonnegative=True, hi=MAX_SIZE)
     contact_hertz = Tunable(60.0, "stiffness of contact position correction, as a frequency (Hz); "
-                                   "capped at a quarter of the sub-step rate", positive=True)
-    contact_damping_ratio = Tunable(10.0, "damping ratio of contact position correction", nonnegative=True)
+                                   "capped at a quarter of the sub-step rate", lo=MIN_HERTZ, hi=MAX_HERTZ)
+    contact_damping_ratio = Tunable(10.0, "damping ratio of contact position correction", nonnegative=True,
+                                    hi=1e6)
     joint_hertz = Tunable(60.0, "stiffness of rod and cable correction (Hz); capped at half the sub-step rate",
-                           positive=True)
-    joint_damping_ratio = Tunable(2.0, "damping ratio of rod and cable correction", nonnegative=True)
+                           lo=MIN_HERTZ, hi=MAX_HERTZ)
+    joint_damping_ratio = Tunable(2.0, "damping ratio of rod and cable correction", nonnegative=True, hi=1e6)
     max_push_speed = Tunable(3.0, "fastest speed (m/s) at which overlapping bodies are pushed apart",
-                              positive=True)
+                              positive=True, hi=MAX_SPEED)
     slide_speed = Tunable(0.01, "tangential speed (m/s) above which a new contact slides (dynamic "
-                                 "friction) rather than sticks (static friction)", nonnegative=True)
+                                 "friction) rather than sticks (static friction)", nonnegative=True,
+                          hi=MAX_SPEED)
     velocity_tolerance = Tunable(1e-5, "the solver stops iterating a sub-step once no velocity changes by "
-                                        "more than this (m/s)", nonnegative=True)
-    sleep_linear_speed = Tunable(0.05, "a body slower than this (m/s) is at rest", nonnegative=True)
-    sleep_angular_speed = Tunable(0.05, "a body turning slower than this (rad/s) is at rest", nonnegative=True)
-    time_to_sleep = Tunable(0.5, "seconds an island must rest before it sleeps", positive=True)
+                                        "more than this (m/s)", nonnegative=True, hi=MAX_SPEED)
+    sleep_linear_speed = Tunable(0.05, "a body slower than this (m/s) is at rest", nonnegative=True,
+                                 hi=MAX_SPEED)
+    sleep_angular_speed = Tunable(0.05, "a body turning slower than this (rad/s) is at rest", nonnegative=True,
+                                  hi=MAX_SPEED)
+    time_to_sleep = Tunable(0.5, "seconds an island must rest before it sleeps", positive=True, hi=1e9)
     penalty_hertz = Tunable(30.0, "solver \"penalty\": frequency (Hz) of the contact springs, capped at "
-                                   "0.064 times the sub-step rate for stability", positive=True)
+                                   "0.064 times the sub-step rate for stability", lo=MIN_HERTZ,
+                            hi=MAX_HERTZ)
     lcp_sweeps = Tunable(100.0, "solver \"lcp\": most projected Gauss-Seidel sweeps per solve (a whole "
                                  "number)", lo=1.0, hi=1e6)
     lcp_relaxation = Tunable(1.0, "solver \"lcp\": over-relaxation factor of projected Gauss-Seidel, in "
@@ -131,12 +144,12 @@ class World:
     # --- properties -------------------------------------------------------------------------------
     @property
     def gravity(self):
-        """Gravitational acceleration (m/s^2)."""
+        """Gravitational acceleration (m/s^2), each component within +-1e6."""
         return self._gravity.copy()
 
     @gravity.setter
     def gravity(self, value):
-        self._gravity = as_vec3("gravity", value)
+        self._gravity = as_vec3("gravity", value, bound=MAX_ACCELERATION, unit="m/s^2")
         self._params_dt = None
 
     @property
@@ -282,7 +295,10 @@ class World:
         (kg/m^3, default 1000), not both.  ``friction`` is the sliding (dynamic) Coulomb coefficient,
         ``static_friction`` the sticking one (None: same), ``restitution`` in [0, 1],
         ``rolling_friction`` (m) the lever arm of the rolling resistance: the resisting torque is at most
-        ``rolling_friction * normal force`` (0.01 = 1 cm).
+        ``rolling_friction * normal force`` (0.01 = 1 cm).  Bounds (``marbellous._validate``):
+        position within +-1e12 m, velocities within +-1e9 m/s (rad/s), mass 1e-30 .. 1e30 kg,
+        density 1e-6 .. 1e6 kg/m^3, friction 0 .. 1000; a compound's parts within 1e6 m of its origin; the
+        principal moments of inertia within a factor 1e10 of each other.
         """
         parts = _parse_shapes(shape)
         for s, _, _ in parts:
@@ -290,16 +306,25 @@ class World:
                 raise ValueError(f"shape {type(s).__name__} is static only: use add_static")
         pos = as_vec3("position", position)
         quat = as_quat("orientation", orientation)
-        vel = as_vec3("velocity", velocity)
-        omega = as_vec3("angular_velocity", angular_velocity)
+        vel = as_vec3("velocity", velocity, bound=MAX_SPEED, unit="m/s")
+        omega = as_vec3("angular_velocity", angular_velocity, bound=MAX_SPEED, unit="rad/s")
         if mass is not None and density is not None:
             raise ValueError("give mass or density, not both")
         if mass is not None:
-            mass = as_float("mass", mass, positive=True)
-        rho = DEFAULT_DENSITY if density is None else as_float("density", density, positive=True)
+            mass = as_float("mass", mass, lo=MIN_MASS, hi=MAX_MASS, unit="kg")
+        rho = DEFAULT_DENSITY if density is None else as_float("density", density, lo=MIN_DENSITY,
+                                                                 hi=MAX_DENSITY, unit="kg/m^3")
         material = _material(friction, static_friction, restitution, rolling_friction)
         sensor = _check_flag("sensor", sensor)
         m, com, inertia = compound_mass_properties(parts, rho, mass)
+        if mass is None and not MIN_MASS <= m <= MAX_MASS:
+            raise ValueError(f"density: the body's mass from density {rho!r} kg/m^3 would be {m:.3g} kg, "
+                             f"outside {MIN_MASS:g} .. {MAX_MASS:g} kg")
+        moments = np.linalg.eigvalsh(inertia) if np.all(np.isfinite(inertia)) else np.zeros(3)
+        if not (moments[0] > 0.0 and moments[2] <= MAX_INERTIA_RATIO * moments[0]):
+            raise ValueError(f"shape: the body's principal moments of inertia ({moments[0]:.3g} .. {moments[2]:.3g} "
+                             f"kg m^2) differ by more than a factor {MAX_INERTIA_RATIO:g}; so thin a body spins "
+                             "up from rounding alone: make it thicker or its parts closer")
         inverse = inverse_inertia_np(inertia)
         # Shapes are stored relative to the centre of mass: the body's origin is its centre of mass.
         parts = [(s, p - com, q) for s, p, q in parts]
@@ -396,7 +421,8 @@ class World:
         st = self._state
         if st.bi[ia, L.FLAGS] & L.F_STATIC and (ib < 0 or st.bi[ib, L.FLAGS] & L.F_STATIC):
             raise ValueError("a constraint needs at least one dynamic body")
-        brk = math.inf if breaking_force is None else as_float("breaking_force", breaking_force, positive=True)
+        brk = math.inf if breaking_force is None else as_float("breaking_force", breaking_force, positive=True,
+                                                                 unit="N")
         c = st.insert_constraint(ctype, ia, ib, anchor_a, anchor_b, length, stiffness, damping, brk)
         handle = cls(self, c, int(st.constraints.revision[c]), a, b)
         if c == len(self._constraint_at):
@@ -416,9 +442,9 @@ class World:
         ``F = -k (l - l0) - c dl/dt`` with ``rest_length`` l0 (m), ``stiffness`` k (N/m), ``damping`` c
         (N s/m); anchors in each body's frame (m).  Past ``breaking_force`` (N) it breaks for good.
         """
-        l0 = as_float("rest_length", rest_length, nonnegative=True)
-        k = as_float("stiffness", stiffness, nonnegative=True)
-        c = as_float("damping", damping, nonnegative=True)
+        l0 = as_float("rest_length", rest_length, nonnegative=True, hi=2 * MAX_COORD, unit="m")
+        k = as_float("stiffness", stiffness, nonnegative=True, hi=MAX_STIFFNESS, unit="N/m")
+        c = as_float("damping", damping, nonnegative=True, hi=MAX_STIFFNESS, unit="N s/m")
         pa = as_vec3("anchor_a", anchor_a)
         pb = as_vec3("anchor_b", anchor_b)
         return self._insert_constraint(Spring, L.KT_SPRING, a, b, pa, pb, l0, k, c, breaking_force)
@@ -438,12 +464,12 @@ class World:
         """An inextensible cable: the anchors stay at most ``max_length`` (m) apart, slack when closer."""
         pa = as_vec3("anchor_a", anchor_a)
         pb = as_vec3("anchor_b", anchor_b)
-        length = as_float("max_length", max_length, positive=True)
+        length = as_float("max_length", max_length, positive=True, hi=2 * MAX_COORD, unit="m")
         return self._insert_constraint(Cable, L.KT_CABLE, a, b, pa, pb, length)
 
     def _joint_length(self, name, length, a, b, pa, pb):
         if length is not None:
-            return as_float(name, length, positive=True)
+            return as_float(name, length, positive=True, hi=2 * MAX_COORD, unit="m")
         bf = self._state.bf
         ia = self._check_body(a, "a")
         wa = bf[ia, L.POS:L.POS + 3] + quat_to_matrix_np(bf[ia, L.QUAT:L.QUAT + 4]) @ pa
@@ -453,15 +479,16 @@ class World:
             ib = self._check_body(b, "b")
             wb = bf[ib, L.POS:L.POS + 3] + quat_to_matrix_np(bf[ib, L.QUAT:L.QUAT + 4]) @ pb
         d = float(np.linalg.norm(wb - wa))
-        if d <= 0.0:
+        if not d >= 1e-9:
             raise ValueError(f"{name} is None and the anchors coincide: give a positive {name}")
         return d
 
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt):
-        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps)."""
+        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps); ``dt`` in
+        [1e-6, 1] s (``_validate.MIN_DT``, ``MAX_DT``)."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
-            dt = as_float("dt", dt, positive=True)
+            dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
@@ -472,18 +499,25 @@ class World:
 
         Returns the interpolation ``alpha = leftover / dt`` in [0, 1) for rendering between the last two
         states.  Time is kept in whole steps plus a remainder so no step is lost to round-off.
-        ``max_steps`` (None: unlimited) caps the steps per call; the excess time is dropped.
+        ``max_steps`` caps the steps of this call (None: as many as 0.25 s of simulated time,
+        ``ceil(0.25 / dt)``; at most 1,000,000); the excess frame time is dropped, so a stalled frame
+        (or a huge ``frame_time``) never stalls the game.  ``frame_time`` >= 0 s, finite; ``dt`` in
+        [1e-6, 1] s.
         """
-        frame_time = as_float("frame_time", frame_time, nonnegative=True)
-        dt = as_float("dt", dt, positive=True)
-        if max_steps is not None:
-            max_steps = as_int("max_steps", max_steps, lo=1)
+        frame_time = as_float("frame_time", frame_time, nonnegative=True, unit="s")
+        dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
+        if max_steps is None:
+            max_steps = math.ceil(MAX_ADVANCE_TIME / dt)
+        else:
+            max_steps = as_int("max_steps", max_steps, lo=1, hi=MAX_ADVANCE_STEPS)
         acc = self._accumulator + frame_time
         # A step is due when the accumulator reaches dt up to round-off in the sum.
-        n = math.floor(acc / dt + 1e-9)
-        if max_steps is not None and n > max_steps:
+        due = acc / dt + 1e-9
+        if due >= max_steps + 1:          # (also when acc / dt overflows to inf)
             n = max_steps
             acc = n * dt
+        else:
+            n = math.floor(due)
         for _ in range(n):
             self.step(dt)
         self._accumulator = max(acc - n * dt, 0.0)
@@ -508,21 +542,19 @@ class World:
     def raycast(self, origin, direction, max_distance=math.inf):
         """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
 
-        ``direction`` need not be unit length (it must not be zero).  Returns a :class:`RayHit` or None.
+        ``origin`` within +-1e12 m; ``direction`` any finite nonzero vector (normalised here, safely for
+        huge or tiny components); ``max_distance`` >= 0 (inf: unbounded).  Returns a :class:`RayHit` or None.
         A ray that starts inside a solid shape hits it at distance 0.
         """
         o = as_vec3("origin", origin)
-        d = as_vec3("direction", direction)
-        length = float(np.linalg.norm(d))
-        if length == 0.0:
-            raise ValueError("direction must be a non-zero vector")
-        max_distance = as_float("max_distance", max_distance, nonnegative=True, allow_inf=True)
+        d = as_direction("direction", direction)
+        max_distance = as_float("max_distance", max_distance, nonnegative=True, allow_inf=True, unit="m")
         st = self._state
         hit = np.zeros(8)
         nb = st.bodies.end
         candidates = np.zeros(max(nb, 1), dtype=np.int64)
         found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
-                              st.broadphase_code, nb, o, d / length, max_distance, candidates, hit)
+                              st.broadphase_code, nb, o, d, max_distance, candidates, hit)
         if not found:
             return None
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))

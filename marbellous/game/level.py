@@ -41,11 +41,17 @@ A level is a TOML file (read with ``tomllib``, never evaluated).  Keys, units in
     path = [[x, y, z], ...]         # marble-centre waypoints from start to goal
     speeds = [v, ...]               # optional target speed (m/s) at each waypoint
 
-Every problem raises :class:`LevelError` (a ``ValueError``) naming the file and the key.
+Every problem raises :class:`LevelError` (a ``ValueError``) naming the file and the key, including
+problems found while building a collider's shape (a degenerate or truncated mesh, a height field too
+big).  Numbers are bounded: coordinates within ``MAX_EXTENT`` m of the origin, sizes in
+``[MIN_SIZE, MAX_EXTENT]`` m; the mesh files and height images of a level together hold at most
+``MAX_LEVEL_TRIANGLES`` triangles and ``MAX_LEVEL_POINTS`` height points, so a small level file cannot
+ask for gigabytes.
 """
 import math
 import numbers
 import pathlib
+import reprlib
 from dataclasses import dataclass, field
 
 try:
@@ -55,7 +61,10 @@ except ImportError:  # Python < 3.11
 
 import numpy as np
 
+from .._validate import MAX_FRICTION, MIN_SIZE, normalized
 from ..shapes import Box, Capsule, HeightField, Plane, Sphere, TriangleMesh
+from ..shapes.mesh import MAX_TRIANGLES
+from ..shapes.mesh_file import read_mesh_file
 
 #: Where the shipped levels live.
 LEVEL_DIR = pathlib.Path(__file__).resolve().parent.parent / "levels"
@@ -63,8 +72,19 @@ LEVEL_DIR = pathlib.Path(__file__).resolve().parent.parent / "levels"
 DEFAULT_LEVEL = "course"
 #: Limits that keep a hostile or broken level file from exhausting memory.
 MAX_FILE_BYTES = 64 * 1024 * 1024
+#: Largest level TOML file (bytes); the files it names may each be up to ``MAX_FILE_BYTES``.
+MAX_TOML_BYTES = 4 * 1024 * 1024
 MAX_IMAGE_SIDE = 2049
 MAX_COLLIDERS = 4096
+#: Most triangles of all the level's meshes together, and most points of all its height fields.
+MAX_LEVEL_TRIANGLES = 1 << 22
+MAX_LEVEL_POINTS = 1 << 23
+#: Every coordinate (m) of a level lies within this distance of the origin; sizes are at most this.
+MAX_EXTENT = 1e5
+#: Fastest course speed (m/s).
+MAX_COURSE_SPEED = 1e3
+#: Longest name and description (characters).
+MAX_TEXT = 4096
 
 _SHAPE_KEYS = {
     "plane": {"normal", "offset"},
@@ -102,6 +122,7 @@ class Collider:
     ``kind`` is the collider type; ``params`` its validated shape parameters; ``position`` (m) and
     ``orientation`` (w, x, y, z) its placement.  Meshes carry ``vertices`` (V, 3) float64 and
     ``triangles`` (T, 3) int64; height fields carry ``heights`` (nx, nz) float64 (m above ``origin``).
+    ``built`` caches the shape (made when the level is loaded, so that its problems name the file).
     """
 
     kind: str
@@ -112,9 +133,17 @@ class Collider:
     vertices: np.ndarray = None
     triangles: np.ndarray = None
     heights: np.ndarray = None
+    built: object = field(default=None, repr=False, compare=False)
 
     def shape(self):
-        """The ``marbellous`` shape of this collider (built on each call)."""
+        """The ``marbellous`` shape of this collider (built once, when the level is loaded; shapes are
+        immutable, so every world may share it)."""
+        if self.built is None:
+            self.built = self.make_shape()
+        return self.built
+
+    def make_shape(self):
+        """A new ``marbellous`` shape of this collider."""
         p = self.params
         if self.kind == "plane":
             return Plane(normal=p["normal"], offset=p["offset"])
@@ -200,15 +229,30 @@ def resolve_level(name_or_path):
 
 
 def load_level(name_or_path=None):
-    """Load and validate a level: a shipped level's name (``"course"``) or a path to a TOML file."""
+    """Load and validate a level: a shipped level's name (``"course"``) or a path to a TOML file.
+
+    Every problem raises :class:`LevelError` naming the file and the key (see the module docstring)."""
     path = resolve_level(name_or_path)
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise LevelError(f"{path.name}: file is larger than {MAX_FILE_BYTES} bytes")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        size = path.stat().st_size
+        if size > MAX_TOML_BYTES:
+            raise LevelError(f"{path.name}: file is larger than {MAX_TOML_BYTES} bytes")
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise LevelError(f"{path.name}: not a valid TOML file (not UTF-8 text: {e})") from None
+    except OSError as e:
+        raise LevelError(f"{path.name}: cannot read the file: {e.strerror or e}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
         raise LevelError(f"{path.name}: not a valid TOML file: {e}") from None
+    except RecursionError:
+        raise LevelError(f"{path.name}: not a valid level file: arrays or tables nested too deeply") from None
     return _Parser(path).level(data)
+
+
+_SHORT = reprlib.Repr()
+_SHORT.maxlevel, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxstring, _SHORT.maxother = 3, 6, 6, 60, 60
 
 
 class _Parser:
@@ -216,9 +260,11 @@ class _Parser:
 
     def __init__(self, path):
         self.path = path
+        self.triangles = 0      # triangles of the meshes read so far
+        self.points = 0         # points of the height fields read so far
 
     def fail(self, key, rule, value):
-        raise LevelError(f"{self.path.name}: {key} {rule}, got {value!r}")
+        raise LevelError(f"{self.path.name}: {key} {rule}, got {_SHORT.repr(value)}")
 
     def table(self, data, key, required=True):
         if key.split(".")[-1] not in data:
@@ -233,10 +279,11 @@ class _Parser:
     def unknown(self, table, allowed, where):
         extra = sorted(set(table) - set(allowed))
         if extra:
-            raise LevelError(f"{self.path.name}: unknown key {where + '.' if where else ''}{extra[0]!s} "
+            raise LevelError(f"{self.path.name}: unknown key {where + '.' if where else ''}{_SHORT.repr(extra[0])} "
                              f"(allowed: {', '.join(sorted(allowed))})")
 
     def number(self, table, key, where, *, default=None, positive=False, lo=None, hi=None):
+        """A finite number within ``[lo, hi]`` (and ``+-MAX_EXTENT`` unless other bounds are given)."""
         name = f"{where}.{key}" if where else key
         if key not in table:
             if default is None:
@@ -245,6 +292,10 @@ class _Parser:
         v = table[key]
         if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
             self.fail(name, "must be a finite number", v)
+        if lo is None:
+            lo = MIN_SIZE if positive else -MAX_EXTENT
+        if hi is None:
+            hi = MAX_EXTENT
         if positive and not v > 0:
             self.fail(name, "must be > 0", v)
         if lo is not None and v < lo:
@@ -262,12 +313,18 @@ class _Parser:
         return self.vector_value(table[key], name, n, positive=positive)
 
     def vector_value(self, v, name, n=3, *, positive=False):
+        """A list of ``n`` finite numbers within ``+-MAX_EXTENT`` (``positive``: sizes, each in
+        ``[MIN_SIZE, MAX_EXTENT]``)."""
         ok = (isinstance(v, list) and len(v) == n
               and all(isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(x) for x in v))
         if not ok:
             self.fail(name, f"must be a list of {n} finite numbers", v)
         if positive and min(v) <= 0:
             self.fail(name, "must have every component > 0", v)
+        if positive and min(v) < MIN_SIZE:
+            self.fail(name, f"must have every component >= {MIN_SIZE:g} m", v)
+        if max(abs(x) for x in v) > MAX_EXTENT:
+            self.fail(name, f"must have every component within +-{MAX_EXTENT:g}", v)
         return np.array(v, dtype=np.float64)
 
     def string(self, table, key, where, default=None):
@@ -278,16 +335,23 @@ class _Parser:
             return default
         if not isinstance(table[key], str):
             self.fail(name, "must be a string", table[key])
+        if len(table[key]) > MAX_TEXT:
+            self.fail(name, f"must be at most {MAX_TEXT} characters", table[key])
         return table[key]
 
     def file(self, table, key, where):
         name = f"{where}.{key}"
         rel = self.string(table, key, where)
-        p = (self.path.parent / rel).resolve()
-        if not p.is_file():
-            self.fail(name, f"must name an existing file (relative to {self.path.parent})", rel)
-        if p.stat().st_size > MAX_FILE_BYTES:
-            self.fail(name, f"must be at most {MAX_FILE_BYTES} bytes", rel)
+        try:
+            p = (self.path.parent / rel).resolve()
+            if not p.is_file():
+                self.fail(name, f"must name an existing file (relative to {self.path.parent})", rel)
+            if p.stat().st_size > MAX_FILE_BYTES:
+                self.fail(name, f"must be at most {MAX_FILE_BYTES} bytes", rel)
+        except (OSError, ValueError) as e:     # (a name with NUL bytes, a file we may not read, ...)
+            if isinstance(e, LevelError):
+                raise
+            self.fail(name, f"must name a readable file ({e})", rel)
         return p
 
     def level(self, data):
@@ -331,15 +395,15 @@ class _Parser:
             if not isinstance(m, dict):
                 self.fail(where, "must be a table", m)
             self.unknown(m, _MATERIAL_KEYS, where)
-            friction = self.number(m, "friction", where, lo=0.0)
+            friction = self.number(m, "friction", where, lo=0.0, hi=MAX_FRICTION)
             color = self.vector(m, "color", where, default=(0.7, 0.7, 0.7))
             if color.min() < 0 or color.max() > 1:
                 self.fail(f"{where}.color", "must have components in [0, 1]", m["color"])
             out[name] = Material(
                 name=name, friction=friction,
-                static_friction=self.number(m, "static_friction", where, default=friction, lo=0.0),
+                static_friction=self.number(m, "static_friction", where, default=friction, lo=0.0, hi=MAX_FRICTION),
                 restitution=self.number(m, "restitution", where, default=0.0, lo=0.0, hi=1.0),
-                rolling_friction=self.number(m, "rolling_friction", where, default=0.0, lo=0.0),
+                rolling_friction=self.number(m, "rolling_friction", where, default=0.0, lo=0.0, hi=MAX_EXTENT),
                 color=tuple(float(x) for x in color))
         return out
 
@@ -357,22 +421,29 @@ class _Parser:
         p = col.params
         if kind == "plane":
             n = self.vector(c, "normal", where, default=(0.0, 1.0, 0.0))
-            if np.linalg.norm(n) < 1e-9:
+            if not np.any(n):
                 self.fail(f"{where}.normal", "must be non-zero", c.get("normal"))
-            p["normal"], p["offset"] = n / np.linalg.norm(n), self.number(c, "offset", where, default=0.0)
+            p["normal"], p["offset"] = normalized("normal", n), self.number(c, "offset", where, default=0.0)
             if "position" in c or "orientation" in c or "axis" in c:
                 raise LevelError(f"{self.path.name}: {where}: a plane is placed by normal and offset only")
         elif kind == "box":
             p["half_extents"] = self.vector(c, "half_extents", where, positive=True)
         elif kind == "sphere":
-            p["radius"] = self.number(c, "radius", where, positive=True)
+            p["radius"] = self.number(c, "radius", where, lo=MIN_SIZE)
         elif kind == "capsule":
-            p["radius"] = self.number(c, "radius", where, positive=True)
-            p["half_height"] = self.number(c, "half_height", where, lo=0.0)
+            p["radius"] = self.number(c, "radius", where, lo=MIN_SIZE)
+            p["half_height"] = self.number(c, "half_height", where, lo=MIN_SIZE)
         elif kind == "mesh":
             self.mesh(c, where, col)
         else:
             self.heightfield(c, where, col)
+        try:
+            col.shape()
+        except (ValueError, TypeError) as e:
+            key = f"{where}.file" if kind == "mesh" else f"{where}.image" if kind == "heightfield" else where
+            source = f" ({pathlib.Path(col.params.get('file') or col.params.get('image')).name})" \
+                if kind in ("mesh", "heightfield") else ""
+            raise LevelError(f"{self.path.name}: {key}{source}: {e}") from None
         return col
 
     def orientation(self, c, where):
@@ -380,28 +451,29 @@ class _Parser:
             if "axis" in c or "angle" in c:
                 raise LevelError(f"{self.path.name}: {where}: give either orientation or axis and angle, not both")
             q = self.vector(c, "orientation", where, n=4)
-            if np.linalg.norm(q) < 1e-9:
+            if not np.any(q):
                 self.fail(f"{where}.orientation", "must be a non-zero quaternion (w, x, y, z)", c["orientation"])
-            return q / np.linalg.norm(q)
+            return normalized("orientation", q)
         if "axis" in c or "angle" in c:
             axis = self.vector(c, "axis", where)
-            if np.linalg.norm(axis) < 1e-9:
+            if not np.any(axis):
                 self.fail(f"{where}.axis", "must be non-zero", c["axis"])
             angle = self.number(c, "angle", where)
-            axis = axis / np.linalg.norm(axis)
+            axis = normalized("axis", axis)
             return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
         return np.array([1.0, 0.0, 0.0, 0.0])
 
     def mesh(self, c, where, col):
-        import trimesh
-
         p = self.file(c, "file", where)
         try:
-            m = trimesh.load(p, force="mesh", process=False)
-        except Exception as e:  # trimesh raises many kinds of errors on malformed files
+            v, t = read_mesh_file(p, MAX_TRIANGLES, MAX_FILE_BYTES)
+        except (ValueError, TypeError) as e:
             raise LevelError(f"{self.path.name}: {where}.file: cannot read mesh {p.name}: {e}") from None
-        v, t = np.asarray(m.vertices, np.float64), np.asarray(m.faces, np.int64)
-        if len(t) == 0 or not np.all(np.isfinite(v)):
+        self.triangles += t.shape[0]
+        if self.triangles > MAX_LEVEL_TRIANGLES:
+            self.fail(f"{where}.file", f"brings the level's meshes over {MAX_LEVEL_TRIANGLES} triangles in all",
+                      p.name)
+        if not np.all(np.isfinite(v)):
             self.fail(f"{where}.file", "must hold a mesh with triangles and finite vertices", p.name)
         col.params["file"] = str(p)
         col.vertices, col.triangles = v, t
@@ -410,19 +482,26 @@ class _Parser:
         from PIL import Image
 
         p = self.file(c, "image", where)
+        scale = self.number(c, "height_scale", where, positive=True)
+        spacing = self.vector(c, "spacing", where, n=2, positive=True)
+        origin = tuple(self.vector(c, "origin", where, default=(0.0, 0.0, 0.0)))
         try:
             with Image.open(p) as img:
                 if max(img.size) > MAX_IMAGE_SIDE:
                     self.fail(f"{where}.image", f"must be at most {MAX_IMAGE_SIDE} pixels on a side", img.size)
+                if img.size[0] * img.size[1] + self.points > MAX_LEVEL_POINTS:
+                    self.fail(f"{where}.image", f"brings the level's height fields over {MAX_LEVEL_POINTS} "
+                                                "points in all", img.size)
                 grey = np.asarray(img.convert("L"), dtype=np.float64)
-        except (OSError, Image.DecompressionBombError) as e:
-            raise LevelError(f"{self.path.name}: {where}.image: cannot read image {p.name}: {e}") from None
-        if min(grey.shape) < 2:
+        except LevelError:
+            raise
+        except Exception as e:   # noqa: BLE001  (Pillow raises many kinds of errors on malformed images)
+            raise LevelError(f"{self.path.name}: {where}.image: cannot read image {p.name}: "
+                             f"{type(e).__name__}: {e}") from None
+        if grey.ndim != 2 or min(grey.shape) < 2:
             self.fail(f"{where}.image", "must be at least 2 x 2 pixels", grey.shape)
-        scale = self.number(c, "height_scale", where, positive=True)
-        spacing = self.vector(c, "spacing", where, n=2, positive=True)
-        col.params.update(image=str(p), spacing=tuple(spacing), height_scale=scale,
-                          origin=tuple(self.vector(c, "origin", where, default=(0.0, 0.0, 0.0))))
+        self.points += grey.size
+        col.params.update(image=str(p), spacing=tuple(spacing), height_scale=scale, origin=origin)
         col.heights = grey.T * (scale / 255.0)
 
     def course(self, course, level):
@@ -436,5 +515,5 @@ class _Parser:
             s = course["speeds"]
             if not isinstance(s, list) or len(s) != len(pts):
                 self.fail("course.speeds", "must be a list with one speed per path point", s)
-            level.speeds = np.array([self.number({f"speeds[{i}]": v}, f"speeds[{i}]", "course", positive=True)
-                                     for i, v in enumerate(s)])
+            level.speeds = np.array([self.number({f"speeds[{i}]": v}, f"speeds[{i}]", "course", positive=True,
+                                                 hi=MAX_COURSE_SPEED) for i, v in enumerate(s)])

@@ -8,21 +8,53 @@ or used in ``marbellous.collide``.
 Every shape exposes to the kernels a type code (``collision.shape_types``), a record of
 ``N_SHAPE_PARAMS`` floats, and optional bulk geometry (a float64 and an int64 array) for meshes and
 height fields.
+
+Shapes are immutable: the world copies a shape's record and geometry when a body is added, so a shape
+that changed afterwards would disagree with what the kernels use.  Assigning any attribute of a shape
+raises ``AttributeError``; vector attributes are returned as new arrays and bulk arrays (vertices,
+triangles, heights) as read-only views.  Sizes are in [1e-6, 1e6] m (``marbellous._validate``).
 """
 import math
 
 import numpy as np
 
-from .._validate import as_float, as_vec3
+from .._validate import MAX_SIZE, MIN_SIZE, as_direction, as_float, as_size, as_vec3
 from ..collision import shape_types as st
 
 
 class Shape:
-    """Base class of all shapes.  Not instantiated directly."""
+    """Base class of all shapes.  Not instantiated directly.  Shapes are immutable (see the module
+    docstring): their constructors set their slots with :meth:`_init`, and assignment raises."""
 
+    __slots__ = ("__weakref__",)
     _type = -1
     #: True for shapes that cannot move (plane, height field, triangle mesh).
     is_static_only = False
+
+    def _init(self, **values):
+        """Set the shape's slots (only constructors call this)."""
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"{type(self).__name__} is immutable: cannot set {name!r} (make a new shape)")
+
+    def __delattr__(self, name):
+        raise AttributeError(f"{type(self).__name__} is immutable: cannot delete {name!r}")
+
+    def __setstate__(self, state):
+        """Unpickling: set the slots again (arrays read-only, as the constructor left them)."""
+        slots = state[1] if isinstance(state, tuple) else state
+        for name, value in (slots or {}).items():
+            if isinstance(value, np.ndarray) and not name.startswith("_geom"):   # (kernels take _geom_*)
+                value.flags.writeable = False
+            object.__setattr__(self, name, value)
+
+    def __copy__(self):
+        return self
+
+    def __deepcopy__(self, memo):
+        return self
 
     def _params(self):
         """The kernel record: float64 array of ``N_SHAPE_PARAMS`` parameters."""
@@ -50,10 +82,16 @@ class Sphere(Shape):
     Inertia: ``I = 2/5 m r^2`` about every axis.
     """
 
+    __slots__ = ("_radius",)
     _type = st.SPHERE
 
     def __init__(self, radius):
-        self.radius = as_float("radius", radius, positive=True)
+        self._init(_radius=as_size("radius", radius))
+
+    @property
+    def radius(self):
+        """Radius (m), in [1e-6, 1e6]."""
+        return self._radius
 
     def _params(self):
         p = np.zeros(st.N_SHAPE_PARAMS)
@@ -81,35 +119,45 @@ class Box(Shape):
     Inertia: ``I_xx = m/3 (hy^2 + hz^2)`` and cyclic (``m/12 (a^2 + b^2)`` with full side lengths).
     """
 
+    __slots__ = ("_half_extents",)
     _type = st.BOX
 
-    def __init__(self, half_extents):
-        h = as_vec3("half_extents", half_extents)
-        if not np.all(h > 0.0):
-            raise ValueError(f"half_extents must all be > 0, got {tuple(h)}")
-        self.half_extents = h
+    def __init__(self, half_extents, *more):
+        if more:
+            raise TypeError(f"Box takes half_extents as one (hx, hy, hz) sequence: Box(({half_extents!r}, "
+                            f"{', '.join(repr(m) for m in more)})), not {1 + len(more)} separate arguments")
+        h = as_vec3("half_extents", half_extents, bound=MAX_SIZE)
+        if not np.all(h >= MIN_SIZE):
+            raise ValueError(f"half_extents must all be >= {MIN_SIZE:g} m (and <= {MAX_SIZE:g} m), got {tuple(h)}")
+        h.flags.writeable = False
+        self._init(_half_extents=h)
+
+    @property
+    def half_extents(self):
+        """Half extents ``(hx, hy, hz)`` (m, each in [1e-6, 1e6]) as a new array."""
+        return self._half_extents.copy()
 
     def _params(self):
         p = np.zeros(st.N_SHAPE_PARAMS)
-        p[0:3] = self.half_extents
+        p[0:3] = self._half_extents
         return p
 
     def volume(self):
         """Volume in m^3: ``8 hx hy hz``."""
-        hx, hy, hz = self.half_extents
+        hx, hy, hz = self._half_extents
         return 8.0 * hx * hy * hz
 
     def mass_properties(self, density):
         m = density * self.volume()
-        hx, hy, hz = self.half_extents
+        hx, hy, hz = self._half_extents
         return m, np.diag([m / 3.0 * (hy * hy + hz * hz), m / 3.0 * (hx * hx + hz * hz),
                            m / 3.0 * (hx * hx + hy * hy)])
 
     def bounding_radius(self):
-        return float(np.linalg.norm(self.half_extents))
+        return float(np.linalg.norm(self._half_extents))
 
     def __repr__(self):
-        return f"Box(half_extents={tuple(float(v) for v in self.half_extents)!r})"
+        return f"Box(half_extents={tuple(float(v) for v in self._half_extents)!r})"
 
 
 class Capsule(Shape):
@@ -120,11 +168,21 @@ class Capsule(Shape):
     ``I_xx = I_zz = mc (r^2/4 + h^2/12) + ms (2/5 r^2 + h^2/4 + 3/8 h r)``.
     """
 
+    __slots__ = ("_radius", "_half_height")
     _type = st.CAPSULE
 
     def __init__(self, radius, half_height):
-        self.radius = as_float("radius", radius, positive=True)
-        self.half_height = as_float("half_height", half_height, positive=True)
+        self._init(_radius=as_size("radius", radius), _half_height=as_size("half_height", half_height))
+
+    @property
+    def radius(self):
+        """Radius (m), in [1e-6, 1e6]."""
+        return self._radius
+
+    @property
+    def half_height(self):
+        """Half the length of the cylinder part (m), in [1e-6, 1e6]."""
+        return self._half_height
 
     def _params(self):
         p = np.zeros(st.N_SHAPE_PARAMS)
@@ -158,22 +216,30 @@ class Plane(Shape):
     ``normal`` is normalised; the solid lies below it.  Static only.
     """
 
+    __slots__ = ("_normal", "_offset")
     _type = st.PLANE
     is_static_only = True
 
     def __init__(self, normal=(0.0, 1.0, 0.0), offset=0.0):
-        n = as_vec3("normal", normal)
-        length = float(np.linalg.norm(n))
-        if length < 1e-12:
-            raise ValueError("normal must be a non-zero vector")
-        self.normal = n / length
-        self.offset = as_float("offset", offset)
+        n = as_direction("normal", normal)
+        n.flags.writeable = False
+        self._init(_normal=n, _offset=as_float("offset", offset, lo=-1e12, hi=1e12, unit="m"))
+
+    @property
+    def normal(self):
+        """Unit normal (new array): any finite nonzero vector given is normalised."""
+        return self._normal.copy()
+
+    @property
+    def offset(self):
+        """Offset (m) of the surface along the normal, within +-1e12."""
+        return self._offset
 
     def _params(self):
         p = np.zeros(st.N_SHAPE_PARAMS)
-        p[0:3] = self.normal
-        p[3] = self.offset
+        p[0:3] = self._normal
+        p[3] = self._offset
         return p
 
     def __repr__(self):
-        return f"Plane(normal={tuple(float(v) for v in self.normal)!r}, offset={self.offset!r})"
+        return f"Plane(normal={tuple(float(v) for v in self._normal)!r}, offset={self._offset!r})"

@@ -11,35 +11,60 @@
   the environment's generator, so equal seeds give equal episodes.
 """
 import math
+import os
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from ..._validate import as_float, as_int, as_vector
 from ...game.controls import move_for_direction
 from ...game.goal import BestTimes
 from ...game.level import load_level
 from ...game.session import Game
 
 
+#: Bounds of the environment's options (see :class:`MarbellousEnv`).
+MAX_FRAME_SKIP = 1000
+MAX_EPISODE_STEPS = 10 ** 9
+MAX_REWARD = 1e9
+MAX_START_JITTER = 1e3
+SIZE_RANGE = (16, 4096)
+
+
 class MarbellousEnv(gym.Env):
-    """Marble-rolling task on a Marbellous level (default: the course)."""
+    """Marble-rolling task on a Marbellous level (default: the course).
+
+    ``level``: a shipped level's name, a level file's path, or a loaded ``Level`` with a ``[course]``;
+    ``frame_skip`` (int, 1 .. 1000) physics steps per action; ``max_episode_steps`` (int >= 1);
+    ``goal_reward``, ``fall_penalty`` (finite, within +-1e9); ``start_jitter`` (m, 0 .. 1000);
+    ``render_mode`` None or ``"rgb_array"``; ``size`` (width, height) pixels, each 16 .. 4096.
+    Bad options raise ValueError or TypeError naming the option.
+    """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
 
     def __init__(self, level=None, *, frame_skip=4, max_episode_steps=1500, goal_reward=10.0,
                  fall_penalty=5.0, start_jitter=0.3, render_mode=None, size=(320, 180)):
-        if render_mode not in (None, "rgb_array"):
+        if not (render_mode is None or (isinstance(render_mode, str) and render_mode == "rgb_array")):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        if int(frame_skip) < 1:
-            raise ValueError(f"frame_skip must be >= 1, got {frame_skip!r}")
+        frame_skip = as_int("frame_skip", frame_skip, lo=1, hi=MAX_FRAME_SKIP)
+        max_episode_steps = as_int("max_episode_steps", max_episode_steps, lo=1, hi=MAX_EPISODE_STEPS)
+        goal_reward = as_float("goal_reward", goal_reward, lo=-MAX_REWARD, hi=MAX_REWARD)
+        fall_penalty = as_float("fall_penalty", fall_penalty, lo=-MAX_REWARD, hi=MAX_REWARD)
+        start_jitter = as_float("start_jitter", start_jitter, lo=0.0, hi=MAX_START_JITTER, unit="m")
+        if isinstance(size, (str, bytes)) or not hasattr(size, "__len__") or len(size) != 2:
+            raise TypeError(f"size must be (width, height) in pixels, got {size!r}")
+        size = tuple(as_int(f"size[{k}]", v, lo=SIZE_RANGE[0], hi=SIZE_RANGE[1]) for k, v in enumerate(size))
+        if level is not None and not isinstance(level, (str, os.PathLike)) and not hasattr(level, "colliders"):
+            raise TypeError(f"level must be a level name, a path or a loaded Level, got {level!r}")
         self.level = load_level(level) if level is None or not hasattr(level, "colliders") else level
         if self.level.path is None:
             raise ValueError(f"level {self.level.name!r} has no [course] path to measure progress along")
-        self.frame_skip, self.max_episode_steps = int(frame_skip), int(max_episode_steps)
-        self.goal_reward, self.fall_penalty = float(goal_reward), float(fall_penalty)
-        self.start_jitter = float(start_jitter)
-        self.render_mode, self.size = render_mode, tuple(size)
+        self.frame_skip, self.max_episode_steps = frame_skip, max_episode_steps
+        self.goal_reward, self.fall_penalty = goal_reward, fall_penalty
+        self.start_jitter = start_jitter
+        self.render_mode, self.size = render_mode, size
         bound = np.full(9, np.finfo(np.float32).max, np.float32)
         self.observation_space = spaces.Box(-bound, bound, dtype=np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
@@ -51,6 +76,16 @@ class MarbellousEnv(gym.Env):
         return np.concatenate([b.position, b.velocity, self.level.goal_center]).astype(np.float32)
 
     def reset(self, *, seed=None, options=None):
+        """Start an episode (``seed``: None or an int); ``options`` must be None or an empty dict (this
+        environment has no reset options; unknown ones are refused rather than ignored)."""
+        if options is not None:
+            if not isinstance(options, dict):
+                raise TypeError(f"options must be None or a dict, got {options!r}")
+            if options:
+                raise ValueError(f"options: unknown option(s) {sorted(map(str, options))} (this environment "
+                                 "takes none)")
+        if seed is not None:
+            seed = as_int("seed", seed, lo=0)
         super().reset(seed=seed)
         if self._game is None:
             self._game = Game(self.level, best_times=BestTimes(persistent=False))
@@ -64,9 +99,9 @@ class MarbellousEnv(gym.Env):
         return self._obs(), {"progress": self._progress}
 
     def step(self, action):
-        a = np.asarray(action, np.float64).reshape(2)
-        if not np.all(np.isfinite(a)):
-            raise ValueError(f"action must be 2 finite numbers, got {action!r}")
+        """Hold ``action`` (2 finite numbers: the push direction and strength in x and z) for
+        ``frame_skip`` physics steps; returns ``(observation, reward, terminated, truncated, info)``."""
+        a = as_vector("action", action, 2)
         g = self._game
         move = move_for_direction(np.array([a[0], 0.0, a[1]]), g.camera.heading)
         fell = False

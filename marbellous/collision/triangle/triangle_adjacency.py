@@ -183,7 +183,8 @@ def build_adjacency(vertices, triangles, weld_tolerance):
 
     # Vertex rings over welded ids (both directions of every live edge, without repeats).
     pair_key = np.sort(np.r_[wi * n_weld + wj, wj * n_weld + wi])
-    pair_key = pair_key[np.r_[True, pair_key[1:] != pair_key[:-1]]]
+    if pair_key.size:        # (none when every triangle is degenerate)
+        pair_key = pair_key[np.r_[True, pair_key[1:] != pair_key[:-1]]]
     owner, member = pair_key // n_weld, pair_key % n_weld
     ring_start = np.zeros(n_weld + 1, np.int64)
     np.add.at(ring_start, owner + 1, 1)

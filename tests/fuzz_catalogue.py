@@ -1,0 +1,492 @@
+"""The catalogue of the public entry points and of bad input, shared by ``tests/test_fuzz.py`` (random
+bad values drawn by hypothesis) and ``tools/fuzz_census.py`` (every listed bad value once, counted by
+outcome, run against any checkout).
+
+An *argument* is an entry point and the argument it takes, with the *kind* of value it expects
+(``KINDS``); each kind lists bad values by *input class* (nan, inf, huge, tiny, negative, zero, str,
+bool, complex, none, nested, shape, object, ...).  Calling the entry point with a bad value must raise
+``ValueError`` or ``TypeError`` and, when a world is involved, leave its ``state_hash`` unchanged.
+
+Only the public API is used, so the census runs unchanged against older checkouts.
+"""
+import math
+from types import SimpleNamespace
+
+import numpy as np
+
+import marbellous as mb
+
+NAN, INF = math.nan, math.inf
+BIG_INT = 10 ** 400                     # does not fit a float
+SUB = 5e-324                            # the smallest subnormal float
+
+
+class Lazy:
+    """A bad value made only inside the call (a shape whose construction may itself refuse)."""
+
+    def __init__(self, make, text):
+        self.make, self.text = make, text
+
+    def __call__(self):
+        return self.make()
+
+    def __repr__(self):
+        return self.text
+
+
+# --- bad values by kind ----------------------------------------------------------------------------------
+def _scalar_types(none_ok=False):
+    """Values of the wrong type for a number."""
+    vals = [("str", "1"), ("str", b"1"), ("bool", True), ("bool", np.bool_(False)), ("complex", 1 + 0j),
+            ("complex", 2j), ("complex", np.complex128(1)), ("nested", [1.0]), ("nested", (1.0, 2.0)),
+            ("nested", np.array([1.0])), ("object", object()), ("object", {}), ("object", {1.0})]
+    if not none_ok:
+        vals.append(("none", None))
+    return vals
+
+
+def _vector_types(n, none_ok=False):
+    """Values of the wrong type or shape for a vector of ``n`` numbers."""
+    ok = [0.5] * n
+    vals = [("str", "abc"), ("str", ["1"] * n), ("str", "1" * n), ("bool", [True] * n), ("bool", np.ones(n, bool)),
+            ("complex", [1j] + ok[1:]), ("complex", np.ones(n, complex)), ("nested", [ok]),
+            ("nested", [[v] for v in ok]), ("nested", np.ones((n, 1))), ("shape", ok[:-1]), ("shape", ok + [0.5]),
+            ("shape", []), ("number", 3.0), ("object", object()), ("object", set(ok)), ("object", [None] + ok[1:]),
+            ("str", np.array(["a"] * n)), ("object", {i: v for i, v in enumerate(ok)})]
+    if not none_ok:
+        vals.append(("none", None))
+    return vals
+
+
+def _vector_values(n, bound):
+    """Finite or infinite values out of range for a vector with components bounded by ``bound``."""
+    ok = [0.5] * n
+    return [("nan", [NAN] + ok[1:]), ("inf", ok[:-1] + [INF]), ("inf", [-INF] + ok[1:]),
+            ("huge", [1e300] + ok[1:]), ("huge", [BIG_INT] + ok[1:]), ("huge", ok[:-1] + [bound * 10])]
+
+
+def scalar_kind(*, lo=None, hi=None, positive=False, nonneg=False, none_ok=False, int_only=False):
+    """Bad values of a scalar with the given bounds (without ``hi``, any finite value up is fine)."""
+    vals = _scalar_types(none_ok) + [("nan", NAN), ("inf", INF), ("inf", -INF), ("huge", BIG_INT)]
+    if hi is not None:
+        vals.append(("huge", 1e300))
+    if lo is not None or positive or nonneg:
+        vals.append(("huge", -1e300))
+    if int_only:
+        vals += [("float", 2.5), ("float", 3.0)]
+    elif positive:
+        vals += [("tiny", SUB), ("tiny", -SUB), ("tiny", 1e-310)]
+    elif nonneg or (lo is not None and lo >= 0):
+        vals += [("negative", -SUB)]
+    if hi is not None:
+        vals.append(("huge", hi * 10 if hi > 0 else hi + 10))
+    if positive:
+        vals += [("zero", 0.0), ("negative", -1.0), ("zero", 0)]
+    if nonneg:
+        vals += [("negative", -1.0), ("negative", -1e-3)]
+    if lo is not None and lo > 0:
+        vals.append(("tiny", lo / 10))
+    if lo is not None and lo <= 0:
+        vals.append(("negative", lo - 1 if lo > -1e300 else -1e308 * 10))
+    return vals
+
+
+KINDS = {
+    "size": scalar_kind(lo=1e-6, hi=1e6, positive=True) + [("tiny", 1e-300), ("huge", 1e7)],
+    "coord": scalar_kind(lo=-1e12, hi=1e12),
+    "length": scalar_kind(positive=True, hi=2e12),
+    "length0": scalar_kind(nonneg=True, hi=2e12),
+    "rod_length": scalar_kind(positive=True, hi=2e12, none_ok=True),
+    "mass": scalar_kind(lo=1e-30, hi=1e30, positive=True, none_ok=True) + [("tiny", 1e-300)],
+    "density": scalar_kind(lo=1e-6, hi=1e6, positive=True, none_ok=True),
+    "friction": scalar_kind(nonneg=True, hi=1e3),
+    "static_friction": scalar_kind(nonneg=True, hi=1e3, none_ok=True),
+    "rolling": scalar_kind(nonneg=True, hi=1e6),
+    "restitution": scalar_kind(lo=0.0, hi=1.0) + [("huge", 1.5), ("negative", -0.1)],
+    "stiffness": scalar_kind(nonneg=True, hi=1e15),
+    "breaking": scalar_kind(positive=True, none_ok=True),
+    "dt": scalar_kind(lo=1e-6, hi=1.0, positive=True) + [("tiny", 1e-300), ("huge", 10.0)],
+    "frame_time": scalar_kind(nonneg=True),
+    "max_distance": [v for v in scalar_kind(nonneg=True) if v[0] not in ("inf",)] + [("inf", -INF)],
+    "hertz": scalar_kind(lo=1e-3, hi=1e6, positive=True),
+    "nonneg": scalar_kind(nonneg=True, hi=1e9),
+    "positive": scalar_kind(positive=True, hi=1e9),
+    "ratio": scalar_kind(nonneg=True, hi=1e6),
+    "iterations": scalar_kind(lo=1, hi=10000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -1)],
+    "substeps": scalar_kind(lo=1, hi=1000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -1)],
+    "threads": scalar_kind(lo=1, hi=64, int_only=True) + [("zero", 0)],
+    "max_steps": scalar_kind(lo=1, hi=1_000_000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -5)],
+    "flag": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("none", None), ("nested", [True])],
+    "choice": [("str", "magic"), ("str", ""), ("number", 3), ("none", None), ("str", b"grid"),
+               ("nested", ["grid"]), ("bool", True)],
+    "vec3": _vector_types(3) + _vector_values(3, 1e12),
+    "offset3": _vector_types(3) + _vector_values(3, 1e6),
+    "speed3": _vector_types(3) + _vector_values(3, 1e9),
+    "accel3": _vector_types(3) + _vector_values(3, 1e6),
+    "force3": _vector_types(3) + _vector_values(3, 1e20),
+    "point3": _vector_types(3, none_ok=True) + _vector_values(3, 1e12),
+    "direction": _vector_types(3) + [v for v in _vector_values(3, 1e12) if v[1][0] != 1e300 and v[1][-1] != 1e13]
+    + [("zero", [0.0, 0.0, 0.0]), ("zero", np.zeros(3))],
+    "quat": _vector_types(4) + [v for v in _vector_values(4, 1e12) if v[1][0] != 1e300 and v[1][-1] != 1e13]
+    + [("zero", [0.0, 0.0, 0.0, 0.0])],
+    "half_extents": _vector_types(3) + _vector_values(3, 1e6) + [("zero", [1.0, 0.0, 1.0]),
+                                                                  ("negative", [1.0, -1.0, 1.0]),
+                                                                  ("tiny", [1.0, 1e-300, 1.0]),
+                                                                  ("tiny", [SUB, 1.0, 1.0])],
+    "shape": [("str", "sphere"), ("none", None), ("nested", []), ("nested", [None]), ("number", 3),
+              ("nested", [(mb.Sphere(1.0), "here")]), ("nested", [(mb.Sphere(1.0), (0, 0, 0), (0, 0, 0, 0))]),
+              ("nested", [(mb.Sphere(1.0), (1e7, 0, 0))]), ("object", object()), ("shape", mb.Shape()),
+              ("tiny", Lazy(lambda: mb.Sphere(1e-300), "Sphere(1e-300)")),
+              ("tiny", Lazy(lambda: mb.Box((1.0, 1e-300, 1.0)), "Box((1, 1e-300, 1))")),
+              ("tiny", Lazy(lambda: mb.Capsule(5e-324, 1.0), "Capsule(5e-324, 1)")),
+              ("huge", Lazy(lambda: mb.Sphere(1e300), "Sphere(1e300)")),
+              ("huge", Lazy(lambda: mb.Box((1e200, 1e200, 1e200)), "Box((1e200, 1e200, 1e200))"))],
+    "dynamic_shape": [("static_only", mb.Plane())],
+    "body": [("str", "x"), ("number", 3), ("object", object())],
+    "spacing": [("str", "11"), ("number", 1.0), ("none", None), ("shape", (1.0,)), ("shape", (1.0, 1.0, 1.0)),
+                ("zero", (0.0, 1.0)), ("negative", (1.0, -1.0)), ("nan", (NAN, 1.0)), ("inf", (1.0, INF)),
+                ("tiny", (1e-300, 1.0)), ("tiny", (SUB, 1.0)), ("huge", (1e300, 1.0)), ("huge", (BIG_INT, 1.0)),
+                ("bool", (True, True)), ("complex", (1j, 1.0)), ("nested", ((1.0,), 1.0))],
+    "heights": [("str", "abc"), ("none", None), ("number", 3.0), ("shape", [1.0, 2.0]), ("shape", [[1.0, 2.0]]),
+                ("shape", np.zeros((2, 2, 2))), ("nan", [[0.0, NAN], [0.0, 0.0]]), ("inf", [[0.0, INF], [0.0, 0.0]]),
+                ("huge", [[0.0, 1e300], [0.0, 0.0]]), ("huge", [[0.0, BIG_INT], [0.0, 0.0]]),
+                ("str", [["a", "b"], ["c", "d"]]), ("bool", np.ones((2, 2), bool)), ("bool", [[True, False], [1.0, 2.0]]),
+                ("complex", np.ones((2, 2), complex)), ("complex", [[1j, 0.0], [0.0, 0.0]]),
+                ("nested", [[0.0, 1.0], [0.0]]), ("object", [[object(), 0.0], [0.0, 0.0]])],
+    "vertices": [("str", "abc"), ("none", None), ("shape", [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+                 ("shape", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), ("nan", [[0, 0, 0], [1, NAN, 0], [0, 0, 1]]),
+                 ("inf", [[0, 0, 0], [1, INF, 0], [0, 0, 1]]), ("huge", [[0, 0, 0], [1e300, 0, 0], [0, 0, 1]]),
+                 ("huge", [[0, 0, 0], [BIG_INT, 0, 0], [0, 0, 1]]), ("bool", np.ones((3, 3), bool)),
+                 ("complex", np.ones((3, 3), complex)), ("str", [["a"] * 3] * 3), ("nested", [[0, 0, 0], [1, 0]]),
+                 ("zero", np.zeros((3, 3))), ("bool", [[True, False, True], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])],
+    "triangles": [("str", "abc"), ("none", None), ("shape", [[0, 1]]), ("shape", [[0, 1, 2, 3]]), ("shape", [0, 1, 2]),
+                  ("negative", [[0, -1, 2]]), ("huge", [[0, 1, 4]]), ("huge", [[0, 1, 2 ** 62]]),
+                  ("float", [[0, 1, 2.5]]), ("nan", [[0, 1, NAN]]), ("bool", [[True, False, True]]),
+                  ("complex", [[0, 1, 2j]]), ("nested", [[0, 1, 2], [0, 1]]), ("zero", np.zeros((0, 3), int)),
+                  ("degenerate", [[0, 1, 1]]), ("degenerate", [[0, 0, 0], [1, 1, 2]]), ("huge", [[0, 1, BIG_INT]])],
+    "accel": [("str", "octree"), ("none", None), ("number", 1), ("bool", True)],
+    "cell_size": [v for v in scalar_kind(positive=True, none_ok=True)],
+    "weld": [v for v in scalar_kind(positive=True, none_ok=True)] + [("huge", 1e9)],
+    "action": _vector_types(2) + _vector_values(2, 1e300)[:3],
+}
+
+
+# --- the world fixture --------------------------------------------------------------------------------
+def make_world():
+    """A small world after one step: a plane, a ball, a box, a static box and a spring between the ball
+    and the box (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``, ``ns.post``, ``ns.spring``)."""
+    w = mb.World()
+    ground = w.add_static(mb.Plane())
+    post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
+    ball = w.add_body(mb.Sphere(0.3), position=(0, 1, 0), velocity=(0.5, 0, 0))
+    box = w.add_body(mb.Box((0.2, 0.3, 0.4)), position=(1.5, 1, 0))
+    spring = w.add_spring(ball, box, rest_length=1.0, stiffness=10.0)
+    w.step(1 / 60)
+    return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring)
+
+
+def _setter(obj_name, attr):
+    def call(ns, v):
+        setattr(getattr(ns, obj_name), attr, v)
+    return call
+
+
+def _kw(method, fixed=None, **defaults):
+    """A call of ``ns.w.<method>`` (or a dotted path like ``ball.apply_force``) with one argument replaced."""
+    def make(arg):
+        def call(ns, v):
+            obj = ns
+            for part in method.split("."):
+                obj = getattr(obj, part)
+            kw = dict(defaults)
+            kw[arg] = v
+            pos = [kw.pop(k) for k in (fixed or [])]
+            return obj(*pos, **kw)
+        return call
+    return make
+
+
+_SPHERE = mb.Sphere(0.5)
+
+# (entry point, argument, kind, call(ns, value), needs a world)
+WORLD_ARGS = []
+
+
+def _add(entry, arg, kind, call, world=True):
+    def made(ns, v, _call=call):
+        return _call(ns, v() if isinstance(v, Lazy) else v)
+    WORLD_ARGS.append((entry, arg, kind, made, world))
+
+
+for _arg, _kind in (("gravity", "accel3"), ("solver", "choice"), ("integrator", "choice"), ("broadphase", "choice"),
+                    ("iterations", "iterations"), ("substeps", "substeps"), ("threads", "threads"),
+                    ("ccd", "flag"), ("sleeping", "flag")):
+    _add("World()", _arg, _kind, (lambda a: lambda ns, v: mb.World(**{a: v}))(_arg), world=False)
+    _add("World setter", _arg, _kind, _setter("w", _arg))
+_add("World setter", "profiling", "flag", _setter("w", "profiling"))
+for _arg, _kind in (("speculative_distance", "nonneg"), ("contact_hertz", "hertz"), ("contact_damping_ratio", "ratio"),
+                    ("joint_hertz", "hertz"), ("joint_damping_ratio", "ratio"), ("max_push_speed", "positive"),
+                    ("slide_speed", "nonneg"), ("velocity_tolerance", "nonneg"), ("sleep_linear_speed", "nonneg"),
+                    ("sleep_angular_speed", "nonneg"), ("time_to_sleep", "positive"), ("penalty_hertz", "hertz"),
+                    ("lcp_relaxation", "positive")):
+    _add("World tunable", _arg, _kind, _setter("w", _arg))
+
+_body = _kw("w.add_body", fixed=["shape"], shape=_SPHERE, position=(3, 2, 0))
+for _arg, _kind in (("shape", "shape"), ("shape", "dynamic_shape"), ("position", "vec3"), ("orientation", "quat"),
+                    ("velocity", "speed3"), ("angular_velocity", "speed3"), ("mass", "mass"), ("density", "density"),
+                    ("friction", "friction"), ("static_friction", "static_friction"), ("restitution", "restitution"),
+                    ("rolling_friction", "rolling"), ("sensor", "flag")):
+    _add("World.add_body", _arg, _kind, _body(_arg))
+_static = _kw("w.add_static", fixed=["shape"], shape=mb.Box((1, 1, 1)), position=(-3, 0, 0))
+for _arg, _kind in (("shape", "shape"), ("position", "vec3"), ("orientation", "quat"), ("friction", "friction"),
+                    ("restitution", "restitution"), ("sensor", "flag")):
+    _add("World.add_static", _arg, _kind, _static(_arg))
+
+for _method, _args in (
+        ("add_spring", (("rest_length", "length0"), ("stiffness", "stiffness"), ("damping", "stiffness"),
+                        ("anchor_a", "vec3"), ("anchor_b", "vec3"), ("breaking_force", "breaking"), ("a", "body"),
+                        ("b", "body"))),
+        ("add_rod", (("length", "length"), ("anchor_a", "vec3"), ("anchor_b", "vec3"), ("a", "body"), ("b", "body"))),
+        ("add_cable", (("max_length", "length"), ("anchor_a", "vec3"), ("anchor_b", "vec3"), ("a", "body")))):
+    _defaults = {"add_spring": dict(rest_length=1.0, stiffness=5.0), "add_rod": dict(length=1.0),
+                 "add_cable": dict(max_length=2.0)}[_method]
+    for _arg, _kind in _args:
+        def _con(ns, v, _m=_method, _a=_arg, _d=_defaults):
+            kw = dict(_d)
+            kw.update(a=ns.ball, b=ns.box)
+            kw[_a] = v
+            a, b = kw.pop("a"), kw.pop("b")
+            return getattr(ns.w, _m)(a, b, **kw)
+        _add(f"World.{_method}", _arg, "rod_length" if _method == "add_rod" and _arg == "length" else _kind, _con)
+
+_add("World.step", "dt", "dt", lambda ns, v: ns.w.step(v))
+_add("World.advance", "frame_time", "frame_time", lambda ns, v: ns.w.advance(v))
+_add("World.advance", "dt", "dt", lambda ns, v: ns.w.advance(0.02, dt=v))
+_add("World.advance", "max_steps", "max_steps", lambda ns, v: ns.w.advance(0.02, max_steps=v))
+_add("World.raycast", "origin", "vec3", lambda ns, v: ns.w.raycast(v, (0, -1, 0)))
+_add("World.raycast", "direction", "direction", lambda ns, v: ns.w.raycast((0, 5, 0), v))
+_add("World.raycast", "max_distance", "max_distance", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), v))
+_add("World.remove", "body_or_constraint", "body", lambda ns, v: ns.w.remove(v))
+
+for _arg, _kind in (("position", "vec3"), ("orientation", "quat"), ("velocity", "speed3"),
+                    ("angular_velocity", "speed3")):
+    _add("Body setter", _arg, _kind, _setter("ball", _arg))
+_add("Body.apply_force", "force", "force3", lambda ns, v: ns.ball.apply_force(v))
+_add("Body.apply_force", "point", "point3", lambda ns, v: ns.ball.apply_force((1, 0, 0), point=v))
+_add("Body.apply_torque", "torque", "force3", lambda ns, v: ns.ball.apply_torque(v))
+_add("Body.apply_impulse", "impulse", "force3", lambda ns, v: ns.ball.apply_impulse(v))
+_add("Body.apply_impulse", "point", "point3", lambda ns, v: ns.ball.apply_impulse((1, 0, 0), point=v))
+
+# shapes (no world)
+_add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)
+_add("Box()", "half_extents", "half_extents", lambda ns, v: mb.Box(v), world=False)
+_add("Capsule()", "radius", "size", lambda ns, v: mb.Capsule(v, 0.5), world=False)
+_add("Capsule()", "half_height", "size", lambda ns, v: mb.Capsule(0.5, v), world=False)
+_add("Plane()", "normal", "direction", lambda ns, v: mb.Plane(normal=v), world=False)
+_add("Plane()", "offset", "coord", lambda ns, v: mb.Plane(offset=v), world=False)
+_add("HeightField()", "heights", "heights", lambda ns, v: mb.HeightField(v), world=False)
+_add("HeightField()", "spacing", "spacing", lambda ns, v: mb.HeightField(np.zeros((3, 3)), spacing=v), world=False)
+_add("HeightField()", "origin", "vec3", lambda ns, v: mb.HeightField(np.zeros((3, 3)), origin=v), world=False)
+_FIELD = mb.HeightField(np.zeros((4, 4)))
+_add("HeightField.height_at", "x", "coord", lambda ns, v: _FIELD.height_at(v, 1.0), world=False)
+_add("HeightField.raycast", "direction", "direction", lambda ns, v: _FIELD.raycast((1, 5, 1), v), world=False)
+_QUAD = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 1], [1, 0, 1]], float)
+_add("TriangleMesh()", "vertices", "vertices", lambda ns, v: mb.TriangleMesh(v, [[0, 2, 1]]), world=False)
+_add("TriangleMesh()", "triangles", "triangles", lambda ns, v: mb.TriangleMesh(_QUAD, v), world=False)
+_add("TriangleMesh()", "accel", "accel", lambda ns, v: mb.TriangleMesh(_QUAD, [[0, 2, 1]], accel=v), world=False)
+_add("TriangleMesh()", "cell_size", "cell_size",
+     lambda ns, v: mb.TriangleMesh(_QUAD, [[0, 2, 1]], cell_size=v), world=False)
+_add("TriangleMesh()", "weld_tolerance", "weld",
+     lambda ns, v: mb.TriangleMesh(_QUAD, [[0, 2, 1]], weld_tolerance=v), world=False)
+_add("collide()", "shape_a", "shape", lambda ns, v: mb.collide(v, _SPHERE), world=False)
+_add("collide()", "position_a", "vec3", lambda ns, v: mb.collide(_SPHERE, _SPHERE, position_a=v), world=False)
+_add("collide()", "orientation_b", "quat", lambda ns, v: mb.collide(_SPHERE, _SPHERE, orientation_b=v), world=False)
+
+
+def world_cases():
+    """Every (entry, argument, class, value, call, needs a world) of ``WORLD_ARGS`` x ``KINDS``."""
+    out = []
+    for entry, arg, kind, call, world in WORLD_ARGS:
+        for klass, value in KINDS[kind]:
+            out.append((entry, arg, klass, value, call, world))
+    return out
+
+
+# --- shapes after construction: every attribute assignment must raise AttributeError ----------------------
+def immutable_cases():
+    """(shape name, attribute, new value, shape factory): assigning must raise AttributeError; the census
+    also steps a world holding the shape afterwards (a changed mesh used to crash the step)."""
+    v = np.array([[0, 0, 0], [4, 0, 0], [0, 0, 4], [4, 0, 4]], float)
+    return [
+        ("Sphere", "radius", -1.0, lambda: mb.Sphere(0.5)),
+        ("Box", "half_extents", (0.0, 0.0, 0.0), lambda: mb.Box((1, 1, 1))),
+        ("Capsule", "half_height", 1e9, lambda: mb.Capsule(0.5, 0.5)),
+        ("Plane", "normal", (0.0, 0.0, 0.0), lambda: mb.Plane()),
+        ("Plane", "offset", math.nan, lambda: mb.Plane()),
+        ("HeightField", "dx", 0.0, lambda: mb.HeightField(np.zeros((3, 3)))),
+        ("HeightField", "heights", np.zeros((50, 50)), lambda: mb.HeightField(np.zeros((3, 3)))),
+        ("TriangleMesh", "triangles", np.array([[0, 2, 1]] * 1000000 + [[3, 2, 1]]),
+         lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]], accel="brute")),
+        ("TriangleMesh", "vertices", v[:3] * 1e6, lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]])),
+        ("TriangleMesh", "accel", "bvh", lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]])),
+    ]
+
+
+def inplace_cases():
+    """(name, shape factory, attribute): editing the returned array in place must raise or change a copy."""
+    return [("Box.half_extents", lambda: mb.Box((1, 1, 1)), "half_extents"),
+            ("Plane.normal", lambda: mb.Plane(), "normal"),
+            ("HeightField.heights", lambda: mb.HeightField(np.zeros((3, 3))), "heights"),
+            ("HeightField.origin", lambda: mb.HeightField(np.zeros((3, 3))), "origin"),
+            ("TriangleMesh.vertices", lambda: mb.TriangleMesh(_QUAD, [[0, 2, 1]]), "vertices")]
+
+
+# --- files -------------------------------------------------------------------------------------------------
+GOOD_LEVEL = """name = "T"
+[start]
+position = [0.0, 1.0, 0.0]
+[goal]
+center = [5.0, 1.0, 0.0]
+half_extents = [1.0, 1.0, 1.0]
+[materials.m]
+friction = 0.5
+[[colliders]]
+type = "box"
+half_extents = [10.0, 0.5, 10.0]
+position = [0.0, -0.5, 0.0]
+material = "m"
+"""
+_BOX = 'type = "box"\nhalf_extents = [10.0, 0.5, 10.0]\nposition = [0.0, -0.5, 0.0]'
+
+
+def _good_obj():
+    return "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nf 1 3 2\nf 2 3 4\n"
+
+
+def mesh_files():
+    """(class, file name, bytes): bad mesh files; ``TriangleMesh.load`` must raise ValueError naming the file."""
+    good = _good_obj()
+    return [
+        ("empty", "empty.obj", b""),
+        ("garbage", "garbage.stl", bytes(range(256)) * 8),
+        ("garbage", "garbage.glb", b"glTF\x02\x00\x00\x00\xff\xff\xff\x7f" + bytes(range(256)) * 4),
+        ("truncated", "cut_face.obj", (good + "f 1 2").encode()),
+        ("truncated", "cut_vertex.obj", ("v 0 0 0\nv 1 0 0\nv 0 0\nf 1 2 3\n").encode()),
+        ("truncated", "cut_continuation.obj", (good + "f 1 2 \\").encode()),
+        ("nan", "nan.obj", good.replace("v 1 0 0", "v 1 nan 0").encode()),
+        ("inf", "inf.obj", good.replace("v 1 0 0", "v 1 1e999 0").encode()),
+        ("huge", "huge.obj", good.replace("v 1 0 0", "v 1 1e300 0").encode()),
+        ("index", "zero_index.obj", (good + "f 0 1 2\n").encode()),
+        ("index", "big_index.obj", (good + "f 1 2 99\n").encode()),
+        ("index", "huge_index.obj", (good + "f 1 2 99999999999999999999999\n").encode()),
+        ("index", "word_index.obj", (good + "f 1 2 x\n").encode()),
+        ("degenerate", "degenerate.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n"),
+        ("no_faces", "points.obj", b"v 0 0 0\nv 1 0 0\nv 0 0 1\n"),
+        ("binary", "binary.obj", bytes(range(256)) * 4),
+        ("hostile", "hostile.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\n"
+                                   b"property float x\nproperty float y\nproperty float z\nelement face 999999999\n"
+                                   b"property list uchar int vertex_indices\nend_header\n\x00\x00\x00\x00"),
+        ("extension", "mesh.txt", good.encode()),
+    ]
+
+
+def good_mesh_files():
+    """(name, bytes) of mesh files that must load: UTF-8 and Latin-1 names and comments, polygons."""
+    good = _good_obj()
+    return [("latin1.obj", ("# caf\u00e9 \u00e0 la cr\u00e8me\no d\u00e9cor\n" + good).encode("latin-1")),
+            ("utf8.obj", ("# caf\u00e9 \u2014 \u65e5\u672c\no d\u00e9cor\n" + good).encode("utf-8")),
+            ("quad.obj", b"v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1/1/1 4/2/2 3//3 2\n"),
+            ("negative.obj", b"v 0 0 0\nv 1 0 0\nv 0 0 1\nf -3 -1 -2\n"),
+            ("utf16.obj", ("# caf\u00e9\n" + good).encode("utf-16"))]
+
+
+def level_texts():
+    """(class, text or bytes, extra files {name: bytes}) of malformed levels: ``load_level`` must raise
+    ``LevelError`` (a ValueError) whose message names the file."""
+    g = GOOD_LEVEL
+    big_png = _png(2000, 2000)
+    hf = '[[colliders]]\ntype = "heightfield"\nimage = "big.png"\nspacing = [1.0, 1.0]\nheight_scale = 1.0\n' \
+         'material = "m"\n'
+    cases = [
+        ("nested", "a = " + "[" * 20000 + "]" * 20000 + "\n" + g, {}),
+        ("nested", "a = " + "[" * 500 + "]" * 500 + "\n" + g, {}),
+        ("huge", g.replace("half_extents = [1.0, 1.0, 1.0]", "half_extents = [1e308, 1.0, 1.0]"), {}),
+        ("huge", g.replace("center = [5.0, 1.0, 0.0]", "center = [1e300, 1.0, 0.0]"), {}),
+        ("huge", g.replace("position = [0.0, 1.0, 0.0]", "position = [0.0, 9223372036854775807, 0.0]"), {}),
+        ("nan", g.replace("friction = 0.5", "friction = nan"), {}),
+        ("inf", g.replace("center = [5.0, 1.0, 0.0]", "center = [inf, 1.0, 0.0]"), {}),
+        ("tiny", g.replace("half_extents = [10.0, 0.5, 10.0]", "half_extents = [10.0, 5e-324, 10.0]"), {}),
+        ("tiny", g.replace(_BOX, 'type = "sphere"\nradius = 1e-300'), {}),
+        ("zero", g.replace(_BOX, 'type = "capsule"\nradius = 0.5\nhalf_height = 0.0'), {}),
+        ("zero", g.replace(_BOX, 'type = "plane"\nnormal = [0.0, 0.0, 0.0]'), {}),
+        ("huge", g.replace(_BOX, 'type = "plane"\nnormal = [1e300, 1e300, 0.0]\noffset = 1e300'), {}),
+        ("huge", g.replace(_BOX, _BOX + "\norientation = [1e300, 1e300, 0.0, 0.0]"), {}),
+        ("type", g.replace("friction = 0.5", "friction = true"), {}),
+        ("type", g.replace("friction = 0.5", 'friction = "0.5"'), {}),
+        ("type", g.replace('name = "T"', "name = 3"), {}),
+        ("type", g.replace("[goal]", "goal = 3\n[other]"), {}),
+        ("type", g.replace("[materials.m]\nfriction = 0.5", "materials = 3"), {}),
+        ("type", g.replace("[[colliders]]", "[colliders]"), {}),
+        ("type", g + "[course]\npath = 3\n", {}),
+        ("type", g + "[course]\npath = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]\nspeeds = [1.0, true]\n", {}),
+        ("type", g + "[course]\npath = [[0.0, 1.0, 0.0], [1.0, 1.0]]\n", {}),
+        ("type", g + "[course]\npath = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]\nspeeds = 3\n", {}),
+        ("huge", g + "[course]\npath = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0]]\nspeeds = [1.0, 1e300]\n", {}),
+        ("type", g.replace(_BOX, 'type = 3'), {}),
+        ("type", g.replace(_BOX, _BOX + '\naxis = [0.0, 1.0, 0.0]'), {}),
+        ("type", g.replace(_BOX, _BOX + '\nangle = 1.0'), {}),
+        ("type", g.replace(_BOX, _BOX + '\norientation = [1.0, 0.0, 0.0, 0.0]\nangle = 1.0'), {}),
+        ("type", g.replace('[materials.m]\nfriction = 0.5', '[materials.m]\nfriction = 0.5\ncolor = [1.0, 2.0]'), {}),
+        ("type", g.replace('[materials.m]\nfriction = 0.5', '[materials]\nm = 3'), {}),
+        ("text", g.replace('name = "T"', 'name = "' + "x" * 100000 + '"'), {}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "missing.obj"'), {}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = 3'), {}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "."'), {}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "bad\\u0000name.obj"'), {}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "cut.obj"'), {"cut.obj": (_good_obj() + "f 1 2").encode()}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "flat.obj"'),
+         {"flat.obj": b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "idx.obj"'), {"idx.obj": (_good_obj() + "f 1 2 9\n").encode()}),
+        ("file", g.replace(_BOX, 'type = "mesh"\nfile = "bad.glb"'), {"bad.glb": b"glTF" + bytes(100)}),
+        ("file", g.replace(_BOX, 'type = "heightfield"\nimage = "bad.png"\nspacing = [1.0, 1.0]\n'
+                                 'height_scale = 2.0'), {"bad.png": b"not an image"}),
+        ("file", g.replace(_BOX, 'type = "heightfield"\nimage = "cut.png"\nspacing = [1.0, 1.0]\n'
+                                 'height_scale = 2.0'), {"cut.png": _png(64, 64)[:300]}),
+        ("file", g.replace(_BOX, 'type = "heightfield"\nimage = "one.png"\nspacing = [1.0, 1.0]\n'
+                                 'height_scale = 2.0'), {"one.png": _png(1, 5)}),
+        ("huge", g.replace(_BOX, 'type = "heightfield"\nimage = "ok.png"\nspacing = [1e300, 1.0]\n'
+                                 'height_scale = 2.0'), {"ok.png": _png(4, 4)}),
+        ("budget", g + hf * 400, {"big.png": big_png}),
+        ("encoding", g.replace('name = "T"', 'name = "caf\u00e9"').encode("latin-1"), {}),
+    ]
+    return cases
+
+
+def _png(w, h):
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    noise = np.random.default_rng(w * 7919 + h).integers(0, 256, (h, w), dtype=np.uint8)   # (incompressible)
+    Image.fromarray(noise).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+ENV_OPTIONS = [
+    ("frame_skip", [("huge", 1e300), ("str", "3"), ("negative", -1), ("zero", 0), ("nan", NAN), ("bool", True),
+                    ("float", 2.5), ("huge", 10 ** 9), ("none", None)]),
+    ("start_jitter", [("negative", -1), ("nan", NAN), ("inf", INF), ("str", "0.3"), ("huge", 1e300),
+                      ("complex", 1j), ("none", None)]),
+    ("goal_reward", [("nan", NAN), ("inf", INF), ("str", "10"), ("huge", 1e300), ("complex", 1 + 1j),
+                     ("none", None)]),
+    ("fall_penalty", [("nan", NAN), ("inf", -INF), ("str", "5"), ("bool", False)]),
+    ("max_episode_steps", [("zero", 0), ("float", 1.5), ("str", "10"), ("nan", NAN), ("huge", 1e300),
+                           ("negative", -3)]),
+    ("render_mode", [("str", "human"), ("number", 3), ("nested", ["rgb_array"])]),
+    ("size", [("shape", (1, 1)), ("str", "320x180"), ("shape", (320,)), ("huge", (10 ** 9, 180)),
+              ("float", (320.5, 180)), ("none", None), ("nan", (NAN, 180))]),
+    ("level", [("number", 3.5), ("str", "nosuch-level"), ("object", object())]),
+]
+ENV_RESET = [("options", [("object", "x"), ("unknown", {"foo": 1}), ("nested", [1])]),
+             ("seed", [("negative", -1), ("str", "1"), ("float", 1.5), ("nan", NAN)])]
