@@ -16,7 +16,6 @@ A speculative contact (separation s > 0) lets the bodies approach by exactly s i
 """
 import math
 
-import numpy as np
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, row3
