@@ -1,4 +1,5 @@
-"""What a world reports: the contacts of the last step (``Contact``) and ray hits (``RayHit``)."""
+"""What a world reports: the contacts of the last step (``Contact``), ray hits (``RayHit``) and how the last
+step was taken (``StepReport``)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,3 +33,20 @@ class Contact:
     depth: float
     normal_impulse: float
     tangent_impulse: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepReport:
+    """How the last :meth:`World.step` was taken (``World.time_stepping``, ``World.ccd``).
+
+    ``steps``: intervals the step was finally taken in (1 when nothing was halved or advanced; each halving
+    and each advance to a time of impact adds one; intervals undone by the retroactive mode do not count);
+    ``halvings``: intervals undone and taken again as two halves (``"retroactive"``); ``toi_events``:
+    intervals that ended at a time of impact (continuous collision, ``"conservative"``); ``smallest_dt``:
+    the shortest of the intervals (s), at least ``dt / 2**World.max_halvings``.
+    """
+
+    steps: int
+    halvings: int
+    toi_events: int
+    smallest_dt: float

@@ -24,13 +24,14 @@ from .math3d import quat_to_matrix_np
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
 from .pipeline.raycast import raycast_world
-from .reports import Contact, RayHit
+from .pipeline.time_stepping import StepLoop
+from .reports import Contact, RayHit, StepReport
 from .shapes.bounds import static_body_box
 from .shapes.primitives import Shape
 from .state import layout as L
 from .state import snapshot as snapshots
 from .state.snapshot import Snapshot
-from .state.params import SOLVERS, Tunable, write_params
+from .state.params import SOLVERS, TIME_STEPPING, Tunable, write_params
 from .state.world_state import WorldState
 
 BROADPHASES = tuple(BROADPHASE_CODES)
@@ -43,6 +44,8 @@ DEFAULT_ITERATIONS = 4
 MAX_ADVANCE_TIME = 0.25
 #: Most steps one ``World.advance`` call may be asked to take.
 MAX_ADVANCE_STEPS = 1_000_000
+#: Most times a step may be halved (``World.max_halvings``): its shortest interval is ``dt / 2**30``.
+MAX_HALVINGS = 30
 
 
 def _parse_shapes(shape):
@@ -89,7 +92,9 @@ class World:
     and ``substeps`` (None: defaults chosen so stacks stand at 60 Hz); ``integrator`` in
     ``"explicit_euler"``, ``"semi_implicit_euler"``, ``"verlet"``, ``"rk4"``; ``broadphase`` in
     ``"brute"``, ``"sap"``, ``"grid"``, ``"bvh"``, ``"octree"``, ``"kdtree"``, ``"bsp"``; ``threads`` for the
-    contact passes of large scenes (1: serial, the default; see :attr:`threads`).
+    contact passes of large scenes (1: serial, the default; see :attr:`threads`); ``time_stepping`` in
+    ``"fixed"``, ``"retroactive"``, ``"conservative"`` and ``ccd`` (continuous collision) as
+    :attr:`time_stepping` and :attr:`ccd` describe.
     """
 
     # Physical tunables: validated on assignment; docs/architecture.md explains each in physical terms.
@@ -121,16 +126,22 @@ class World:
                                  "number)", lo=1.0, hi=1e6)
     lcp_relaxation = Tunable(1.0, "solver \"lcp\": over-relaxation factor of projected Gauss-Seidel, in "
                                    "(0, 2)", positive=True, hi=1.99)
+    max_penetration = Tunable(0.005, "time_stepping \"retroactive\": a step that ends with a pair of shapes "
+                                     "overlapping deeper than this (m), and deeper than when it began, is undone "
+                                     "and taken as two halves", positive=True, hi=MAX_SIZE)
 
     __slots__ = ("_tunables", "_params_dt", "_gravity", "_solver", "_integrator", "_broadphase", "_iterations",
                  "_substeps", "_threads", "_ccd", "_sleeping", "_state", "_body_at", "_constraint_at", "_living",
-                 "_living_constraints", "_accumulator", "__weakref__")
+                 "_living_constraints", "_accumulator", "_time_stepping", "_fixed", "_max_halvings", "_last",
+                 "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
-                 threads=1):
+                 threads=1, time_stepping="fixed"):
         self._tunables = {}
         self._params_dt = None  # dt the parameters were last written for (None: write them again)
+        self._last = None       # the last step's StepLoop if it took several intervals (None: one, of _params_dt)
+        self._max_halvings = 10
         broadphase = as_choice("broadphase", broadphase, BROADPHASES)
         self._state = WorldState(BROADPHASE_CODES[broadphase])
         self._broadphase = broadphase
@@ -147,6 +158,7 @@ class World:
         self.threads = threads
         self.ccd = ccd
         self.sleeping = sleeping
+        self.time_stepping = time_stepping
 
     # --- properties -------------------------------------------------------------------------------
     @property
@@ -234,13 +246,62 @@ class World:
 
     @property
     def ccd(self) -> bool:
-        """Continuous collision: contacts are predicted along each body's motion in the step (speculative)."""
+        """Continuous collision (default True): contacts are predicted along each body's motion in the step
+        (speculative contacts), and the impacts of bodies that move far in a step for their size (or added
+        with ``ccd=True``) are found by time of impact, taken in time order and each resolved at its time,
+        the rest of the step going on from there (docs/architecture.md, "Time stepping and continuous
+        collision").  False: neither (bodies added with ``ccd=True`` too)."""
         return self._ccd
 
     @ccd.setter
     def ccd(self, value: bool) -> None:
         self._ccd = _check_flag("ccd", value)
         self._params_dt = None
+
+    @property
+    def time_stepping(self) -> str:
+        """How a step of ``dt`` is taken (``StepReport`` in :attr:`last_step` tells how the last one was):
+
+        - ``"fixed"`` (default): one step of ``dt`` with its sub-steps (cut at the times of impact of fast
+          bodies when :attr:`ccd` is on);
+        - ``"retroactive"``: a step that ends with a pair of shapes overlapping deeper than
+          :attr:`max_penetration` (and deeper than when it began) is undone and taken as two half steps, each
+          of which may halve again, down to ``dt / 2**max_halvings``;
+        - ``"conservative"``: the step advances to the earliest time at which a new contact can begin (a
+          conservative bound from distances and speeds; touching contacts do not limit it), resolves it
+          there, and goes on until ``dt`` is used up, never by less than ``dt / 2**max_halvings`` at a time.
+
+        :attr:`time` advances by exactly ``dt`` in every mode.
+        """
+        return self._time_stepping
+
+    @time_stepping.setter
+    def time_stepping(self, value: str) -> None:
+        self._time_stepping = as_choice("time_stepping", value, TIME_STEPPING)
+        self._fixed = self._time_stepping == "fixed"
+        self._params_dt = None
+
+    @property
+    def max_halvings(self) -> int:
+        """How many times a step may be halved (``"retroactive"``), or cut at impacts no shorter than
+        ``dt / 2**max_halvings`` (``"conservative"``, continuous collision): an int in [0, 30], default 10."""
+        return self._max_halvings
+
+    @max_halvings.setter
+    def max_halvings(self, value: int) -> None:
+        self._max_halvings = as_int("max_halvings", value, lo=0, hi=MAX_HALVINGS)
+        self._params_dt = None
+
+    @property
+    def last_step(self) -> StepReport:
+        """How the last :meth:`step` was taken: intervals, halvings, time-of-impact events and the shortest
+        interval (s); all zero before the first step."""
+        loop = self._last
+        if loop is not None:
+            return StepReport(loop.steps, loop.halvings, loop.toi_events, loop.smallest_dt)
+        if self._params_dt is None:
+            return StepReport(0, 0, 0, 0.0)
+        return StepReport(1, 0, 0, self._params_dt)
 
     @property
     def sleeping(self) -> bool:
@@ -295,7 +356,8 @@ class World:
                  orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
                  angular_velocity: ArrayLike = (0.0, 0.0, 0.0), mass: float | None = None,
                  density: float | None = None, friction: float = 0.5, static_friction: float | None = None,
-                 restitution: float = 0.0, rolling_friction: float = 0.0, sensor: bool = False) -> Body:
+                 restitution: float = 0.0, rolling_friction: float = 0.0, sensor: bool = False,
+                 ccd: bool | None = None) -> Body:
         """Add a dynamic rigid body and return its :class:`Body`.
 
         ``shape``: a shape, or a list of shapes / ``(shape, position[, orientation])`` tuples (a compound;
@@ -306,7 +368,9 @@ class World:
         ``rolling_friction * normal force`` (0.01 = 1 cm).  Bounds (``marbellous._validate``):
         position within +-1e12 m, velocities within +-1e9 m/s (rad/s), mass 1e-30 .. 1e30 kg,
         density 1e-6 .. 1e6 kg/m^3, friction 0 .. 1000; a compound's parts within 1e6 m of its origin; the
-        principal moments of inertia within a factor 1e10 of each other.
+        principal moments of inertia within a factor 1e10 of each other.  ``ccd`` (continuous collision, while
+        the world's :attr:`ccd` is on): None sweeps the body when it moves far in a step for its size, True
+        always, False never (not even its motion in its bounding box).
         """
         parts = _parse_shapes(shape)
         for s, _, _ in parts:
@@ -324,6 +388,7 @@ class World:
                                                                  hi=MAX_DENSITY, unit="kg/m^3")
         material = _material(friction, static_friction, restitution, rolling_friction)
         sensor = _check_flag("sensor", sensor)
+        ccd = None if ccd is None else _check_flag("ccd", ccd)
         m, com, inertia = compound_mass_properties(parts, rho, mass)
         if mass is None and not MIN_MASS <= m <= MAX_MASS:
             raise ValueError(f"density: the body's mass from density {rho!r} kg/m^3 would be {m:.3g} kg, "
@@ -337,6 +402,8 @@ class World:
         # Shapes are stored relative to the centre of mass: the body's origin is its centre of mass.
         parts = [(s, p - com, q) for s, p, q in parts]
         flags = L.F_SENSOR if sensor else 0
+        if ccd is not None:
+            flags |= L.F_CCD_ALWAYS if ccd else L.F_CCD_NEVER
         if np.array_equal(inertia, np.eye(3) * inertia[0, 0]):
             flags |= L.F_ISOTROPIC
         row = self._state.insert_body(parts, pos, quat, vel, omega, m, inertia, inverse, material, flags, None)
@@ -498,14 +565,36 @@ class World:
 
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt: float) -> None:
-        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps); ``dt`` in
-        [1e-6, 1] s (``_validate.MIN_DT``, ``MAX_DT``)."""
+        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps, in several
+        intervals as :attr:`time_stepping` and :attr:`ccd` ask: :attr:`last_step`); ``dt`` in [1e-6, 1] s
+        (``_validate.MIN_DT``, ``MAX_DT``)."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
             dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
-        self._state.step()
+                self._last = None
+        status = self._state.step() if self._fixed else -1
+        if status != 0:
+            self._step_in_intervals(dt, status)
+
+    def _step_in_intervals(self, dt, status):
+        """The step of ``dt`` seconds in several intervals (``pipeline/time_stepping.py``): after a first
+        attempt of the fixed step that stopped at an impact (``status``), or in the adaptive modes."""
+        st = self._state
+        pf, pi = st.params_f, st.params_i
+        loop = StepLoop(st, lambda tau: write_params(self, tau, pf, pi, step_dt=dt), dt, pf[L.PF_MIN_INTERVAL])
+        try:
+            if self._fixed:
+                loop.run_span(dt, status)
+            elif self._time_stepping == "retroactive":
+                loop.retroactive_span(dt, 0, self._max_halvings, self.max_penetration, None)
+            else:
+                loop.run_span(dt)
+            loop.finish()
+        finally:
+            self._params_dt = None          # (the parameters hold the last interval's length)
+        self._last = loop
 
     def advance(self, frame_time: float, dt: float = 1.0 / 120.0, max_steps: int | None = None) -> float:
         """Game-loop accumulator: take as many fixed steps of ``dt`` as ``frame_time`` (s) allows.

@@ -32,9 +32,9 @@ from ..collision.pairs.dispatch import collide_pair, flip_normals, sphere_primit
 from ..collision.shape_types import N_SHAPE_PARAMS
 from ..dynamics.forces import is_moving
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
-from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE, F_SENSOR,
-                            F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS,
-                            S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
+from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
+                            F_CCD_NEVER, F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
+                            S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
 
 
 @njit
@@ -111,7 +111,8 @@ def _row_matrix(rot_t, s):
 
 @njit_inline
 def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
-    """Fattened AABB and sweep distance (m) of every moving body; static bodies keep theirs.
+    """Fattened AABB and sweep distance (m) of every moving body (none for ``ccd=False`` bodies, F_CCD_NEVER);
+    static bodies keep theirs.
     ``pos_t, rot_t, q`` are the scratch of :func:`pose_tables` (each shape posed into its rows)."""
     for i in range(nb):
         if (bi[i, FLAGS] & F_ALIVE) == 0 or (bi[i, FLAGS] & F_STATIC) != 0:
@@ -137,7 +138,7 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative,
                     aabbs[i, k] = lo[k]
                 if s == s0 or hi[k] > aabbs[i, 3 + k]:
                     aabbs[i, 3 + k] = hi[k]
-        if is_moving(bi, i):
+        if is_moving(bi, i) and (bi[i, FLAGS] & F_CCD_NEVER) == 0:
             v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
             w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
             sweep[i] = (v + w * reach) * dt + gravity_mag * dt * dt

@@ -18,11 +18,15 @@ from .._numba.record import new_record_function, reader, viewer
 from .._numba.wide import LANES
 from ..dynamics.contact_bundles import MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
-from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, SB_COLS
+from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, SB_COLS, TIME_COLS
 from .collide import pose_tables
 
 #: most threads of the contact passes (World.threads)
 MAX_THREADS = 64
+#: rows of the time-of-impact search's contact buffer (a pair reporting more shrinks its search window)
+TOI_ROWS = 256
+#: most touching triangles of one mesh the search keeps apart
+TOI_TOUCH = 32
 
 
 @structref.register
@@ -97,6 +101,15 @@ FIELDS = TABLE_FIELDS + (
     ("supported", _F2),       # heavy-on-light contacts and their impulses (dynamics/contact_solver.py)
     ("light", types.boolean[::1]),  # solver-body rows that carry a body much heavier than themselves
     ("heavy", types.boolean[::1]),  # contacts of a heavy body on a light one
+    # time stepping (pipeline/impacts.py): its report to the stepping loop, and the time-of-impact search's scratch
+    ("time_f", _F1),          # what the time-of-impact stage reports (state/layout.py T_*), held by the state too
+    ("impact_f", _F2),        # impulses of the impacts resolved at the interval's start, one row per contact
+    ("toi_f", _F2),           # the search's contact buffer (TOI_ROWS, 7)
+    ("toi_i", _I1),           # and its feature ids
+    ("toi_pos", _F2),         # (2, 3) the two shapes' positions at the searched time (m)
+    ("toi_rot", types.float64[:, :, ::1]),   # (2, 3, 3) and rotations
+    ("toi_q", _F1),           # a quaternion
+    ("toi_touch", _I1),       # the count and the triangles of a mesh that touch when the search starts
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -109,7 +122,7 @@ view = viewer(STEP_CONTEXT)
 
 @njit
 def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
-          params_f, params_i, stats, nb, nk, threads):
+          params_f, params_i, stats, nb, nk, threads, time_f, impact_f):
     t = _new_record(STEP_CONTEXT)
     t.bf, t.bi, t.sf, t.si, t.kf, t.ki, t.ws = bf, bi, sf, si, kf, ki, ws
     t.geom_f, t.geom_i, t.aabbs, t.bp_f, t.bp_i, t.pairs = geom_f, geom_i, aabbs, bp_f, bp_i, pairs
@@ -152,20 +165,32 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.supported = np.zeros((contacts, 2))
     t.light = np.zeros(n_slots + 2, dtype=np.bool_)
     t.heavy = np.zeros(contacts, dtype=np.bool_)
+    t.time_f, t.impact_f = time_f, impact_f
+    t.toi_f = np.zeros((TOI_ROWS, 7))
+    t.toi_i = np.zeros(TOI_ROWS, dtype=np.int64)
+    t.toi_pos = np.zeros((2, 3))
+    t.toi_rot = np.zeros((2, 3, 3))
+    t.toi_q = np.zeros(4)
+    t.toi_touch = np.zeros(TOI_TOUCH + 1, dtype=np.int64)
     return t
 
 
 def pack_context(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
-                pcf, pci, params_f, params_i, stats, nb, nk, threads=1):
+                pcf, pci, params_f, params_i, stats, nb, nk, threads=1, time_f=None, impact_f=None):
     """A context of the world's tables (the same arrays, not copies), its counts ``nb`` bodies and ``nk``
     constraints, and fresh scratch for as many body and constraint slots as the tables have rows, and for
     contact passes on up to ``threads`` threads.  Every table must be C-contiguous with the dtype and
-    dimensions of ``TABLE_FIELDS``."""
+    dimensions of ``TABLE_FIELDS``.  ``time_f`` (TIME_COLS,) and ``impact_f`` (contact rows, IMPACT_COLS)
+    receive the time-of-impact stage's report (None: the context's own, unread)."""
     arrays = locals()
     for name, typ in TABLE_FIELDS:
         a = arrays[name]
         if not (isinstance(a, np.ndarray) and a.dtype == typ.dtype.name and a.ndim == typ.ndim
                 and a.flags.c_contiguous):
             raise TypeError(f"{name} must be a C-contiguous {typ.dtype} array of {typ.ndim} dimensions")
+    if time_f is None:
+        time_f = np.zeros(TIME_COLS)
+    if impact_f is None or impact_f.shape[0] < max(cf.shape[0], pcf.shape[0]):
+        impact_f = np.zeros((max(cf.shape[0], pcf.shape[0]), IMPACT_COLS))
     return _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
-                 pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)))
+                 pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)), time_f, impact_f)

@@ -12,6 +12,8 @@ STAGES = (
     ("aabbs", "bounding boxes of the bodies, grown by the speculative distance and their motion over the step"),
     ("broad_phase", "candidate pairs of overlapping boxes, in one canonical order whatever the method"),
     ("narrow_phase", "contact points of each pair at the poses the step began with (speculative ones too)"),
+    ("time_of_impact", "impacts of an interval that began at a time of impact resolved; speculative contacts "
+                       "that no motion reaches dropped; the earliest time of impact may end the interval"),
     ("match_and_wake", "warm start from last step's contacts by (bodies, shapes, feature); awake bodies "
                        "touching sleeping islands wake them"),
     ("prepare", "contact basis, effective masses and materials; the execution variant chosen once: one "
@@ -32,9 +34,9 @@ STAGES = (
 )
 #: the stage names, in step order
 STAGE_NAMES = tuple(name for name, _ in STAGES)
-(ST_AABBS, ST_BROAD_PHASE, ST_NARROW_PHASE, ST_MATCH_AND_WAKE, ST_PREPARE, ST_INTEGRATE_VELOCITIES, ST_WARM_START,
- ST_SOLVE, ST_INTEGRATE_POSITIONS, ST_RELAX, ST_SUM_IMPULSES, ST_RESTITUTION, ST_STORE_IMPULSES,
- ST_BREAK_CONSTRAINTS, ST_ISLANDS_AND_SLEEP) = range(len(STAGES))
+(ST_AABBS, ST_BROAD_PHASE, ST_NARROW_PHASE, ST_TIME_OF_IMPACT, ST_MATCH_AND_WAKE, ST_PREPARE,
+ ST_INTEGRATE_VELOCITIES, ST_WARM_START, ST_SOLVE, ST_INTEGRATE_POSITIONS, ST_RELAX, ST_SUM_IMPULSES, ST_RESTITUTION,
+ ST_STORE_IMPULSES, ST_BREAK_CONSTRAINTS, ST_ISLANDS_AND_SLEEP) = range(len(STAGES))
 #: first stage of the sub-step loop and one past its last
 SUBSTEP_STAGES = (ST_INTEGRATE_VELOCITIES, ST_SUM_IMPULSES + 1)
 

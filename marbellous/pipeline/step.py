@@ -50,7 +50,8 @@ from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLA
                             STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
-from .stages import (ST_AABBS, ST_BREAK_CONSTRAINTS, ST_BROAD_PHASE, ST_INTEGRATE_POSITIONS,
+from .impacts import stage_time_of_impact
+from .stages import (ST_AABBS, ST_BREAK_CONSTRAINTS, ST_BROAD_PHASE, ST_INTEGRATE_POSITIONS, ST_TIME_OF_IMPACT,
                      ST_INTEGRATE_VELOCITIES, ST_ISLANDS_AND_SLEEP, ST_MATCH_AND_WAKE, ST_NARROW_PHASE, ST_PREPARE,
                      ST_RELAX, ST_RESTITUTION, ST_SOLVE, ST_STORE_IMPULSES, ST_SUM_IMPULSES, ST_WARM_START,
                      describe)
@@ -150,8 +151,9 @@ def stage_narrow_phase(ctx):
 
 @njit_inline
 def collide(ctx):
-    """Stages "aabbs", "broad phase" and "narrow phase", at the poses the step began with.  Returns OK, or
-    which buffer is too small (nothing but scratch changed)."""
+    """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with.
+    Returns OK, or which buffer is too small (nothing but scratch changed), or the time-of-impact stage's
+    SPLIT or DETECTED (pipeline/impacts.py)."""
     stage_aabbs(ctx)
     stage_broad_phase(ctx)
     if ctx.n_pairs > ctx.pairs.shape[0]:
@@ -161,7 +163,9 @@ def collide(ctx):
     stage_narrow_phase(ctx)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
-    return OK
+    status = stage_time_of_impact(ctx)
+    lap(ctx, ST_TIME_OF_IMPACT)
+    return status
 
 
 @njit_inline

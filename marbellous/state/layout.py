@@ -57,6 +57,8 @@ F_SENSOR = 4       # detects overlaps, exerts no force
 F_SLEEPING = 8     # resting island, not integrated until woken
 F_RESTART = 16     # Verlet: the previous position is unknown (new body or velocity/position set by hand)
 F_ISOTROPIC = 32   # inertia tensor is a multiple of the identity (spheres, cubes): rotation needs no matrices
+F_CCD_ALWAYS = 64  # add_body(ccd=True): impacts taken in time order even when slow for its size (world ccd on)
+F_CCD_NEVER = 128  # add_body(ccd=False): never swept (no motion in its box, no time-of-impact ordering)
 
 # --- shapes, float table sf and int table si ------------------------------------------------
 S_PARAMS = 0       # N_SHAPE_PARAMS kernel parameters (see collision/shape_types.py)
@@ -155,7 +157,8 @@ PF_RESTITUTION_SPEED = 15  # closing speed below which no bounce is applied (m/s
 PF_SWEEP = 16           # 1: predict contacts along the step's motion (continuous collision), 0: only at rest
 PF_PENALTY_HERTZ = 17   # penalty scheme: frequency of the contact springs (Hz)
 PF_LCP_SOR = 18         # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
-PF_LEN = 19
+PF_MIN_INTERVAL = 19    # shortest interval a step may be cut into at an impact (s): dt / 2**max_halvings
+PF_LEN = 20
 
 # --- step parameters, int params_i ------------------------------------------------------------------
 PI_INTEGRATOR = 0       # index into dynamics.integrators.INTEGRATORS
@@ -166,7 +169,15 @@ PI_SOLVER = 4           # SEQUENTIAL_IMPULSE, PENALTY or LCP
 PI_LCP_SWEEPS = 5       # LCP scheme: most projected Gauss-Seidel sweeps per solve
 PI_PROFILE = 6          # 1: add each stage's processor cycles to stats (World.profiling)
 PI_THREADS = 7          # threads of the sequential-impulse contact passes (dynamics/contact_regions.py)
-PI_LEN = 8
+PI_TOI_MODE = 8         # which impacts end an interval and are resolved at its start: TOI_* below
+PI_TOI_SPLIT = 9        # 1: the step may stop before solving and ask for a shorter interval (T_LIMIT)
+PI_DETECT = 10          # 1: the step only detects contacts (no prediction) and returns (retroactive mode)
+PI_LEN = 11
+
+# time-of-impact modes (PI_TOI_MODE); every mode drops speculative contacts that no motion can reach
+TOI_NONE = 0            # fixed steps, continuous collision off: nothing more
+TOI_FAST = 1            # continuous collision: bodies fast for their size (or add_body(ccd=True))
+TOI_ALL = 2             # conservative advancement: every body's new contacts
 
 SEQUENTIAL_IMPULSE = 0  # solver codes, in the order of World's solver names
 PENALTY = 1
@@ -184,6 +195,17 @@ STAT_SUM_PAIRS = 6      # candidate pairs, summed over the profiled steps
 STAT_SUM_CONTACTS = 7   # contact points, summed
 STAT_SUM_ITERATIONS = 8  # velocity iterations, summed
 STAT_CYCLES = 9         # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
+
+# --- time stepping, float time_f: what the step's time-of-impact stage reports to the stepping loop ------
+T_LIMIT = 0             # the interval the step asks for when it stopped with SPLIT (s)
+T_RESOLVED = 1          # impacts resolved at the start of the interval
+T_DROPPED = 2           # speculative contacts dropped as unreachable
+TIME_COLS = 4
+
+# --- impacts resolved at an interval's start, float impact_f, one row per contact of the interval ------
+IMP_N = 0               # normal impulse (N s)
+IMP_T = 1               # friction impulse, world vector (N s), 3
+IMPACT_COLS = 4
 
 # --- solver bodies, float sb: the solver's compact view of a body (dynamics/solver_bodies.py) --------
 SB_INV_MASS = 0         # 1/m (1/kg); 0 for a body that cannot move

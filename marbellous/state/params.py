@@ -37,8 +37,21 @@ class Tunable:
         obj._params_dt = None
 
 
-def write_params(world, dt, params_f, params_i):
-    """Fill ``params_f``/``params_i`` from ``world``'s settings for steps of ``dt`` seconds."""
+#: the time-stepping modes, in the order World takes them
+TIME_STEPPING = ("fixed", "retroactive", "conservative")
+
+
+def toi_mode(time_stepping, ccd):
+    """The step's time-of-impact mode (layout TOI_*) for a world's ``time_stepping`` and ``ccd``."""
+    if time_stepping == "conservative":
+        return L.TOI_ALL
+    return L.TOI_FAST if ccd else L.TOI_NONE
+
+
+def write_params(world, dt, params_f, params_i, step_dt=None):
+    """Fill ``params_f``/``params_i`` from ``world``'s settings for steps (or an interval) of ``dt`` seconds;
+    ``step_dt`` (s, default ``dt``): the whole step's length, whose ``2**-max_halvings`` is the shortest
+    interval."""
     pf, pi = params_f, params_i
     pf[L.PF_DT] = dt
     pf[L.PF_GRAVITY:L.PF_GRAVITY + 3] = world.gravity
@@ -67,3 +80,8 @@ def write_params(world, dt, params_f, params_i):
     pf[L.PF_PENALTY_HERTZ] = world.penalty_hertz
     pi[L.PI_LCP_SWEEPS] = int(world.lcp_sweeps)
     pf[L.PF_LCP_SOR] = world.lcp_relaxation
+    mode = toi_mode(world.time_stepping, world.ccd)
+    pi[L.PI_TOI_MODE] = mode
+    pi[L.PI_TOI_SPLIT] = int(mode != L.TOI_NONE)
+    pi[L.PI_DETECT] = 0
+    pf[L.PF_MIN_INTERVAL] = (dt if step_dt is None else step_dt) / 2.0 ** world.max_halvings

@@ -18,7 +18,8 @@ import numpy as np
 from . import layout as L
 
 #: the flag bits a body row may carry
-_BODY_FLAGS = L.F_ALIVE | L.F_STATIC | L.F_SENSOR | L.F_SLEEPING | L.F_RESTART | L.F_ISOTROPIC
+_BODY_FLAGS = (L.F_ALIVE | L.F_STATIC | L.F_SENSOR | L.F_SLEEPING | L.F_RESTART | L.F_ISOTROPIC | L.F_CCD_ALWAYS
+               | L.F_CCD_NEVER)
 #: body columns that never change after a body is added (mass properties)
 _IMMUTABLE_BODY_COLUMNS = np.r_[L.INV_MASS, L.INV_I:L.INV_I + 9, L.MASS, L.I_BODY:L.I_BODY + 9]
 _IMMUTABLE_BODY_INTS = np.array([L.SHAPE_START, L.SHAPE_COUNT])

@@ -15,7 +15,7 @@ from .._numba.record import compiled_entry, record_address
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..pipeline.context import pack_context
 from ..pipeline.stages import STAGES
-from ..pipeline.step import GROW_PAIRS, OK, STEPS
+from ..pipeline.step import GROW_CONTACTS, GROW_PAIRS, STEPS
 from . import layout as L
 from .slots import Slots
 
@@ -64,6 +64,10 @@ class WorldState:
         self.raw_i = np.zeros(64, dtype=np.int64)
         self.contact_f = [np.zeros((64, L.CF_COLS)), np.zeros((64, L.CF_COLS))]
         self.contact_i = [np.zeros((64, L.CI_COLS), dtype=np.int64), np.zeros((64, L.CI_COLS), dtype=np.int64)]
+        # What the step's time-of-impact stage reports (layout T_*), and the impulses of the impacts it
+        # resolved, one row per contact of the interval (pipeline/impacts.py)
+        self.time_f = np.zeros(L.TIME_COLS)
+        self.impact_f = np.zeros((64, L.IMPACT_COLS))
         self.threads = 1
         self.solver = L.SEQUENTIAL_IMPULSE
         # The step context of the current tables (None whenever one of them is replaced), the address the
@@ -81,23 +85,27 @@ class WorldState:
                                     self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
                                     self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
                                     self.cache_f, self.cache_i, self.params_f, self.params_i, self.stats,
-                                    self.bodies.end, self.constraints.end, self.threads)
+                                    self.bodies.end, self.constraints.end, self.threads, self.time_f,
+                                    self.impact_f)
         self._address = record_address(self.context)
         self._entry = compiled_entry(STEPS[self.solver], self._address)
 
     def step(self):
-        """One step with the parameters in ``params_f``/``params_i``; buffers that turn out too small are
-        grown and the step is run again (it changed nothing but scratch)."""
+        """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too
+        small are grown and the step is run again (it changed nothing but scratch).  Returns OK, or SPLIT
+        (the time-of-impact stage asks for an interval of ``time_f[T_LIMIT]`` seconds and nothing was solved)
+        or DETECTED (a detection pass: ``params_i[PI_DETECT]``), from ``pipeline/impacts.py``."""
         if self.context is None:
             self.pack()
         status = self._entry(self._address)
-        while status != OK:
+        while status == GROW_PAIRS or status == GROW_CONTACTS:
             if status == GROW_PAIRS:
                 self.pairs = grow(self.pairs, int(self.stats[L.STAT_PAIRS]))
             else:
                 self.grow_contacts(int(self.stats[L.STAT_CONTACTS]))
             self.pack()
             status = self._entry(self._address)
+        return status
 
     # --- contacts -------------------------------------------------------------------------------------------
     def contact_table_f(self, cache):
@@ -135,6 +143,7 @@ class WorldState:
         self.raw_i = grow(self.raw_i, n)
         self.contact_f = [grow(t, n) for t in self.contact_f]
         self.contact_i = [grow(t, n) for t in self.contact_i]
+        self.impact_f = grow(self.impact_f, n)
 
     def forget_contacts_of(self, body_row):
         """Drop last step's contacts of a body (it is being removed): nothing reports or warm-starts them."""

@@ -1,0 +1,229 @@
+"""Stage "time of impact": after the narrow phase, before anything else of the step moves a body.
+
+1. **Impacts resolved now** (``PI_TOI_MODE`` TOI_FAST or TOI_ALL).  Contacts that touch (gap at most
+   ``TOUCH_TOLERANCE``) and whose points close faster than the impact speed, on a fast body (TOI_FAST,
+   ``dynamics/ccd.py``) or on any body (TOI_ALL), are resolved at once (``dynamics/impact_resolution.py``):
+   an interval that ended at a time of impact goes on from the impact's resolution.
+2. **Speculative contacts that nothing reaches are dropped** (every mode).  A speculative contact with gap
+   ``g`` lets its bodies approach by ``g`` along its normal in the step, and that stops a body that would
+   have passed the other shape (a ghost collision).  The bodies close along the normal by at most
+
+       D = (c + |w_a| r_a + |w_b| r_b) T + max(a_n, 0) T^2 / 2,   c = -(v_b - v_a) . n,  a_n = -(g_b - g_a) . n
+
+   over the step T: a contact with ``D <= g`` cannot act and stays; otherwise the pair's time of impact
+   decides (``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within
+   T) drops it, unless its triangle touches already.
+3. **The earliest impact ends the interval**: with ``PI_TOI_SPLIT`` the step returns ``SPLIT`` before
+   anything is solved, asking in ``time_f[T_LIMIT]`` for an interval that ends at that impact (at least
+   ``PF_MIN_INTERVAL``).  TOI_FAST counts impacts of fast bodies; TOI_ALL (conservative advancement) every
+   impact, and also bounds the pairs the narrow phase did not report: without the step's motion in their
+   boxes (continuous collision off, ``ccd=False`` bodies) such a pair is farther apart than the speculative
+   distance ``d_s``, so it cannot touch before ``d_s / (2 max_i s_i)`` with ``s_i`` the bodies' speed bounds
+   (``dynamics/ccd.speed_bound``).  Only the velocities of step 1 have changed then, and a rerun finds
+   those impacts resolved.
+4. ``PI_DETECT``: the step returns ``DETECTED`` right after the narrow phase (the retroactive mode's
+   detection pass: the contacts at the current poses, nothing else).
+"""
+import math
+
+from .._numba.jit import njit, njit_inline
+from ..collision import shape_types as st
+from ..collision.toi.conservative_advancement import IMPACT, MISS, time_of_impact
+from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
+from ..dynamics.forces import is_moving
+from ..dynamics.impact_resolution import closing_speed, resolve_impacts
+from ..state.layout import (C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A, C_SHAPE_B, CI_COLS,
+                            CP_SENSOR, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
+                            PF_SPECULATIVE, PF_TOLERANCE, PI_DETECT, PI_TOI_MODE, PI_TOI_SPLIT, S_LOCAL_POS,
+                            S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, STAT_CONTACTS, T_DROPPED, T_LIMIT,
+                            T_RESOLVED, TOI_ALL, TOI_FAST, TOI_NONE, VEL)
+
+#: statuses of the step besides OK (0), GROW_PAIRS (1) and GROW_CONTACTS (2) of ``pipeline/step.py``
+SPLIT = 3
+DETECTED = 4
+#: a contact whose gap is at most this (m) touches: it is never dropped and never ends an interval
+TOUCH_TOLERANCE = 5e-4
+#: the time-of-impact search has reached a piece when its gap is at most this (m)
+HIT_TOLERANCE = 5e-5
+#: contacts closing slower than this (m/s; or the restitution speed, if more) are not impacts
+MIN_IMPACT_SPEED = 0.01
+
+
+@njit
+def impact_speed(params_f):
+    """Closing speed (m/s) above which a contact is an impact: the restitution threshold (gravity of one
+    sub-step), at least MIN_IMPACT_SPEED."""
+    return max(params_f[PF_RESTITUTION_SPEED], MIN_IMPACT_SPEED)
+
+
+@njit_inline
+def _swept(mode, bi, sf, si, sweep, a, b):
+    """Whether a contact of bodies ``a`` and ``b`` takes part in time-of-impact ordering in ``mode``."""
+    if mode == TOI_ALL:
+        return True
+    return mode == TOI_FAST and (is_fast(bi, sf, si, sweep, a) or is_fast(bi, sf, si, sweep, b))
+
+
+@njit_inline
+def _list_impacts(ctx, mode, speed):
+    """The touching contacts that close faster than ``speed`` (m/s) on swept bodies, into
+    ``ctx.contact_order`` (scratch until the prepare stage); returns how many."""
+    cf, ci, bf, bi, sf, si, sweep = ctx.cf, ctx.ci, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.sweep
+    listed = ctx.contact_order
+    m = 0
+    for c in range(ctx.nc):
+        if cf[c, C_DEPTH] < -TOUCH_TOLERANCE or (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        a = ci[c, C_BODY_A]
+        b = ci[c, C_BODY_B]
+        if _swept(mode, bi, sf, si, sweep, a, b) and closing_speed(bf, bi, cf, ci, c) > speed:
+            listed[m] = c
+            m += 1
+    return m
+
+
+@njit
+def _turning(bf, bi, sf, si, i, s):
+    """``|omega| r_reach`` (m/s) of shape row ``s`` on body row ``i`` (0 unless it moves and turns)."""
+    if not is_moving(bi, i):
+        return 0.0
+    w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
+    return w * shape_reach(sf, si, s) if w > 0.0 else 0.0
+
+
+@njit
+def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+    """True if speculative contact ``c`` can close its gap within ``horizon`` (s) at all (module docstring,
+    the bound D)."""
+    a = ci[c, C_BODY_A]
+    b = ci[c, C_BODY_B]
+    ma = is_moving(bi, a)
+    mb = is_moving(bi, b)
+    c_lin = 0.0
+    a_n = 0.0
+    for k in range(3):
+        n = cf[c, C_NORMAL + k]
+        if mb:
+            c_lin -= bf[b, VEL + k] * n
+            a_n -= gravity[k] * n
+        if ma:
+            c_lin += bf[a, VEL + k] * n
+            a_n += gravity[k] * n
+    speed = c_lin + _turning(bf, bi, sf, si, a, ci[c, C_SHAPE_A]) + _turning(bf, bi, sf, si, b, ci[c, C_SHAPE_B])
+    return speed * horizon + 0.5 * max(a_n, 0.0) * horizon * horizon > -cf[c, C_DEPTH]
+
+
+@njit
+def pair_time_of_impact(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
+                        rot_t, q, touch):
+    """``(outcome, t)`` of the time-of-impact search for the shape pair of contact ``c`` within ``horizon``
+    (s), impacts closing faster than ``speed`` (m/s); ``touch`` receives a mesh's touching triangles."""
+    a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+    sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
+    return time_of_impact(
+        si[sa, S_TYPE], sf[sa, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[sa, S_OFF_F], si[sa, S_OFF_I],
+        body_motion(bf, bi, a, gravity), (sf[sa, S_LOCAL_POS], sf[sa, S_LOCAL_POS + 1], sf[sa, S_LOCAL_POS + 2]),
+        (sf[sa, S_LOCAL_QUAT], sf[sa, S_LOCAL_QUAT + 1], sf[sa, S_LOCAL_QUAT + 2], sf[sa, S_LOCAL_QUAT + 3]),
+        shape_reach(sf, si, sa),
+        si[sb, S_TYPE], sf[sb, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[sb, S_OFF_F], si[sb, S_OFF_I],
+        body_motion(bf, bi, b, gravity), (sf[sb, S_LOCAL_POS], sf[sb, S_LOCAL_POS + 1], sf[sb, S_LOCAL_POS + 2]),
+        (sf[sb, S_LOCAL_QUAT], sf[sb, S_LOCAL_QUAT + 1], sf[sb, S_LOCAL_QUAT + 2], sf[sb, S_LOCAL_QUAT + 3]),
+        shape_reach(sf, si, sb),
+        geom_f, geom_i, horizon, TOUCH_TOLERANCE, HIT_TOLERANCE, speed, out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit
+def touching_piece(si, ci, c, touch):
+    """True if contact ``c`` lies on a triangle that ``touch`` lists (contacts with meshes and height fields;
+    a convex pair is one piece and lists none)."""
+    if si[ci[c, C_SHAPE_A], S_TYPE] < st.HEIGHTFIELD and si[ci[c, C_SHAPE_B], S_TYPE] < st.HEIGHTFIELD:
+        return False
+    piece = ci[c, C_FEATURE] // 16
+    for k in range(1, touch[0] + 1):
+        if touch[k] == piece:
+            return True
+    return False
+
+
+@njit
+def unseen_bound(bf, bi, sf, si, sweep, nb, speculative, gravity_mag, horizon):
+    """Earliest time (s) a pair the narrow phase did not report can touch, when some moving body has no
+    motion in its box: ``d_s / (2 max s_i)`` over those bodies (module docstring); inf when there is none."""
+    fastest = 0.0
+    for i in range(nb):
+        if sweep[i] == 0.0 and is_moving(bi, i):
+            fastest = max(fastest, speed_bound(bf, bi, sf, si, i, gravity_mag, horizon))
+    return speculative / (2.0 * fastest) if fastest > 0.0 else math.inf
+
+
+@njit_inline
+def _keep_row(cf, ci, impact_f, c, kept):
+    """Move contact row ``c`` (the narrow phase's columns, its ids, its impact impulses) to row ``kept``."""
+    for k in range(7):
+        cf[kept, k] = cf[c, k]
+    for k in range(CI_COLS):
+        ci[kept, k] = ci[c, k]
+    for k in range(IMPACT_COLS):
+        impact_f[kept, k] = impact_f[c, k]
+
+
+@njit_inline
+def stage_time_of_impact(ctx):
+    """Stage "time of impact" (module docstring): returns OK, SPLIT or DETECTED."""
+    params_i, params_f = ctx.params_i, ctx.params_f
+    if params_i[PI_DETECT] != 0:
+        return DETECTED
+    mode = params_i[PI_TOI_MODE]
+    horizon = params_f[PF_DT]
+    time_f = ctx.time_f
+    time_f[T_RESOLVED] = 0.0
+    limit = math.inf
+    nc = ctx.nc
+    if nc > 0:
+        bf, bi, sf, si, cf, ci, impact_f = ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.cf, ctx.ci, ctx.impact_f
+        sweep = ctx.sweep
+        speed = impact_speed(params_f)
+        if mode != TOI_NONE:
+            m = _list_impacts(ctx, mode, speed)
+            if m > 0:
+                for c in range(nc):
+                    for k in range(IMPACT_COLS):
+                        impact_f[c, k] = 0.0
+                resolve_impacts(bf, bi, ctx.nb, cf, ci, ctx.contact_order, m, ctx.solver_bodies, impact_f,
+                                params_f[PF_TOLERANCE])
+                time_f[T_RESOLVED] = m
+        gravity = (params_f[PF_GRAVITY], params_f[PF_GRAVITY + 1], params_f[PF_GRAVITY + 2])
+        kept = 0
+        last_a = -1
+        last_b = -1
+        outcome = MISS
+        for c in range(nc):
+            keep = True
+            if cf[c, C_DEPTH] < -TOUCH_TOLERANCE and (ci[c, C_FLAGS] & CP_SENSOR) == 0 \
+                    and may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+                if ci[c, C_SHAPE_A] != last_a or ci[c, C_SHAPE_B] != last_b:
+                    last_a = ci[c, C_SHAPE_A]
+                    last_b = ci[c, C_SHAPE_B]
+                    outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c, gravity,
+                                                         horizon, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
+                                                         ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
+                    if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B]):
+                        limit = min(limit, t_hit)
+                keep = outcome != MISS or touching_piece(si, ci, c, ctx.toi_touch)
+            if keep:
+                if kept < c:
+                    _keep_row(cf, ci, impact_f, c, kept)
+                kept += 1
+        time_f[T_DROPPED] = nc - kept
+        ctx.nc = kept
+        ctx.stats[STAT_CONTACTS] = kept
+    if mode == TOI_ALL:
+        gx, gy, gz = params_f[PF_GRAVITY], params_f[PF_GRAVITY + 1], params_f[PF_GRAVITY + 2]
+        limit = min(limit, unseen_bound(ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.sweep, ctx.nb, params_f[PF_SPECULATIVE],
+                                        math.sqrt(gx * gx + gy * gy + gz * gz), horizon))
+    if params_i[PI_TOI_SPLIT] != 0 and limit < horizon:
+        limit = max(limit, params_f[PF_MIN_INTERVAL])
+        if limit < horizon * (1.0 - 1e-9):
+            time_f[T_LIMIT] = limit
+            return SPLIT
+    return 0
