@@ -15,7 +15,7 @@ from .constraints import Cable, Rod, Spring
 from .pipeline.profile import StepProfile
 from .query import ContactPoint, collide
 from .shapes import Box, Capsule, HeightField, Plane, Shape, Sphere, TriangleMesh
-from .reports import Contact, RayHit
+from .reports import Contact, RayHit, StepReport
 from .state.snapshot import Snapshot
 from .world import World
 
@@ -28,5 +28,5 @@ from .app.viewer import show  # noqa: E402
 register_envs()
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
-           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "StepProfile",
+           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport",
            "show", "record", "render_image", "__version__"]

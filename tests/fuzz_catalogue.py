@@ -116,7 +116,9 @@ KINDS = {
     "substeps": scalar_kind(lo=1, hi=1000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -1)],
     "threads": scalar_kind(lo=1, hi=64, int_only=True) + [("zero", 0)],
     "max_steps": scalar_kind(lo=1, hi=1_000_000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -5)],
+    "max_halvings": scalar_kind(lo=0, hi=30, int_only=True) + [("negative", -1), ("huge", 31)],
     "flag": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("none", None), ("nested", [True])],
+    "flag_or_none": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("nested", [True])],
     "choice": [("str", "magic"), ("str", ""), ("number", 3), ("none", None), ("str", b"grid"),
                ("nested", ["grid"]), ("bool", True)],
     "vec3": _vector_types(3) + _vector_values(3, 1e12),
@@ -221,22 +223,23 @@ def _add(entry, arg, kind, call, world=True):
 
 for _arg, _kind in (("gravity", "accel3"), ("solver", "choice"), ("integrator", "choice"), ("broadphase", "choice"),
                     ("iterations", "iterations"), ("substeps", "substeps"), ("threads", "threads"),
-                    ("ccd", "flag"), ("sleeping", "flag")):
+                    ("ccd", "flag"), ("sleeping", "flag"), ("time_stepping", "choice")):
     _add("World()", _arg, _kind, (lambda a: lambda ns, v: mb.World(**{a: v}))(_arg), world=False)
     _add("World setter", _arg, _kind, _setter("w", _arg))
 _add("World setter", "profiling", "flag", _setter("w", "profiling"))
+_add("World setter", "max_halvings", "max_halvings", _setter("w", "max_halvings"))
 for _arg, _kind in (("speculative_distance", "nonneg"), ("contact_hertz", "hertz"), ("contact_damping_ratio", "ratio"),
                     ("joint_hertz", "hertz"), ("joint_damping_ratio", "ratio"), ("max_push_speed", "positive"),
                     ("slide_speed", "nonneg"), ("velocity_tolerance", "nonneg"), ("sleep_linear_speed", "nonneg"),
                     ("sleep_angular_speed", "nonneg"), ("time_to_sleep", "positive"), ("penalty_hertz", "hertz"),
-                    ("lcp_relaxation", "positive")):
+                    ("lcp_relaxation", "positive"), ("max_penetration", "positive")):
     _add("World tunable", _arg, _kind, _setter("w", _arg))
 
 _body = _kw("w.add_body", fixed=["shape"], shape=_SPHERE, position=(3, 2, 0))
 for _arg, _kind in (("shape", "shape"), ("shape", "dynamic_shape"), ("position", "vec3"), ("orientation", "quat"),
                     ("velocity", "speed3"), ("angular_velocity", "speed3"), ("mass", "mass"), ("density", "density"),
                     ("friction", "friction"), ("static_friction", "static_friction"), ("restitution", "restitution"),
-                    ("rolling_friction", "rolling"), ("sensor", "flag")):
+                    ("rolling_friction", "rolling"), ("sensor", "flag"), ("ccd", "flag_or_none")):
     _add("World.add_body", _arg, _kind, _body(_arg))
 _static = _kw("w.add_static", fixed=["shape"], shape=mb.Box((1, 1, 1)), position=(-3, 0, 0))
 for _arg, _kind in (("shape", "shape"), ("position", "vec3"), ("orientation", "quat"), ("friction", "friction"),

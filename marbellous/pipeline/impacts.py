@@ -10,9 +10,11 @@
 
        D = (c + |w_a| r_a + |w_b| r_b) T + max(a_n, 0) T^2 / 2,   c = -(v_b - v_a) . n,  a_n = -(g_b - g_a) . n
 
-   over the step T: a contact with ``D <= g`` cannot act and stays; otherwise the pair's time of impact
-   decides (``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within
-   T) drops it, unless its triangle touches already.
+   over the time T + h the contact acts (the step T and one sub-step h = T / substeps beyond it: the relax
+   pass after the last sub-step lets a speculative contact close its gap in the sub-step that would
+   follow): a contact with ``D <= g`` cannot act and stays; otherwise the pair's time of impact decides
+   (``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within T + h)
+   drops it, unless its triangle touches already.
 3. **The earliest impact ends the interval**: with ``PI_TOI_SPLIT`` the step returns ``SPLIT`` before
    anything is solved, asking in ``time_f[T_LIMIT]`` for an interval that ends at that impact (at least
    ``PF_MIN_INTERVAL``).  TOI_FAST counts impacts of fast bodies; TOI_ALL (conservative advancement) every
@@ -34,9 +36,9 @@ from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..state.layout import (C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A, C_SHAPE_B, CI_COLS,
                             CP_SENSOR, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
-                            PF_SPECULATIVE, PF_TOLERANCE, PI_DETECT, PI_TOI_MODE, PI_TOI_SPLIT, S_LOCAL_POS,
-                            S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, STAT_CONTACTS, T_DROPPED, T_LIMIT,
-                            T_RESOLVED, TOI_ALL, TOI_FAST, TOI_NONE, VEL)
+                            PF_SPECULATIVE, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
+                            S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, STAT_CONTACTS, T_DROPPED,
+                            T_LIMIT, T_RESOLVED, TOI_ALL, TOI_FAST, TOI_NONE, VEL)
 
 #: statuses of the step besides OK (0), GROW_PAIRS (1) and GROW_CONTACTS (2) of ``pipeline/step.py``
 SPLIT = 3
@@ -175,6 +177,7 @@ def stage_time_of_impact(ctx):
         return DETECTED
     mode = params_i[PI_TOI_MODE]
     horizon = params_f[PF_DT]
+    acting = horizon + horizon / params_i[PI_SUBSTEPS]     # T + h: how long a speculative contact acts
     time_f = ctx.time_f
     time_f[T_RESOLVED] = 0.0
     limit = math.inf
@@ -200,12 +203,12 @@ def stage_time_of_impact(ctx):
         for c in range(nc):
             keep = True
             if cf[c, C_DEPTH] < -TOUCH_TOLERANCE and (ci[c, C_FLAGS] & CP_SENSOR) == 0 \
-                    and may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+                    and may_close(bf, bi, sf, si, cf, ci, c, gravity, acting):
                 if ci[c, C_SHAPE_A] != last_a or ci[c, C_SHAPE_B] != last_b:
                     last_a = ci[c, C_SHAPE_A]
                     last_b = ci[c, C_SHAPE_B]
                     outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c, gravity,
-                                                         horizon, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
+                                                         acting, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
                                                          ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
                     if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B]):
                         limit = min(limit, t_hit)
