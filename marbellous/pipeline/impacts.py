@@ -8,13 +8,14 @@
    ``g`` lets its bodies approach by ``g`` along its normal in the step, and that stops a body that would
    have passed the other shape (a ghost collision).  The bodies close along the normal by at most
 
-       D = (c + |w_a| r_a + |w_b| r_b) T + max(a_n, 0) T^2 / 2,   c = -(v_b - v_a) . n,  a_n = -(g_b - g_a) . n
+       D = (c + |w_a| r_a + |w_b| r_b) tau + max(a_n, 0) tau^2 / 2,   c = -(v_b - v_a) . n,  a_n = -(g_b - g_a) . n
 
-   over the time T + h the contact acts (the step T and one sub-step h = T / substeps beyond it: the relax
+   over the time tau = T + h the contact acts (the step T and one sub-step h = T / substeps beyond it: the relax
    pass after the last sub-step lets a speculative contact close its gap in the sub-step that would
    follow): a contact with ``D <= g`` cannot act and stays; otherwise the pair's time of impact decides
    (``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within T + h)
-   drops it, unless its triangle touches already.
+   drops it, unless its triangle touches already; so does an IMPACT of a swept body (step 3) at or after
+   T: the next interval takes it in time order, and the sub-step beyond T would make it bounce early.
 3. **The earliest impact ends the interval**: with ``PI_TOI_SPLIT`` the step returns ``SPLIT`` before
    anything is solved, asking in ``time_f[T_LIMIT]`` for an interval that ends at that impact (at least
    ``PF_MIN_INTERVAL``).  TOI_FAST counts impacts of fast bodies; TOI_ALL (conservative advancement) every
@@ -47,6 +48,8 @@ DETECTED = 4
 TOUCH_TOLERANCE = 5e-4
 #: the time-of-impact search has reached a piece when its gap is at most this (m)
 HIT_TOLERANCE = 5e-5
+#: an impact at or after this fraction of the interval is at its end (rounding of the time-of-impact search)
+LATE = 1.0 - 1e-9
 #: contacts closing slower than this (m/s; or the restitution speed, if more) are not impacts
 MIN_IMPACT_SPEED = 0.01
 
@@ -199,7 +202,7 @@ def stage_time_of_impact(ctx):
         kept = 0
         last_a = -1
         last_b = -1
-        outcome = MISS
+        gone = True
         for c in range(nc):
             keep = True
             if cf[c, C_DEPTH] < -TOUCH_TOLERANCE and (ci[c, C_FLAGS] & CP_SENSOR) == 0 \
@@ -210,9 +213,11 @@ def stage_time_of_impact(ctx):
                     outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c, gravity,
                                                          acting, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
                                                          ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
+                    gone = outcome == MISS
                     if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B]):
                         limit = min(limit, t_hit)
-                keep = outcome != MISS or touching_piece(si, ci, c, ctx.toi_touch)
+                        gone = t_hit >= horizon * LATE   # the next interval takes it in time order
+                keep = not gone or touching_piece(si, ci, c, ctx.toi_touch)
             if keep:
                 if kept < c:
                     _keep_row(cf, ci, impact_f, c, kept)
@@ -226,7 +231,7 @@ def stage_time_of_impact(ctx):
                                         math.sqrt(gx * gx + gy * gy + gz * gz), horizon))
     if params_i[PI_TOI_SPLIT] != 0 and limit < horizon:
         limit = max(limit, params_f[PF_MIN_INTERVAL])
-        if limit < horizon * (1.0 - 1e-9):
+        if limit < horizon * LATE:
             time_f[T_LIMIT] = limit
             return SPLIT
     return 0

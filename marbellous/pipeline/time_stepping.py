@@ -145,9 +145,9 @@ class StepLoop:
         impulses of the whole step."""
         st = self.state
         st.ws[L.W_TIME] = self.t0 + self.dt
-        if len(self._keys) <= 1 and not self._impacts and not self._resolved:
-            return
         n = st.n_cached
+        if n == 0 or (len(self._keys) <= 1 and not self._impacts and not self._resolved):
+            return
         cf = st.cache_f
         keys = self._keys + [k for k, _ in self._impacts]
         sums = self._sums + [s for _, s in self._impacts]
@@ -191,12 +191,14 @@ class StepLoop:
             self._impacts.append((ci[:, _KEY_COLUMNS].copy(), st.impact_f[:n].copy()))
 
     def _marks(self):
-        return (len(self._keys), len(self._impacts), self.steps, self.toi_events, self.smallest_dt)
+        return (len(self._keys), len(self._impacts), self.steps, self.toi_events, self.smallest_dt,
+                self._resolved)
 
     def _rollback(self, marks):
         """Forget what the intervals since ``marks`` (:meth:`_marks`) reported (they were undone)."""
-        nk, ni, self.steps, self.toi_events, self.smallest_dt = marks
+        nk, ni, self.steps, self.toi_events, self.smallest_dt, self._resolved = marks
         del self._keys[nk:]
+        del self._sums[nk:]
         del self._impacts[ni:]
 
     def _save(self):
