@@ -37,7 +37,7 @@ from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..state.layout import (C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A, C_SHAPE_B, CI_COLS,
                             CP_SENSOR, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
-                            PF_SPECULATIVE, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
+                            PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
                             S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, STAT_CONTACTS, T_DROPPED,
                             T_LIMIT, T_RESOLVED, TOI_ALL, TOI_FAST, TOI_NONE, VEL)
 
@@ -62,15 +62,16 @@ def impact_speed(params_f):
 
 
 @njit_inline
-def _swept(mode, bi, sf, si, sweep, a, b):
-    """Whether a contact of bodies ``a`` and ``b`` takes part in time-of-impact ordering in ``mode``."""
+def _swept(mode, bi, sf, si, sweep, a, b, stretch):
+    """Whether a contact of bodies ``a`` and ``b`` takes part in time-of-impact ordering in ``mode``
+    (``stretch``: the step's length over the interval's, ``dynamics/ccd.is_fast``)."""
     if mode == TOI_ALL:
         return True
-    return mode == TOI_FAST and (is_fast(bi, sf, si, sweep, a) or is_fast(bi, sf, si, sweep, b))
+    return mode == TOI_FAST and (is_fast(bi, sf, si, sweep, a, stretch) or is_fast(bi, sf, si, sweep, b, stretch))
 
 
 @njit_inline
-def _list_impacts(ctx, mode, speed):
+def _list_impacts(ctx, mode, speed, stretch):
     """The touching contacts that close faster than ``speed`` (m/s) on swept bodies, into
     ``ctx.contact_order`` (scratch until the prepare stage); returns how many."""
     cf, ci, bf, bi, sf, si, sweep = ctx.cf, ctx.ci, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.sweep
@@ -81,7 +82,7 @@ def _list_impacts(ctx, mode, speed):
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        if _swept(mode, bi, sf, si, sweep, a, b) and closing_speed(bf, bi, cf, ci, c) > speed:
+        if _swept(mode, bi, sf, si, sweep, a, b, stretch) and closing_speed(bf, bi, cf, ci, c) > speed:
             listed[m] = c
             m += 1
     return m
@@ -181,6 +182,7 @@ def stage_time_of_impact(ctx):
     mode = params_i[PI_TOI_MODE]
     horizon = params_f[PF_DT]
     acting = horizon + horizon / params_i[PI_SUBSTEPS]     # T + h: how long a speculative contact acts
+    stretch = params_f[PF_STEP_DT] / horizon
     time_f = ctx.time_f
     time_f[T_RESOLVED] = 0.0
     limit = math.inf
@@ -190,7 +192,7 @@ def stage_time_of_impact(ctx):
         sweep = ctx.sweep
         speed = impact_speed(params_f)
         if mode != TOI_NONE:
-            m = _list_impacts(ctx, mode, speed)
+            m = _list_impacts(ctx, mode, speed, stretch)
             if m > 0:
                 for c in range(nc):
                     for k in range(IMPACT_COLS):
@@ -214,7 +216,8 @@ def stage_time_of_impact(ctx):
                                                          acting, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
                                                          ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
                     gone = outcome == MISS
-                    if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B]):
+                    if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B],
+                                                    stretch):
                         limit = min(limit, t_hit)
                         gone = t_hit >= horizon * LATE   # the next interval takes it in time order
                 keep = not gone or touching_piece(si, ci, c, ctx.toi_touch)

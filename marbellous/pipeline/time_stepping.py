@@ -91,33 +91,33 @@ class StepLoop:
 
     def retroactive_span(self, span, level, max_halvings, max_penetration, start):
         """Take ``span`` seconds (a half of a half ... ``level`` times), undone and halved while it ends with
-        a new overlap deeper than ``max_penetration`` (m).  ``start``: the overlaps when it begins
+        a new overlap deeper than ``max_penetration`` (m).  ``start``: the deep overlaps when it begins
         (:meth:`overlaps`), None if not known yet (they are measured only when the end has a deep one).
-        Returns the overlaps at its end."""
+        Returns the deep overlaps at its end."""
         saved = self._save()
         marks = self._marks()
         self.run_span(span)
-        end = self.overlaps()
-        deep = {k: d for k, d in end.items() if d > max_penetration}
-        if not deep or level >= max_halvings:
+        end = self.overlaps(max_penetration)
+        if not end or level >= max_halvings:
             return end
         self._restore(saved)
+        self._rollback(marks)
         if start is None:
-            start = self.overlaps()
-        if not any(d > start.get(k, 0.0) for k, d in deep.items()):
+            start = self.overlaps(max_penetration)
+        # (a pair missing from ``start`` was at most max_penetration deep: shallower than it is now)
+        if not any(d > start.get(k, 0.0) for k, d in end.items()):
             # deep already when the interval began (bodies placed in one another): not the step's doing
-            self._rollback(marks)
             self.run_span(span)
             return end
-        self._rollback(marks)
         self.halvings += 1
         half = 0.5 * span
         middle = self.retroactive_span(half, level + 1, max_halvings, max_penetration, start)
         return self.retroactive_span(span - half, level + 1, max_halvings, max_penetration, middle)
 
-    def overlaps(self):
-        """The deepest overlap (m) of each pair of shapes ``(shape_a, shape_b)`` at the current poses (sensors
-        left out), by a detection pass of the step: the collide stages with no prediction."""
+    def overlaps(self, floor):
+        """The deepest overlap (m) of each pair of shapes ``(shape_a, shape_b)`` that overlaps deeper than
+        ``floor`` (m) at the current poses (sensors left out), by a detection pass of the step: the collide
+        stages with no prediction."""
         st = self.state
         pf, pi = st.params_f, st.params_i
         saved = pf[L.PF_SPECULATIVE], pf[L.PF_SWEEP]
@@ -132,12 +132,11 @@ class StepLoop:
         assert status == DETECTED
         n = int(st.stats[L.STAT_CONTACTS])
         cf, ci = st.contact_table_f(False)[:n], st.contact_table_i(False)[:n]
+        deep = ((ci[:, L.C_FLAGS] & L.CP_SENSOR) == 0) & (cf[:, L.C_DEPTH] > floor)
         out = {}
-        solid = (ci[:, L.C_FLAGS] & L.CP_SENSOR) == 0
-        for sa, sb, d in zip(ci[solid, L.C_SHAPE_A].tolist(), ci[solid, L.C_SHAPE_B].tolist(),
-                             cf[solid, L.C_DEPTH].tolist()):
-            if d > out.get((sa, sb), -math.inf):
-                out[(sa, sb)] = d
+        for sa, sb, d in zip(ci[deep, L.C_SHAPE_A].tolist(), ci[deep, L.C_SHAPE_B].tolist(),
+                             cf[deep, L.C_DEPTH].tolist()):
+            out[(sa, sb)] = max(d, out.get((sa, sb), d))
         return out
 
     def finish(self):

@@ -158,7 +158,8 @@ PF_SWEEP = 16           # 1: predict contacts along the step's motion (continuou
 PF_PENALTY_HERTZ = 17   # penalty scheme: frequency of the contact springs (Hz)
 PF_LCP_SOR = 18         # LCP scheme: over-relaxation factor of projected Gauss-Seidel, in (0, 2)
 PF_MIN_INTERVAL = 19    # shortest interval a step may be cut into at an impact (s): dt / 2**max_halvings
-PF_LEN = 20
+PF_STEP_DT = 20         # the whole step's length (s), of which the interval PF_DT is a part (time stepping)
+PF_LEN = 21
 
 # --- step parameters, int params_i ------------------------------------------------------------------
 PI_INTEGRATOR = 0       # index into dynamics.integrators.INTEGRATORS

@@ -84,4 +84,5 @@ def write_params(world, dt, params_f, params_i, step_dt=None):
     pi[L.PI_TOI_MODE] = mode
     pi[L.PI_TOI_SPLIT] = int(mode != L.TOI_NONE)
     pi[L.PI_DETECT] = 0
-    pf[L.PF_MIN_INTERVAL] = (dt if step_dt is None else step_dt) / 2.0 ** world.max_halvings
+    pf[L.PF_STEP_DT] = dt if step_dt is None else step_dt
+    pf[L.PF_MIN_INTERVAL] = pf[L.PF_STEP_DT] / 2.0 ** world.max_halvings
