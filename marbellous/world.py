@@ -265,7 +265,7 @@ class World:
         - ``"fixed"`` (default): one step of ``dt`` with its sub-steps (cut at the times of impact of fast
           bodies when :attr:`ccd` is on);
         - ``"retroactive"``: a step that ends with a pair of shapes overlapping deeper than
-          :attr:`max_penetration` (and deeper than when it began) is undone and taken as two half steps, each
+          ``max_penetration`` (and deeper than when it began) is undone and taken as two half steps, each
           of which may halve again, down to ``dt / 2**max_halvings``;
         - ``"conservative"``: the step advances to the earliest time at which a new contact can begin (a
           conservative bound from distances and speeds; touching contacts do not limit it), resolves it
