@@ -132,7 +132,7 @@ class World:
 
     __slots__ = ("_tunables", "_params_dt", "_gravity", "_solver", "_integrator", "_broadphase", "_iterations",
                  "_substeps", "_threads", "_ccd", "_sleeping", "_state", "_body_at", "_constraint_at", "_living",
-                 "_living_constraints", "_accumulator", "_time_stepping", "_fixed", "_max_halvings", "_last",
+                 "_living_constraints", "_accumulator", "_time_stepping", "_retroactive", "_max_halvings", "_last",
                  "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
@@ -278,7 +278,7 @@ class World:
     @time_stepping.setter
     def time_stepping(self, value: str) -> None:
         self._time_stepping = as_choice("time_stepping", value, TIME_STEPPING)
-        self._fixed = self._time_stepping == "fixed"
+        self._retroactive = self._time_stepping == "retroactive"
         self._params_dt = None
 
     @property
@@ -573,27 +573,28 @@ class World:
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
-                self._last = None
-        status = self._state.step() if self._fixed else -1
+        status = -1 if self._retroactive else self._state.step()
         if status != 0:
             self._step_in_intervals(dt, status)
+        elif self._last is not None:
+            self._last = None
 
     def _step_in_intervals(self, dt, status):
         """The step of ``dt`` seconds in several intervals (``pipeline/time_stepping.py``): after a first
-        attempt of the fixed step that stopped at an impact (``status``), or in the adaptive modes."""
+        attempt of the whole step that stopped at an impact (``status``: "fixed" and "conservative"), or
+        retroactively."""
         st = self._state
         pf, pi = st.params_f, st.params_i
         loop = StepLoop(st, lambda tau: write_params(self, tau, pf, pi, step_dt=dt), dt, pf[L.PF_MIN_INTERVAL])
         try:
-            if self._fixed:
-                loop.run_span(dt, status)
-            elif self._time_stepping == "retroactive":
+            if self._retroactive:
                 loop.retroactive_span(dt, 0, self._max_halvings, self.max_penetration, None)
             else:
-                loop.run_span(dt)
+                loop.run_span(dt, status)
             loop.finish()
         finally:
-            self._params_dt = None          # (the parameters hold the last interval's length)
+            if loop.rewritten:
+                self._params_dt = None      # (the parameters hold the last interval's length)
         self._last = loop
 
     def advance(self, frame_time: float, dt: float = 1.0 / 120.0, max_steps: int | None = None) -> float:

@@ -270,3 +270,31 @@ def test_add_body_ccd_false_is_never_swept_and_true_always(ccd):
                    friction=0.0, ccd=ccd)
         w.step(DT)
         assert w.last_step.toi_events == events
+
+
+# --- closed forms of the miss test ------------------------------------------------------------------------------
+_coord = st.floats(-2.0, 2.0)
+
+
+@given(d0=st.tuples(_coord, _coord, _coord), u=st.tuples(_coord, _coord, _coord), radius=st.floats(0.01, 1.0))
+def test_spheres_come_within_matches_a_dense_sampling(d0, u, radius):
+    """The closed form against the gap sampled at 20,001 times of [0, 1] s: they agree unless the smallest
+    gap is within the sampling's own error, ``|u| dt / 2`` with dt = 5e-5 s, of the tolerance."""
+    from marbellous.collision.toi.closed_forms import spheres_come_within
+
+    t = np.linspace(0.0, 1.0, 20001)
+    gaps = np.linalg.norm(np.array(d0)[None, :] + t[:, None] * np.array(u)[None, :], axis=1) - radius
+    slack = 0.5 * np.linalg.norm(u) * 5e-5 + 1e-12
+    if abs(gaps.min() - 1e-3) > slack:
+        assert spheres_come_within(d0, u, radius, 1.0, 1e-3) == (gaps.min() <= 1e-3)
+
+
+@given(gap=st.floats(0.0, 1.0), speed=st.floats(-5.0, 5.0), acceleration=st.floats(-20.0, 20.0))
+def test_gap_comes_within_matches_a_dense_sampling(gap, speed, acceleration):
+    from marbellous.collision.toi.closed_forms import gap_comes_within
+
+    t = np.linspace(0.0, 0.5, 20001)
+    smallest = (gap - speed * t - 0.5 * acceleration * t * t).min()
+    slack = (abs(speed) + 10.0 * abs(acceleration)) * 2.5e-5 + 1e-12
+    if abs(smallest - 1e-3) > slack:
+        assert gap_comes_within(gap, speed, acceleration, 0.5, 1e-3) == (smallest <= 1e-3)

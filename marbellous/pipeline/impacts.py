@@ -13,7 +13,8 @@
    over the time tau = T + h the contact acts (the step T and one sub-step h = T / substeps beyond it: the relax
    pass after the last sub-step lets a speculative contact close its gap in the sub-step that would
    follow): a contact with ``D <= g`` cannot act and stays; otherwise the pair's time of impact decides
-   (``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within T + h)
+   (closed forms for centred spheres and a sphere on a plane, ``collision/toi/closed_forms.py``; else the
+   search of ``collision/toi/conservative_advancement.py``): a MISS (no piece of the pair reached within T + h)
    drops it, unless its triangle touches already; so does an IMPACT of a swept body (step 3) at or after
    T: the next interval takes it in time order, and the sub-step beyond T would make it bounce early.
 3. **The earliest impact ends the interval**: with ``PI_TOI_SPLIT`` the step returns ``SPLIT`` before
@@ -31,15 +32,16 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision import shape_types as st
+from ..collision.toi.closed_forms import gap_comes_within, spheres_come_within
 from ..collision.toi.conservative_advancement import IMPACT, MISS, time_of_impact
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
-from ..state.layout import (C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A, C_SHAPE_B, CI_COLS,
-                            CP_SENSOR, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
+from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
+                            C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
                             PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
-                            S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, STAT_CONTACTS, T_DROPPED,
-                            T_LIMIT, T_RESOLVED, TOI_ALL, TOI_FAST, TOI_NONE, VEL)
+                            POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, TOI_ALL,
+                            TOI_FAST, TOI_NONE, T_DROPPED, T_LIMIT, T_RESOLVED, VEL)
 
 #: statuses of the step besides OK (0), GROW_PAIRS (1) and GROW_CONTACTS (2) of ``pipeline/step.py``
 SPLIT = 3
@@ -98,9 +100,9 @@ def _turning(bf, bi, sf, si, i, s):
 
 
 @njit
-def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
-    """True if speculative contact ``c`` can close its gap within ``horizon`` (s) at all (module docstring,
-    the bound D)."""
+def _normal_closing(bf, bi, cf, ci, c, gravity):
+    """``(c, a_n)`` of contact ``c``: the closing speed (m/s) and acceleration (m/s^2) of its bodies' centres
+    along its normal (module docstring; a static or sleeping body stands still)."""
     a = ci[c, C_BODY_A]
     b = ci[c, C_BODY_B]
     ma = is_moving(bi, a)
@@ -115,8 +117,47 @@ def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
         if ma:
             c_lin += bf[a, VEL + k] * n
             a_n += gravity[k] * n
-    speed = c_lin + _turning(bf, bi, sf, si, a, ci[c, C_SHAPE_A]) + _turning(bf, bi, sf, si, b, ci[c, C_SHAPE_B])
+    return c_lin, a_n
+
+
+@njit
+def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+    """True if speculative contact ``c`` can close its gap within ``horizon`` (s) at all (module docstring,
+    the bound D)."""
+    c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity)
+    speed = (c_lin + _turning(bf, bi, sf, si, ci[c, C_BODY_A], ci[c, C_SHAPE_A])
+             + _turning(bf, bi, sf, si, ci[c, C_BODY_B], ci[c, C_SHAPE_B]))
     return speed * horizon + 0.5 * max(a_n, 0.0) * horizon * horizon > -cf[c, C_DEPTH]
+
+
+@njit
+def _centred(sf, s):
+    """True if shape row ``s`` sits at its body's centre of mass (it turns in place)."""
+    return sf[s, S_LOCAL_POS] == 0.0 and sf[s, S_LOCAL_POS + 1] == 0.0 and sf[s, S_LOCAL_POS + 2] == 0.0
+
+
+@njit
+def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+    """1 if the pair of contact ``c`` comes within the hit tolerance in ``horizon`` (s), 0 if it does not, by
+    the closed forms of ``collision/toi/closed_forms.py`` (two centred spheres with the same acceleration;
+    a centred sphere and a plane); -1 for other pairs (the search decides)."""
+    a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+    sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
+    ta, tb = si[sa, S_TYPE], si[sb, S_TYPE]
+    if ta == st.SPHERE and tb == st.SPHERE:
+        ma = is_moving(bi, a)
+        if ma != is_moving(bi, b) or not (_centred(sf, sa) and _centred(sf, sb)):
+            return -1
+        d0 = (bf[b, POS] - bf[a, POS], bf[b, POS + 1] - bf[a, POS + 1], bf[b, POS + 2] - bf[a, POS + 2])
+        u = (0.0, 0.0, 0.0)
+        if ma:
+            u = (bf[b, VEL] - bf[a, VEL], bf[b, VEL + 1] - bf[a, VEL + 1], bf[b, VEL + 2] - bf[a, VEL + 2])
+        return int(spheres_come_within(d0, u, sf[sa, S_PARAMS] + sf[sb, S_PARAMS], horizon, HIT_TOLERANCE))
+    if (ta == st.SPHERE and tb == st.PLANE and _centred(sf, sa)) or \
+            (tb == st.SPHERE and ta == st.PLANE and _centred(sf, sb)):
+        c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity)
+        return int(gap_comes_within(-cf[c, C_DEPTH], c_lin, a_n, horizon, HIT_TOLERANCE))
+    return -1
 
 
 @njit
@@ -212,14 +253,19 @@ def stage_time_of_impact(ctx):
                 if ci[c, C_SHAPE_A] != last_a or ci[c, C_SHAPE_B] != last_b:
                     last_a = ci[c, C_SHAPE_A]
                     last_b = ci[c, C_SHAPE_B]
-                    outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c, gravity,
-                                                         acting, speed, ctx.toi_f, ctx.toi_i, ctx.toi_pos,
-                                                         ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
-                    gone = outcome == MISS
-                    if outcome == IMPACT and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B],
-                                                    stretch):
-                        limit = min(limit, t_hit)
-                        gone = t_hit >= horizon * LATE   # the next interval takes it in time order
+                    ctx.toi_touch[0] = 0
+                    swept = _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B], stretch)
+                    reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting)
+                    if reach >= 0:
+                        gone = reach == 0
+                    else:
+                        outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c,
+                                                             gravity, acting, speed, ctx.toi_f, ctx.toi_i,
+                                                             ctx.toi_pos, ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
+                        gone = outcome == MISS
+                        if outcome == IMPACT and swept:
+                            limit = min(limit, t_hit)
+                            gone = t_hit >= horizon * LATE   # the next interval takes it in time order
                 keep = not gone or touching_piece(si, ci, c, ctx.toi_touch)
             if keep:
                 if kept < c:

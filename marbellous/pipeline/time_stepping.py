@@ -55,6 +55,7 @@ class StepLoop:
         self._sums = []
         self._impacts = []         # impacts resolved by attempts that stopped with SPLIT: keys and impulses
         self._resolved = False     # some completed interval began by resolving impacts
+        self.rewritten = False     # the parameters were written for an interval shorter than the step
 
     # --- intervals ------------------------------------------------------------------------------------------
     def run_span(self, span, first_status=None):
@@ -67,8 +68,7 @@ class StepLoop:
         while True:
             rest = span - t
             if first_status is None:
-                self.write_interval(rest)
-                pi[L.PI_TOI_SPLIT] = split
+                self._set_interval(rest)
                 status = st.step()
             else:
                 status, first_status = first_status, None
@@ -80,7 +80,7 @@ class StepLoop:
                     tau = rest
                 else:
                     self.toi_events += 1
-                self.write_interval(tau)
+                self._set_interval(tau)
                 pi[L.PI_TOI_SPLIT] = 0
                 status = st.step()
                 pi[L.PI_TOI_SPLIT] = split
@@ -88,6 +88,13 @@ class StepLoop:
             if tau >= rest:
                 return
             t += tau
+
+    def _set_interval(self, tau):
+        """The step's parameters for an interval of ``tau`` seconds (written only when it changes:
+        ``rewritten`` tells the world its parameters no longer hold the whole step's)."""
+        if self.state.params_f[L.PF_DT] != tau:
+            self.write_interval(tau)
+            self.rewritten = True
 
     def retroactive_span(self, span, level, max_halvings, max_penetration, start):
         """Take ``span`` seconds (a half of a half ... ``level`` times), undone and halved while it ends with
