@@ -138,6 +138,12 @@ def as_int(name, value, *, lo=None, hi=None):
     return v
 
 
+def as_filter_bits(name, value):
+    """Return ``value``, collision filter bits (a ``group`` or ``mask``), as a 64-bit signed integer; else
+    raise naming ``name``.  Negative values are the two's-complement bit patterns (-1: every bit)."""
+    return as_int(name, value, lo=-(2 ** 63), hi=2 ** 63 - 1)
+
+
 def as_flag(name, value):
     """``value`` if it is ``True`` or ``False``; else raise TypeError naming ``name``."""
     if not isinstance(value, (bool, np.bool_)):

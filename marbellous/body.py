@@ -12,7 +12,7 @@ import functools
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import MAX_FORCE, MAX_SPEED, as_quat, as_vec3
+from ._validate import MAX_FORCE, MAX_SPEED, as_filter_bits, as_quat, as_vec3
 from .math3d import quat_to_matrix_np
 from .state import layout as L
 
@@ -127,6 +127,47 @@ class Body:
     def is_sensor(self) -> bool:
         """True for sensors: they detect overlaps but exert no force."""
         return bool(self._state().bi[self._index, L.FLAGS] & L.F_SENSOR)
+
+    def wake(self) -> None:
+        """Wake the body and the rest of its sleeping island (no effect on an awake or static body)."""
+        st = self._state()
+        if self.is_static or not self.is_sleeping:
+            return
+        n = st.bodies.end
+        island = st.bi[self._index, L.ISLAND]
+        same = np.flatnonzero((st.bi[:n, L.ISLAND] == island) & ((st.bi[:n, L.FLAGS] & L.F_SLEEPING) != 0))
+        for j in same if island >= 0 else ():
+            st.wake(int(j))
+        st.wake(self._index)
+
+    # --- collision filter ---------------------------------------------------------------------------
+    @property
+    def group(self) -> int:
+        """The body's collision group bits: it collides with ``other`` only if ``self.group & other.mask``
+        and ``other.group & self.mask`` are both nonzero (default 1)."""
+        return int(self._state().bi[self._index, L.GROUP])
+
+    @group.setter
+    def group(self, value: int) -> None:
+        self._set_filter(L.GROUP, as_filter_bits("group", value))
+
+    @property
+    def mask(self) -> int:
+        """The groups the body collides with, as bits (default -1: all)."""
+        return int(self._state().bi[self._index, L.MASK])
+
+    @mask.setter
+    def mask(self, value: int) -> None:
+        self._set_filter(L.MASK, as_filter_bits("mask", value))
+
+    def _set_filter(self, col, bits):
+        """Store filter bits; the body and the sleepers that may rest on it wake, since what holds them up
+        may no longer collide with them (the next step's broad phase applies the filter)."""
+        st = self._state()
+        st.bi[self._index, col] = bits
+        self._world._wake_neighbours(self._index)
+        if not self.is_static:
+            st.wake(self._index)
 
     # --- forces ------------------------------------------------------------------------------------
     def apply_force(self, force: ArrayLike, point: ArrayLike | None = None) -> None:

@@ -13,7 +13,7 @@ from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
 from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_FRICTION, MAX_HERTZ,
                         MAX_INERTIA_RATIO, MAX_MASS,
                         MAX_SIZE, MAX_SPEED, MAX_STIFFNESS, MIN_DENSITY, MIN_DT, MIN_HERTZ, MIN_MASS, as_choice,
-                        as_direction, as_flag, as_float, as_int, as_quat, as_vec3)
+                        as_direction, as_filter_bits, as_flag, as_float, as_int, as_quat, as_vec3)
 from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import Cable, Constraint, Rod, Spring
@@ -357,7 +357,7 @@ class World:
                  angular_velocity: ArrayLike = (0.0, 0.0, 0.0), mass: float | None = None,
                  density: float | None = None, friction: float = 0.5, static_friction: float | None = None,
                  restitution: float = 0.0, rolling_friction: float = 0.0, sensor: bool = False,
-                 ccd: bool | None = None) -> Body:
+                 group: int = 1, mask: int = -1, ccd: bool | None = None) -> Body:
         """Add a dynamic rigid body and return its :class:`Body`.
 
         ``shape``: a shape, or a list of shapes / ``(shape, position[, orientation])`` tuples (a compound;
@@ -365,7 +365,9 @@ class World:
         (kg/m^3, default 1000), not both.  ``friction`` is the sliding (dynamic) Coulomb coefficient,
         ``static_friction`` the sticking one (None: same), ``restitution`` in [0, 1],
         ``rolling_friction`` (m) the lever arm of the rolling resistance: the resisting torque is at most
-        ``rolling_friction * normal force`` (0.01 = 1 cm).  Bounds (``marbellous._validate``):
+        ``rolling_friction * normal force`` (0.01 = 1 cm).  ``group`` and ``mask`` filter collisions: two
+        bodies collide only if ``a.group & b.mask`` and ``b.group & a.mask`` are both nonzero (64-bit
+        integers; the defaults, 1 and -1 (all bits), let everything collide).  Bounds (``marbellous._validate``):
         position within +-1e12 m, velocities within +-1e9 m/s (rad/s), mass 1e-30 .. 1e30 kg,
         density 1e-6 .. 1e6 kg/m^3, friction 0 .. 1000; a compound's parts within 1e6 m of its origin; the
         principal moments of inertia within a factor 1e10 of each other.  ``ccd`` (continuous collision, while
@@ -389,6 +391,7 @@ class World:
         material = _material(friction, static_friction, restitution, rolling_friction)
         sensor = _check_flag("sensor", sensor)
         ccd = None if ccd is None else _check_flag("ccd", ccd)
+        group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
         m, com, inertia = compound_mass_properties(parts, rho, mass)
         if mass is None and not MIN_MASS <= m <= MAX_MASS:
             raise ValueError(f"density: the body's mass from density {rho!r} kg/m^3 would be {m:.3g} kg, "
@@ -406,25 +409,28 @@ class World:
             flags |= L.F_CCD_ALWAYS if ccd else L.F_CCD_NEVER
         if np.array_equal(inertia, np.eye(3) * inertia[0, 0]):
             flags |= L.F_ISOTROPIC
-        row = self._state.insert_body(parts, pos, quat, vel, omega, m, inertia, inverse, material, flags, None)
+        row = self._state.insert_body(parts, pos, quat, vel, omega, m, inertia, inverse, material, flags, None,
+                                      group, mask)
         return self._new_body_handle(row, parts)
 
     def add_static(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
                    orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), friction: float = 0.5,
                    static_friction: float | None = None, restitution: float = 0.0, rolling_friction: float = 0.0,
-                   sensor: bool = False) -> Body:
+                   sensor: bool = False, group: int = 1, mask: int = -1) -> Body:
         """Add a static (immovable) body: any shape, including Plane, HeightField and TriangleMesh.
 
-        ``friction``, ``static_friction``, ``restitution`` and ``rolling_friction`` (m) as for :meth:`add_body`.
+        ``friction``, ``static_friction``, ``restitution``, ``rolling_friction`` (m), ``group`` and ``mask``
+        as for :meth:`add_body`.
         """
         parts = _parse_shapes(shape)
         pos = as_vec3("position", position)
         quat = as_quat("orientation", orientation)
         material = _material(friction, static_friction, restitution, rolling_friction)
         flags = L.F_STATIC | (L.F_SENSOR if _check_flag("sensor", sensor) else 0)
+        group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
         zero = np.zeros(3)
         row = self._state.insert_body(parts, pos, quat, zero, zero, math.inf, None, None, material, flags,
-                                      static_body_box(parts, pos, quat))
+                                      static_body_box(parts, pos, quat), group, mask)
         return self._new_body_handle(row, parts)
 
     def _new_body_handle(self, row, parts):
@@ -642,22 +648,25 @@ class World:
                                f[L.C_SUM_T:L.C_SUM_T + 3].copy()))
         return out
 
-    def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf) -> RayHit | None:
+    def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf, *,
+                mask: int = -1) -> RayHit | None:
         """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
 
         ``origin`` within +-1e12 m; ``direction`` any finite nonzero vector (normalised here, safely for
-        huge or tiny components); ``max_distance`` >= 0 (inf: unbounded).  Returns a :class:`RayHit` or None.
+        huge or tiny components); ``max_distance`` >= 0 (inf: unbounded); only bodies whose ``group & mask``
+        is nonzero are hit (the default -1: every body).  Returns a :class:`RayHit` or None.
         A ray that starts inside a solid shape hits it at distance 0.
         """
         o = as_vec3("origin", origin)
         d = as_direction("direction", direction)
         max_distance = as_float("max_distance", max_distance, nonnegative=True, allow_inf=True, unit="m")
+        mask = as_filter_bits("mask", mask)
         st = self._state
         hit = np.zeros(8)
         nb = st.bodies.end
         candidates = np.zeros(max(nb, 1), dtype=np.int64)
         found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
-                              st.broadphase_code, nb, o, d, max_distance, candidates, hit)
+                              st.broadphase_code, nb, o, d, max_distance, mask, candidates, hit)
         if not found:
             return None
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))

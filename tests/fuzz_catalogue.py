@@ -117,6 +117,8 @@ KINDS = {
     "threads": scalar_kind(lo=1, hi=64, int_only=True) + [("zero", 0)],
     "max_steps": scalar_kind(lo=1, hi=1_000_000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -5)],
     "max_halvings": scalar_kind(lo=0, hi=30, int_only=True) + [("negative", -1), ("huge", 31)],
+    "bits": _scalar_types() + [("float", 2.5), ("float", 3.0), ("nan", NAN), ("huge", 2 ** 63),
+             ("huge", -(2 ** 63) - 1), ("huge", BIG_INT)],
     "flag": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("none", None), ("nested", [True])],
     "flag_or_none": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("nested", [True])],
     "choice": [("str", "magic"), ("str", ""), ("number", 3), ("none", None), ("str", b"grid"),
@@ -239,11 +241,12 @@ _body = _kw("w.add_body", fixed=["shape"], shape=_SPHERE, position=(3, 2, 0))
 for _arg, _kind in (("shape", "shape"), ("shape", "dynamic_shape"), ("position", "vec3"), ("orientation", "quat"),
                     ("velocity", "speed3"), ("angular_velocity", "speed3"), ("mass", "mass"), ("density", "density"),
                     ("friction", "friction"), ("static_friction", "static_friction"), ("restitution", "restitution"),
-                    ("rolling_friction", "rolling"), ("sensor", "flag"), ("ccd", "flag_or_none")):
+                    ("rolling_friction", "rolling"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits"),
+                    ("ccd", "flag_or_none")):
     _add("World.add_body", _arg, _kind, _body(_arg))
 _static = _kw("w.add_static", fixed=["shape"], shape=mb.Box((1, 1, 1)), position=(-3, 0, 0))
 for _arg, _kind in (("shape", "shape"), ("position", "vec3"), ("orientation", "quat"), ("friction", "friction"),
-                    ("restitution", "restitution"), ("sensor", "flag")):
+                    ("restitution", "restitution"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits")):
     _add("World.add_static", _arg, _kind, _static(_arg))
 
 for _method, _args in (
@@ -270,10 +273,11 @@ _add("World.advance", "max_steps", "max_steps", lambda ns, v: ns.w.advance(0.02,
 _add("World.raycast", "origin", "vec3", lambda ns, v: ns.w.raycast(v, (0, -1, 0)))
 _add("World.raycast", "direction", "direction", lambda ns, v: ns.w.raycast((0, 5, 0), v))
 _add("World.raycast", "max_distance", "max_distance", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), v))
+_add("World.raycast", "mask", "bits", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), mask=v))
 _add("World.remove", "body_or_constraint", "body", lambda ns, v: ns.w.remove(v))
 
 for _arg, _kind in (("position", "vec3"), ("orientation", "quat"), ("velocity", "speed3"),
-                    ("angular_velocity", "speed3")):
+                    ("angular_velocity", "speed3"), ("group", "bits"), ("mask", "bits")):
     _add("Body setter", _arg, _kind, _setter("ball", _arg))
 _add("Body.apply_force", "force", "force3", lambda ns, v: ns.ball.apply_force(v))
 _add("Body.apply_force", "point", "point3", lambda ns, v: ns.ball.apply_force((1, 0, 0), point=v))

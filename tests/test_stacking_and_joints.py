@@ -51,6 +51,23 @@ def test_force_wakes_a_sleeping_body():
     assert b.position[1] > 0.5
 
 
+def test_wake_wakes_the_island_only():
+    w = mb.World()
+    w.add_static(mb.Plane())
+    stack = [w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0, 0.5 + k, 0)) for k in range(3)]
+    lone = w.add_body(mb.Sphere(0.5), position=(5, 0.5, 0))
+    for _ in range(300):
+        w.step(DT)
+    assert all(b.is_sleeping for b in stack) and lone.is_sleeping
+    before = [b.position for b in stack]
+    stack[-1].wake()
+    assert not any(b.is_sleeping for b in stack) and lone.is_sleeping
+    w.step(DT)
+    assert not any(b.is_sleeping for b in stack)     # the rest timer restarted
+    # woken, the stack still rests where it slept (a wake adds no motion)
+    assert max(np.max(np.abs(b.position - p)) for b, p in zip(stack, before)) < 1e-3
+
+
 @pytest.mark.parametrize("integrator, solver", [("semi_implicit_euler", "sequential_impulse"),
                                                ("verlet", "sequential_impulse"), ("rk4", "sequential_impulse"),
                                                ("semi_implicit_euler", "lcp")])

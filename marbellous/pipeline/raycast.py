@@ -8,14 +8,15 @@ import numpy as np
 from .._numba.jit import njit
 from ..collision.broadphase import query_ray, update
 from ..collision.ray.raycast import raycast_shape
-from ..state.layout import FLAGS, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
+from ..state.layout import FLAGS, GROUP, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
 from .collide import pose_tables, shape_pose, update_aabbs
 
 
 @njit
 def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, origin, direction,
-                  max_distance, candidates, hit):
-    """Nearest hit of the ray; writes ``hit = [distance, body, px, py, pz, nx, ny, nz]`` and returns True.
+                  max_distance, mask, candidates, hit):
+    """Nearest hit of the ray on the bodies whose ``group & mask`` is nonzero; writes
+    ``hit = [distance, body, px, py, pz, nx, ny, nz]`` and returns True.
 
     ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
     """
@@ -31,6 +32,8 @@ def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb,
     normal = np.empty(3)
     for k in range(min(count, candidates.shape[0])):
         b = candidates[k]
+        if (bi[b, GROUP] & mask) == 0:
+            continue
         # Entry distance of b's box: no shape inside can be nearer.
         lo = aabbs[b]
         entry = 0.0

@@ -166,13 +166,14 @@ class WorldState:
 
     # --- bodies -------------------------------------------------------------------------------------------------
     def insert_body(self, parts, pos, quat, vel, omega, mass, inertia, inverse_inertia, material, flags,
-                    static_box):
+                    static_box, group, mask):
         """Write a validated body and its shapes into free rows; returns the body's row.
 
         ``parts``: (shape, local position, local orientation) in the body's frame (centre of mass);
         ``mass`` (kg, inf for static), ``inertia``/``inverse_inertia`` (3x3 body frame, None for static);
         ``material``: (friction, static friction, restitution, rolling friction); ``flags``: F_* bits
-        besides F_ALIVE; ``static_box``: the world AABB of a static body (None for dynamic ones)."""
+        besides F_ALIVE; ``static_box``: the world AABB of a static body (None for dynamic ones);
+        ``group``/``mask``: the collision filter's bits."""
         self.invalidate()
         i = self.bodies.allocate()
         self.bf = grow(self.bf, self.bodies.end)
@@ -194,7 +195,7 @@ class WorldState:
             bf[L.INV_MASS] = 1.0 / mass
             bf[L.I_BODY:L.I_BODY + 9] = inertia.ravel()
             bf[L.INV_I:L.INV_I + 9] = inverse_inertia.ravel()
-        self.bi[i] = (flags | L.F_ALIVE | L.F_RESTART, s0, len(parts), 1, -1, -1)
+        self.bi[i] = (flags | L.F_ALIVE | L.F_RESTART, s0, len(parts), group, mask, -1)
         self.aabbs[i] = 0.0 if static_box is None else static_box
         return i
 
