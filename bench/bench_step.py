@@ -60,6 +60,32 @@ def pybullet_one_body(steps):
     return rate
 
 
+def extra_stage_call_ns(calls=200_000):
+    """Nanoseconds per call of a compiled entry that takes a world's step context by address and returns at
+    once: what a subsystem stage (particles, cloth, fluids, ...) called besides the rigid-body step costs."""
+    import marbellous as mb
+    from marbellous._numba.jit import njit
+    from marbellous._numba.record import compiled_entry
+    from marbellous.pipeline.context import context_at, view
+
+    @njit
+    def empty_stage_at(address):
+        return view(context_at(address)).nb
+
+    w = mb.World()
+    w.add_body(mb.Sphere(0.5))
+    w.step(1 / 60)
+    address = w._state._address
+    entry = compiled_entry(empty_stage_at, address)
+    best = float("inf")
+    for _ in range(5):
+        t = time.perf_counter()
+        for _ in range(calls):
+            entry(address)
+        best = min(best, (time.perf_counter() - t) / calls)
+    return 1e9 * best
+
+
 def main():
     results = {
         "cold_start_s": start_time(tempfile.mkdtemp(prefix="marbellous-cold-")),
@@ -67,6 +93,7 @@ def main():
         "one_body_steps_per_s": steps_per_second(1, 50000),
         "free_10k_steps_per_s": steps_per_second(10000, 200),
         "pybullet_one_body_steps_per_s": pybullet_one_body(50000),
+        "extra_stage_call_ns": extra_stage_call_ns(),
     }
     results["one_body_us_per_step"] = 1e6 / results["one_body_steps_per_s"]
     results["free_10k_ms_per_step"] = 1e3 / results["free_10k_steps_per_s"]

@@ -5,9 +5,12 @@ revision when the body was made: once the body is removed (or a restore drops it
 on, and any use of the handle raises instead of touching whatever body takes the row next.  The same
 ``Body`` object is handed back wherever the world refers to that body.
 """
+from __future__ import annotations
+
 import functools
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import MAX_FORCE, MAX_SPEED, as_quat, as_vec3
 from .math3d import quat_to_matrix_np
@@ -33,7 +36,7 @@ class Body:
         self._shapes = tuple((s, _frozen(p), _frozen(q)) for s, p, q in shapes)
 
     @property
-    def shapes(self):
+    def shapes(self) -> list[tuple]:
         """The body's shapes as a list of ``(shape, local_position (m), local_orientation (w, x, y, z))``
         tuples in the frame of its centre of mass (new arrays: editing them changes nothing)."""
         return [(s, p.copy(), q.copy()) for s, p, q in self._shapes]
@@ -61,48 +64,48 @@ class Body:
 
     # --- state -----------------------------------------------------------------------------------
     @property
-    def position(self):
+    def position(self) -> np.ndarray:
         """Position of the centre of mass, world frame (m)."""
         return self._row()[L.POS:L.POS + 3].copy()
 
     @position.setter
-    def position(self, value):
+    def position(self, value: ArrayLike) -> None:
         self._set_state(L.POS, 3, value, "position", as_vec3)
 
     @property
-    def orientation(self):
+    def orientation(self) -> np.ndarray:
         """Orientation as a unit quaternion (w, x, y, z)."""
         return self._row()[L.QUAT:L.QUAT + 4].copy()
 
     @orientation.setter
-    def orientation(self, value):
+    def orientation(self, value: ArrayLike) -> None:
         self._set_state(L.QUAT, 4, value, "orientation", as_quat)
 
     @property
-    def velocity(self):
+    def velocity(self) -> np.ndarray:
         """Linear velocity of the centre of mass (m/s)."""
         return self._row()[L.VEL:L.VEL + 3].copy()
 
     @velocity.setter
-    def velocity(self, value):
+    def velocity(self, value: ArrayLike) -> None:
         self._set_state(L.VEL, 3, value, "velocity", _as_speed)
 
     @property
-    def angular_velocity(self):
+    def angular_velocity(self) -> np.ndarray:
         """Angular velocity, world frame (rad/s)."""
         return self._row()[L.OMEGA:L.OMEGA + 3].copy()
 
     @angular_velocity.setter
-    def angular_velocity(self, value):
+    def angular_velocity(self, value: ArrayLike) -> None:
         self._set_state(L.OMEGA, 3, value, "angular_velocity", _as_angular_speed)
 
     @property
-    def mass(self):
+    def mass(self) -> float:
         """Mass (kg); ``inf`` for a static body."""
         return float(self._row()[L.MASS])
 
     @property
-    def inertia(self):
+    def inertia(self) -> np.ndarray:
         """Inertia tensor about the centre of mass in world coordinates, ``R I_body R^T`` (kg m^2)."""
         row = self._row()
         if self.is_static:
@@ -111,22 +114,22 @@ class Body:
         return r @ row[L.I_BODY:L.I_BODY + 9].reshape(3, 3) @ r.T
 
     @property
-    def is_static(self):
+    def is_static(self) -> bool:
         """True for bodies made with ``add_static`` (they never move)."""
         return bool(self._state().bi[self._index, L.FLAGS] & L.F_STATIC)
 
     @property
-    def is_sleeping(self):
+    def is_sleeping(self) -> bool:
         """True while the body rests in a sleeping island (it is not integrated until woken)."""
         return bool(self._state().bi[self._index, L.FLAGS] & L.F_SLEEPING)
 
     @property
-    def is_sensor(self):
+    def is_sensor(self) -> bool:
         """True for sensors: they detect overlaps but exert no force."""
         return bool(self._state().bi[self._index, L.FLAGS] & L.F_SENSOR)
 
     # --- forces ------------------------------------------------------------------------------------
-    def apply_force(self, force, point=None):
+    def apply_force(self, force: ArrayLike, point: ArrayLike | None = None) -> None:
         """Add a world-space ``force`` (N) at world ``point`` (m; None: the centre of mass) for the next step.
 
         The torque about the centre of mass is ``(point - x) x force``.
@@ -141,7 +144,7 @@ class Body:
             row[L.TORQUE:L.TORQUE + 3] += np.cross(p - row[L.POS:L.POS + 3], f)
         self._world._state.wake(self._index)
 
-    def apply_torque(self, torque):
+    def apply_torque(self, torque: ArrayLike) -> None:
         """Add a world-space ``torque`` (N m) for the next step."""
         row = self._row()
         t = as_vec3("torque", torque, bound=MAX_FORCE, unit="N m")
@@ -150,7 +153,7 @@ class Body:
         row[L.TORQUE:L.TORQUE + 3] += t
         self._world._state.wake(self._index)
 
-    def apply_impulse(self, impulse, point=None):
+    def apply_impulse(self, impulse: ArrayLike, point: ArrayLike | None = None) -> None:
         """Change the momentum at once by ``impulse`` (N s) at world ``point`` (None: the centre of mass).
 
         ``dv = J / m``, ``domega = I_w^-1 ((point - x) x J)``.

@@ -1,7 +1,14 @@
 """Handles of constraints between bodies: ``Spring`` (Hooke), ``Rod`` (fixed distance), ``Cable`` (at most a length)."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .state import layout as L
+
+if TYPE_CHECKING:
+    from .body import Body
 
 
 class Constraint:
@@ -17,12 +24,12 @@ class Constraint:
         self._body_b = body_b
 
     @property
-    def body_a(self):
+    def body_a(self) -> Body:
         """The first body (``Body``)."""
         return self._body_a
 
     @property
-    def body_b(self):
+    def body_b(self) -> Body | None:
         """The second body (``Body``), or None when the constraint is attached to the world."""
         return self._body_b
 
@@ -33,28 +40,28 @@ class Constraint:
         return w._state.kf[self._index], w._state.ki[self._index]
 
     @property
-    def broken(self):
+    def broken(self) -> bool:
         """True once the force exceeded the breaking force; a broken constraint applies no force."""
         return bool(self._rows()[1][L.K_FLAGS] & L.KF_BROKEN)
 
     @property
-    def force(self):
+    def force(self) -> np.ndarray:
         """Force (N) the constraint applied to body_a in the last step (body_b got the opposite)."""
         return np.array(self._rows()[0][L.K_FORCE:L.K_FORCE + 3])
 
     @property
-    def anchor_a(self):
+    def anchor_a(self) -> np.ndarray:
         """Where the constraint holds ``body_a``: a point in body_a's frame (m)."""
         return np.array(self._rows()[0][L.K_ANCHOR_A:L.K_ANCHOR_A + 3])
 
     @property
-    def anchor_b(self):
+    def anchor_b(self) -> np.ndarray:
         """Where the constraint holds ``body_b``: a point in body_b's frame, or a fixed world point when
         ``body_b`` is None (m)."""
         return np.array(self._rows()[0][L.K_ANCHOR_B:L.K_ANCHOR_B + 3])
 
     @property
-    def length(self):
+    def length(self) -> float:
         """Rest length (spring), length (rod) or maximum length (cable), m."""
         return float(self._rows()[0][L.K_LENGTH])
 
@@ -68,12 +75,12 @@ class Spring(Constraint):
     __slots__ = ()
 
     @property
-    def stiffness(self):
+    def stiffness(self) -> float:
         """Spring constant k (N/m)."""
         return float(self._rows()[0][L.K_STIFFNESS])
 
     @property
-    def damping(self):
+    def damping(self) -> float:
         """Damping coefficient c (N s/m)."""
         return float(self._rows()[0][L.K_DAMPING])
 

@@ -2,9 +2,12 @@
 
 The goal area of the game is such a query: ``collide(Box(...), Sphere(r), position_b=ball)``.
 """
+from __future__ import annotations
+
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validate import as_quat, as_vec3
 from .collision.pairs.dispatch import collide_pair
@@ -27,8 +30,9 @@ def _as_shape(name, shape):
     return shape
 
 
-def collide(shape_a, shape_b, *, position_a=(0.0, 0.0, 0.0), orientation_a=(1.0, 0.0, 0.0, 0.0),
-            position_b=(0.0, 0.0, 0.0), orientation_b=(1.0, 0.0, 0.0, 0.0)):
+def collide(shape_a: Shape, shape_b: Shape, *, position_a: ArrayLike = (0.0, 0.0, 0.0),
+            orientation_a: ArrayLike = (1.0, 0.0, 0.0, 0.0), position_b: ArrayLike = (0.0, 0.0, 0.0),
+            orientation_b: ArrayLike = (1.0, 0.0, 0.0, 0.0)) -> list[ContactPoint]:
     """Every contact point of ``shape_a`` and ``shape_b`` placed at the given poses.
 
     Positions in metres, orientations as (w, x, y, z) quaternions (normalised here).  Returns a list

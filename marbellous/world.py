@@ -1,9 +1,13 @@
 """``World``: the public face of a simulation: it validates and converts what users pass, and calls the
 state's operations (``state/world_state.py``) and the step (``pipeline/step.py``).  No physics here."""
+from __future__ import annotations
+
 import math
 import platform
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
 from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_FRICTION, MAX_HERTZ,
@@ -18,17 +22,20 @@ from .dynamics.mass_properties import compound_mass_properties
 from .dynamics.rigid import inverse_inertia_np
 from .math3d import quat_to_matrix_np
 from .pipeline.context import MAX_THREADS
-from .pipeline.profile import step_profile
+from .pipeline.profile import StepProfile, step_profile
 from .pipeline.raycast import raycast_world
 from .reports import Contact, RayHit
 from .shapes.bounds import static_body_box
 from .shapes.primitives import Shape
 from .state import layout as L
 from .state import snapshot as snapshots
+from .state.snapshot import Snapshot
 from .state.params import SOLVERS, Tunable, write_params
 from .state.world_state import WorldState
 
 BROADPHASES = tuple(BROADPHASE_CODES)
+#: a body's shape: one shape, or a list of shapes and (shape, position[, orientation]) tuples (a compound)
+ShapeArg = Shape | Sequence[Shape | tuple]
 DEFAULT_DENSITY = 1000.0
 DEFAULT_SUBSTEPS = 4
 DEFAULT_ITERATIONS = 4
@@ -143,60 +150,60 @@ class World:
 
     # --- properties -------------------------------------------------------------------------------
     @property
-    def gravity(self):
+    def gravity(self) -> np.ndarray:
         """Gravitational acceleration (m/s^2), each component within +-1e6."""
         return self._gravity.copy()
 
     @gravity.setter
-    def gravity(self, value):
+    def gravity(self, value: ArrayLike) -> None:
         self._gravity = as_vec3("gravity", value, bound=MAX_ACCELERATION, unit="m/s^2")
         self._params_dt = None
 
     @property
-    def solver(self):
+    def solver(self) -> str:
         """Collision handling: ``"sequential_impulse"``, ``"penalty"`` or ``"lcp"``."""
         return self._solver
 
     @solver.setter
-    def solver(self, value):
+    def solver(self, value: str) -> None:
         self._solver = as_choice("solver", value, SOLVERS)
         self._state.solver = SOLVERS.index(self._solver)
         self._state.invalidate()
         self._params_dt = None
 
     @property
-    def integrator(self):
+    def integrator(self) -> str:
         """``"explicit_euler"``, ``"semi_implicit_euler"``, ``"verlet"`` or ``"rk4"``."""
         return self._integrator
 
     @integrator.setter
-    def integrator(self, value):
+    def integrator(self, value: str) -> None:
         self._integrator = as_choice("integrator", value, INTEGRATORS)
         self._params_dt = None
 
     @property
-    def broadphase(self):
+    def broadphase(self) -> str:
         """Broad phase: one of ``BROADPHASES``; all find the same pairs in the same order, only speed differs."""
         return self._broadphase
 
     @broadphase.setter
-    def broadphase(self, value):
+    def broadphase(self, value: str) -> None:
         self._broadphase = as_choice("broadphase", value, BROADPHASES)
         self._state.set_broadphase(BROADPHASE_CODES[self._broadphase])
         self._params_dt = None
 
     @property
-    def iterations(self):
+    def iterations(self) -> int:
         """Most velocity iterations per sub-step (the solver stops earlier once converged)."""
         return self._iterations
 
     @iterations.setter
-    def iterations(self, value):
+    def iterations(self, value: int) -> None:
         self._iterations = as_int("iterations", value, lo=1, hi=10000)
         self._params_dt = None
 
     @property
-    def threads(self):
+    def threads(self) -> int:
         """Threads of the sequential-impulse contact passes (1 to 64; default 1, serial).
 
         With ``threads = n > 1`` a step with at least 256 contacts solves them in ``n`` regions of the scene
@@ -209,50 +216,50 @@ class World:
         return self._threads
 
     @threads.setter
-    def threads(self, value):
+    def threads(self, value: int) -> None:
         self._threads = as_int("threads", value, lo=1, hi=MAX_THREADS)
         self._state.threads = self._threads
         self._state.invalidate()      # (the context's scratch is sized for the threads)
         self._params_dt = None
 
     @property
-    def substeps(self):
+    def substeps(self) -> int:
         """Sub-steps per step: each integrates, solves and relaxes over dt / substeps (more in steps longer
         than ``substeps / 120`` s: no sub-step is longer than 1/120 s, ``state/params.MAX_SUBSTEP``)."""
         return self._substeps
 
     @substeps.setter
-    def substeps(self, value):
+    def substeps(self, value: int) -> None:
         self._substeps = as_int("substeps", value, lo=1, hi=1000)
         self._params_dt = None
 
     @property
-    def ccd(self):
+    def ccd(self) -> bool:
         """Continuous collision: contacts are predicted along each body's motion in the step (speculative)."""
         return self._ccd
 
     @ccd.setter
-    def ccd(self, value):
+    def ccd(self, value: bool) -> None:
         self._ccd = _check_flag("ccd", value)
         self._params_dt = None
 
     @property
-    def sleeping(self):
+    def sleeping(self) -> bool:
         """Whether resting islands fall asleep."""
         return self._sleeping
 
     @sleeping.setter
-    def sleeping(self, value):
+    def sleeping(self, value: bool) -> None:
         self._sleeping = _check_flag("sleeping", value)
         self._params_dt = None
 
     @property
-    def profiling(self):
+    def profiling(self) -> bool:
         """Whether steps time their stages for :attr:`profile` (costs ~20 ns per stage; off by default)."""
         return bool(self._state.params_i[L.PI_PROFILE])
 
     @profiling.setter
-    def profiling(self, value):
+    def profiling(self, value: bool) -> None:
         value = _check_flag("profiling", value)
         if value and not CLOCK_AVAILABLE:
             raise RuntimeError("profiling needs the x86-64 cycle counter; this machine is "
@@ -260,35 +267,36 @@ class World:
         self._state.params_i[L.PI_PROFILE] = int(value)
 
     @property
-    def profile(self):
+    def profile(self) -> StepProfile:
         """:class:`StepProfile` of the steps taken while :attr:`profiling` was on (since the last
         :meth:`reset_profile`): seconds per stage, mean pairs, contacts and iterations per step."""
         return step_profile(self._state.stats)
 
-    def reset_profile(self):
+    def reset_profile(self) -> None:
         """Start the :attr:`profile` totals again from zero."""
         self._state.stats[L.STAT_PROFILED_STEPS:] = 0
 
     @property
-    def time(self):
+    def time(self) -> float:
         """Simulated time so far (s)."""
         return float(self._state.ws[L.W_TIME])
 
     @property
-    def bodies(self):
+    def bodies(self) -> list[Body]:
         """The live bodies, in creation order."""
         return list(self._living)
 
     @property
-    def constraints(self):
+    def constraints(self) -> list[Constraint]:
         """The live springs, rods and cables, in creation order."""
         return list(self._living_constraints)
 
     # --- bodies -------------------------------------------------------------------------------------
-    def add_body(self, shape, *, position=(0.0, 0.0, 0.0), orientation=(1.0, 0.0, 0.0, 0.0),
-                 velocity=(0.0, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.0), mass=None, density=None,
-                 friction=0.5, static_friction=None, restitution=0.0, rolling_friction=0.0,
-                 sensor=False):
+    def add_body(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
+                 orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
+                 angular_velocity: ArrayLike = (0.0, 0.0, 0.0), mass: float | None = None,
+                 density: float | None = None, friction: float = 0.5, static_friction: float | None = None,
+                 restitution: float = 0.0, rolling_friction: float = 0.0, sensor: bool = False) -> Body:
         """Add a dynamic rigid body and return its :class:`Body`.
 
         ``shape``: a shape, or a list of shapes / ``(shape, position[, orientation])`` tuples (a compound;
@@ -335,8 +343,10 @@ class World:
         row = self._state.insert_body(parts, pos, quat, vel, omega, m, inertia, inverse, material, flags, None)
         return self._new_body_handle(row, parts)
 
-    def add_static(self, shape, *, position=(0.0, 0.0, 0.0), orientation=(1.0, 0.0, 0.0, 0.0),
-                   friction=0.5, static_friction=None, restitution=0.0, rolling_friction=0.0, sensor=False):
+    def add_static(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
+                   orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), friction: float = 0.5,
+                   static_friction: float | None = None, restitution: float = 0.0, rolling_friction: float = 0.0,
+                   sensor: bool = False) -> Body:
         """Add a static (immovable) body: any shape, including Plane, HeightField and TriangleMesh.
 
         ``friction``, ``static_friction``, ``restitution`` and ``rolling_friction`` (m) as for :meth:`add_body`.
@@ -373,7 +383,7 @@ class World:
         """Wake body row ``row`` (and reset its rest timer)."""
         self._state.wake(row)
 
-    def remove(self, body_or_constraint):
+    def remove(self, body_or_constraint: Body | Constraint) -> None:
         """Remove a body (with the constraints attached to it) or a constraint; other handles stay valid.
 
         The removed object's handle raises on any later use; bodies that rested on a removed body wake."""
@@ -436,8 +446,9 @@ class World:
             st.wake(ib)
         return handle
 
-    def add_spring(self, a, b, *, rest_length, stiffness, damping=0.0, anchor_a=(0.0, 0.0, 0.0),
-                   anchor_b=(0.0, 0.0, 0.0), breaking_force=None):
+    def add_spring(self, a: Body, b: Body | None, *, rest_length: float, stiffness: float, damping: float = 0.0,
+                   anchor_a: ArrayLike = (0.0, 0.0, 0.0), anchor_b: ArrayLike = (0.0, 0.0, 0.0),
+                   breaking_force: float | None = None) -> Spring:
         """Connect two bodies (``b=None``: a fixed world point ``anchor_b``) by a damped Hooke spring.
 
         ``F = -k (l - l0) - c dl/dt`` with ``rest_length`` l0 (m), ``stiffness`` k (N/m), ``damping`` c
@@ -450,7 +461,8 @@ class World:
         pb = as_vec3("anchor_b", anchor_b)
         return self._insert_constraint(Spring, L.KT_SPRING, a, b, pa, pb, l0, k, c, breaking_force)
 
-    def add_rod(self, a, b, *, length=None, anchor_a=(0.0, 0.0, 0.0), anchor_b=(0.0, 0.0, 0.0)):
+    def add_rod(self, a: Body, b: Body | None, *, length: float | None = None, anchor_a: ArrayLike = (0.0, 0.0, 0.0),
+                anchor_b: ArrayLike = (0.0, 0.0, 0.0)) -> Rod:
         """Keep the anchors of ``a`` and ``b`` (``b=None``: the world point ``anchor_b``) at a fixed distance.
 
         ``length`` (m; None: the current distance).  Solved with the contacts as a stiff constraint:
@@ -461,7 +473,8 @@ class World:
         length = self._joint_length("length", length, a, b, pa, pb)
         return self._insert_constraint(Rod, L.KT_ROD, a, b, pa, pb, length)
 
-    def add_cable(self, a, b, *, max_length, anchor_a=(0.0, 0.0, 0.0), anchor_b=(0.0, 0.0, 0.0)):
+    def add_cable(self, a: Body, b: Body | None, *, max_length: float, anchor_a: ArrayLike = (0.0, 0.0, 0.0),
+                  anchor_b: ArrayLike = (0.0, 0.0, 0.0)) -> Cable:
         """An inextensible cable: the anchors stay at most ``max_length`` (m) apart, slack when closer."""
         pa = as_vec3("anchor_a", anchor_a)
         pb = as_vec3("anchor_b", anchor_b)
@@ -485,7 +498,7 @@ class World:
         return d
 
     # --- time ------------------------------------------------------------------------------------------
-    def step(self, dt):
+    def step(self, dt: float) -> None:
         """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps, or more, none
         longer than 1/120 s); ``dt`` in [1e-6, 1] s (``_validate.MIN_DT``, ``MAX_DT``)."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
@@ -495,7 +508,7 @@ class World:
                 self._params_dt = dt
         self._state.step()
 
-    def advance(self, frame_time, dt=1.0 / 120.0, max_steps=None):
+    def advance(self, frame_time: float, dt: float = 1.0 / 120.0, max_steps: int | None = None) -> float:
         """Game-loop accumulator: take as many fixed steps of ``dt`` as ``frame_time`` (s) allows.
 
         Returns the interpolation ``alpha = leftover / dt`` in [0, 1) for rendering between the last two
@@ -526,7 +539,7 @@ class World:
         return alpha if alpha < 1.0 else math.nextafter(1.0, 0.0)
 
     # --- queries ------------------------------------------------------------------------------------------
-    def contacts(self):
+    def contacts(self) -> list[Contact]:
         """The contacts that the last step's collision detection found (at the poses the step began with),
         with the impulses the solver applied at each."""
         st = self._state
@@ -540,7 +553,7 @@ class World:
                                f[L.C_SUM_T:L.C_SUM_T + 3].copy()))
         return out
 
-    def raycast(self, origin, direction, max_distance=math.inf):
+    def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf) -> RayHit | None:
         """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
 
         ``origin`` within +-1e12 m; ``direction`` any finite nonzero vector (normalised here, safely for
@@ -561,11 +574,11 @@ class World:
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))
 
     # --- state -------------------------------------------------------------------------------------------
-    def snapshot(self):
+    def snapshot(self) -> Snapshot:
         """The whole state (bodies, constraints, time, caches) as a picklable :class:`Snapshot`."""
         return snapshots.take(self._state, self._accumulator)
 
-    def restore(self, snapshot):
+    def restore(self, snapshot: Snapshot) -> None:
         """Return to ``snapshot`` (taken of this world, or of one built the same way).
 
         Bodies and constraints added after the snapshot are removed; their handles become invalid.  A
@@ -585,6 +598,6 @@ class World:
             del at[slots.end:]
         self._accumulator = float(snapshot.accumulator)
 
-    def state_hash(self):
+    def state_hash(self) -> str:
         """A hash of the whole state, bit for bit (hex string): equal hashes mean identical worlds."""
         return self.snapshot().state_hash()

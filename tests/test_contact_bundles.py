@@ -188,18 +188,20 @@ def test_bundles_solve_turning_boxes_as_the_scalar_pass(slabs):
 def test_bundles_refresh_the_masses_of_turned_bodies_as_the_scalar_pass(slabs):
     # After the flat boxes turned (0.3 rad about a tilted axis), the effective masses of their contacts
     # change and their impulses are scaled down with them: lane by lane as the contact table's.
-    from marbellous.dynamics.contact_bundles import WB_MASS_N, WB_MASS_T1, WB_MASS_T2, refresh_bundle_masses
+    from marbellous.dynamics.contact_bundles import refresh_bundle_masses
     from marbellous.dynamics.contact_solver import refresh_turning_masses
     from marbellous.math3d import quat_step
+    from marbellous.state.layout import WB_MASS_N, WB_MASS_T1, WB_MASS_T2
 
     b = Bundled(slabs)
     cf = b.cf.copy()
-    bf = slabs._state.bf.copy()
+    st = slabs._state
+    bf = st.bf.copy()
     axis = np.array([0.3, 0.8, -0.5]) / np.linalg.norm([0.3, 0.8, -0.5])
-    for i in range(slabs._state.bodies.end):
-        if not slabs._state.bi[i, L.FLAGS] & L.F_STATIC:
+    for i in range(st.bodies.end):
+        if not st.bi[i, L.FLAGS] & L.F_STATIC:
             bf[i, L.QUAT:L.QUAT + 4] = quat_step(tuple(bf[i, L.QUAT:L.QUAT + 4]), tuple(0.3 * axis), 1.0)
-    sb = _solver_bodies(bf, slabs._state.bi, slabs._state.bodies.end)
+    sb = _solver_bodies(bf, st.bi, st.bodies.end)
     refresh_turning_masses(cf, b.ci, None, b.nc, sb)
     refresh_bundle_masses(b.wide_f, b.wide_i, b.bundles, sb)
     changed = 0

@@ -74,3 +74,20 @@ def test_bad_flag_is_refused_and_changes_nothing():
     with pytest.raises(TypeError, match="profiling"):
         w.profiling = 1
     assert w.profiling is False
+
+
+def test_the_docs_list_the_stages_the_step_runs():
+    """docs/architecture.md's table of stages is pipeline/stages.py's list, in order, with the same words;
+    the step's docstring is made from the same list."""
+    import pathlib
+    import re
+
+    from marbellous.pipeline import step
+    from marbellous.pipeline.stages import STAGES
+
+    doc = (pathlib.Path(mb.__file__).parent.parent / "docs" / "architecture.md").read_text()
+    table = re.search(r"<!-- stages -->\n\| stage \| what it does \|\n\| --- \| --- \|\n((?:\|.*\|\n)+)", doc).group(1)
+    rows = [re.match(r"\| `(\w+)`(?: \(each sub-step\))? \| (.*) \|", line).groups() for line in table.splitlines()]
+    assert rows == [(name, what) for name, what in STAGES]
+    for name, what in STAGES:
+        assert name in step.__doc__ and what.split()[0] in step.__doc__

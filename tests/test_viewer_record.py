@@ -62,7 +62,7 @@ def test_render_image_returns_the_picture_and_saves_a_png(tmp_path):
     (dict(seconds=0.0), ValueError, "seconds must be > 0"),
     (dict(seconds=float("inf")), ValueError, "seconds must be finite"),
     (dict(seconds=float("nan")), ValueError, "seconds must be finite"),
-    (dict(seconds="2"), TypeError, "seconds must be a number"),
+    (dict(seconds="2"), TypeError, "seconds must be a real number"),
     (dict(fps=0), ValueError, "fps must be >= 1"),
     (dict(fps=29.97), TypeError, "fps must be an integer"),
     (dict(dt=-0.01), ValueError, "dt must be > 0"),

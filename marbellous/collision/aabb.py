@@ -74,3 +74,20 @@ def sphere_misses_box(c, reach, a, b, cc):
         d2 += e * e
     limit = reach * (1.0 + SPHERE_BOX_ROUNDING)
     return d2 > limit * limit
+
+
+@njit
+def ray_span_xz(o, d, t_max, x0, x1, z0, z1):
+    """``(t0, t1)``: the part ``t0 <= t <= t1`` of the ray ``o + t d``, ``0 <= t <= t_max``, over the rectangle
+    ``x0..x1, z0..z1`` of the x-z plane (slab test per axis); ``t0 > t1`` when it misses."""
+    t0, t1 = 0.0, t_max
+    for ax, lo, hi in ((0, x0, x1), (2, z0, z1)):
+        if d[ax] == 0.0:
+            if o[ax] < lo or o[ax] > hi:
+                return math.inf, -math.inf
+        else:
+            ta = (lo - o[ax]) / d[ax]
+            tb = (hi - o[ax]) / d[ax]
+            t0 = max(t0, min(ta, tb))
+            t1 = min(t1, max(ta, tb))
+    return t0, t1

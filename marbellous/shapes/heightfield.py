@@ -14,9 +14,12 @@ Kernel record (``_params()``)::
 and ``_geometry()`` is ``(heights.ravel() (row i, column j), empty int64 array)``; see
 ``collision/heightfield_collide.py``.
 """
+from __future__ import annotations
+
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import MAX_COORD, as_direction, as_float, as_real_array, as_size, as_vec3
 from ..collision import shape_types as st
@@ -39,7 +42,8 @@ class HeightField(Shape):
     _type = st.HEIGHTFIELD
     is_static_only = True
 
-    def __init__(self, heights, spacing=(1.0, 1.0), origin=(0.0, 0.0, 0.0)):
+    def __init__(self, heights: ArrayLike, spacing: ArrayLike = (1.0, 1.0),
+                 origin: ArrayLike = (0.0, 0.0, 0.0)) -> None:
         if isinstance(heights, np.ndarray) and heights.ndim == 2 and heights.size > MAX_POINTS:
             raise ValueError(f"heights: at most {MAX_POINTS} points are supported, got {heights.size}")
         h = as_real_array("heights", heights)
@@ -64,27 +68,27 @@ class HeightField(Shape):
         self._init(_heights=h, _dx=dx, _dz=dz, _origin=o)
 
     @property
-    def heights(self):
+    def heights(self) -> np.ndarray:
         """Heights (m) above ``origin[1]``, shape (nx, nz), a read-only array."""
         return self._heights.view()
 
     @property
-    def dx(self):
+    def dx(self) -> float:
         """Grid spacing along x (m)."""
         return self._dx
 
     @property
-    def dz(self):
+    def dz(self) -> float:
         """Grid spacing along z (m)."""
         return self._dz
 
     @property
-    def origin(self):
+    def origin(self) -> np.ndarray:
         """Position (m) of grid point (0, 0) at height 0, in the shape's frame (a new array)."""
         return self._origin.copy()
 
     @property
-    def shape(self):
+    def shape(self) -> tuple[int, int]:
         """``(nx, nz)``: number of grid points along x and z."""
         return self._heights.shape
 
@@ -98,7 +102,7 @@ class HeightField(Shape):
     def _geometry(self):
         return self._heights.reshape(-1).copy(), np.zeros(0, np.int64)
 
-    def local_aabb(self):
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
         """``(min, max)`` corners (m) of the field's box in its own frame (new arrays)."""
         nx, nz = self._heights.shape
         lo = np.array([self._origin[0], self._origin[1] + self._heights.min(), self._origin[2]])
@@ -106,7 +110,7 @@ class HeightField(Shape):
                        self._origin[2] + (nz - 1) * self._dz])
         return lo, hi
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         """Radius (m) of a sphere about the shape's origin that contains the field."""
         lo, hi = self.local_aabb()
         corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
@@ -130,7 +134,7 @@ class HeightField(Shape):
         j = min(max(int(math.floor(fz)), 0), nz - 2)
         return i, j, fx - i, fz - j
 
-    def height_at(self, x, z):
+    def height_at(self, x: float, z: float) -> float:
         """The surface's y (m, shape frame) above the point ``(x, z)``.
 
         Linear on the cell's triangle: ``u >= w`` (triangle 0):
@@ -144,7 +148,7 @@ class HeightField(Shape):
             y = h[i, j] + w * (h[i, j + 1] - h[i, j]) + u * (h[i + 1, j + 1] - h[i, j + 1])
         return float(self._origin[1] + y)
 
-    def normal_at(self, x, z):
+    def normal_at(self, x: float, z: float) -> np.ndarray:
         """Unit surface normal (shape frame) at ``(x, z)``: ``normalize(-dh/dx, 1, -dh/dz)`` of the
         triangle under the point (on the diagonal, triangle 0)."""
         i, j, u, w = self._locate(x, z)
@@ -158,7 +162,7 @@ class HeightField(Shape):
         n = np.array([-gx, 1.0, -gz])
         return n / np.linalg.norm(n)
 
-    def raycast(self, origin, direction, max_distance=math.inf):
+    def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf):
         """Nearest hit of a ray in the field's frame: ``(distance, point, normal)`` or ``None``."""
         o = as_vec3("origin", origin)
         d = as_direction("direction", direction)

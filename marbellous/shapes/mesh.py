@@ -11,11 +11,14 @@ Kernel record (``_params()``, see ``collision/mesh_layout.py`` for the blob sect
     [n_vertices, n_triangles, accel (0 brute, 1 grid2d, 2 bvh), grid_x0, grid_z0, grid_cell,
      grid_nx, grid_nz]
 """
+from __future__ import annotations
+
 import math
 import os
 import warnings
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import MAX_COORD, as_choice, as_direction, as_float, as_real_array, as_vec3
 from ..collision import shape_types as st
@@ -169,7 +172,8 @@ class TriangleMesh(Shape):
     _type = st.MESH
     is_static_only = True
 
-    def __init__(self, vertices, triangles, *, accel="grid2d", cell_size=None, weld_tolerance=None):
+    def __init__(self, vertices: ArrayLike, triangles: ArrayLike, *, accel: str = "grid2d",
+                 cell_size: float | None = None, weld_tolerance: float | None = None) -> None:
         v = _as_vertices(vertices)
         t = _as_triangles(triangles, v.shape[0])
         accel = as_choice("accel", accel, ml.ACCELS)
@@ -198,22 +202,22 @@ class TriangleMesh(Shape):
                    _adj=adj, _report=report, _grid=grid, _geom_f=geom_f, _geom_i=geom_i)
 
     @property
-    def vertices(self):
+    def vertices(self) -> np.ndarray:
         """Vertices (m), shape (V, 3), a read-only array."""
         return self._vertices.view()
 
     @property
-    def triangles(self):
+    def triangles(self) -> np.ndarray:
         """Vertex indices of the triangles, shape (T, 3) int64, a read-only array."""
         return self._triangles.view()
 
     @property
-    def accel(self):
+    def accel(self) -> str:
         """The acceleration structure: ``"brute"``, ``"grid2d"`` or ``"bvh"``."""
         return self._accel
 
     @property
-    def weld_tolerance(self):
+    def weld_tolerance(self) -> float:
         """Vertices closer than this (m) count as one for adjacency."""
         return self._weld_tolerance
 
@@ -229,20 +233,20 @@ class TriangleMesh(Shape):
     def _geometry(self):
         return self._geom_f, self._geom_i
 
-    def local_aabb(self):
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
         """``(min, max)`` corners (m) of the mesh's box in its own frame (new arrays)."""
         return self._lo.copy(), self._hi.copy()
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         """Radius (m) of a sphere about the shape's origin that contains every vertex."""
         return float(np.sqrt(np.max(np.einsum("ij,ij->i", self._vertices, self._vertices))))
 
     # -- queries ------------------------------------------------------------------------------
-    def check(self):
+    def check(self) -> MeshReport:
         """The :class:`~marbellous.collision.mesh.mesh_check.MeshReport` of this mesh."""
         return self._report
 
-    def raycast(self, origin, direction, max_distance=math.inf):
+    def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf):
         """Nearest hit of a ray in the mesh's frame: ``(distance, point, normal)`` or ``None``.
 
         ``direction`` is normalised; both sides of a triangle are hit and ``normal`` faces the ray.
@@ -258,7 +262,7 @@ class TriangleMesh(Shape):
         return float(out[0]), out[1:4].copy(), out[4:7].copy()
 
     @classmethod
-    def load(cls, path, **kw):
+    def load(cls, path: str | os.PathLike, **kw) -> TriangleMesh:
         """Read a mesh file (OBJ, STL, PLY, GLB/GLTF) into a ``TriangleMesh``.
 
         ``kw`` go to the constructor (``accel``, ``cell_size``, ``weld_tolerance``).  A missing, too

@@ -14,9 +14,12 @@ that changed afterwards would disagree with what the kernels use.  Assigning any
 raises ``AttributeError``; vector attributes are returned as new arrays and bulk arrays (vertices,
 triangles, heights) as read-only views.  Sizes are in [1e-6, 1e6] m (``marbellous._validate``).
 """
+from __future__ import annotations
+
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._validate import MAX_SIZE, MIN_SIZE, as_direction, as_float, as_size, as_vec3
 from ..collision import shape_types as st
@@ -64,14 +67,14 @@ class Shape:
         """Bulk geometry for the kernels: ``(float64 array, int64 array)``; empty for primitives."""
         return np.zeros(0, np.float64), np.zeros(0, np.int64)
 
-    def mass_properties(self, density):
+    def mass_properties(self, density: float) -> tuple[float, np.ndarray]:
         """``(mass, inertia)`` of the shape filled with ``density`` (kg/m^3).
 
         ``mass`` in kg; ``inertia`` a (3, 3) tensor in kg m^2 about the shape's centre, in its frame.
         """
         raise TypeError(f"{type(self).__name__} is static only and has no mass properties")
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         """Radius (m) of a sphere about the shape's origin that contains it (inf if unbounded)."""
         return math.inf
 
@@ -85,11 +88,11 @@ class Sphere(Shape):
     __slots__ = ("_radius",)
     _type = st.SPHERE
 
-    def __init__(self, radius):
+    def __init__(self, radius: float) -> None:
         self._init(_radius=as_size("radius", radius))
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius (m), in [1e-6, 1e6]."""
         return self._radius
 
@@ -98,15 +101,15 @@ class Sphere(Shape):
         p[0] = self.radius
         return p
 
-    def volume(self):
+    def volume(self) -> float:
         """Volume in m^3: ``4/3 pi r^3``."""
         return 4.0 / 3.0 * math.pi * self.radius ** 3
 
-    def mass_properties(self, density):
+    def mass_properties(self, density: float) -> tuple[float, np.ndarray]:
         m = density * self.volume()
         return m, np.eye(3) * (0.4 * m * self.radius ** 2)
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         return self.radius
 
     def __repr__(self):
@@ -122,7 +125,7 @@ class Box(Shape):
     __slots__ = ("_half_extents",)
     _type = st.BOX
 
-    def __init__(self, half_extents, *more):
+    def __init__(self, half_extents: ArrayLike, *more: float) -> None:
         if more:
             raise TypeError(f"Box takes half_extents as one (hx, hy, hz) sequence: Box(({half_extents!r}, "
                             f"{', '.join(repr(m) for m in more)})), not {1 + len(more)} separate arguments")
@@ -133,7 +136,7 @@ class Box(Shape):
         self._init(_half_extents=h)
 
     @property
-    def half_extents(self):
+    def half_extents(self) -> np.ndarray:
         """Half extents ``(hx, hy, hz)`` (m, each in [1e-6, 1e6]) as a new array."""
         return self._half_extents.copy()
 
@@ -142,18 +145,18 @@ class Box(Shape):
         p[0:3] = self._half_extents
         return p
 
-    def volume(self):
+    def volume(self) -> float:
         """Volume in m^3: ``8 hx hy hz``."""
         hx, hy, hz = self._half_extents
         return 8.0 * hx * hy * hz
 
-    def mass_properties(self, density):
+    def mass_properties(self, density: float) -> tuple[float, np.ndarray]:
         m = density * self.volume()
         hx, hy, hz = self._half_extents
         return m, np.diag([m / 3.0 * (hy * hy + hz * hz), m / 3.0 * (hx * hx + hz * hz),
                            m / 3.0 * (hx * hx + hy * hy)])
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         return float(np.linalg.norm(self._half_extents))
 
     def __repr__(self):
@@ -171,16 +174,16 @@ class Capsule(Shape):
     __slots__ = ("_radius", "_half_height")
     _type = st.CAPSULE
 
-    def __init__(self, radius, half_height):
+    def __init__(self, radius: float, half_height: float) -> None:
         self._init(_radius=as_size("radius", radius), _half_height=as_size("half_height", half_height))
 
     @property
-    def radius(self):
+    def radius(self) -> float:
         """Radius (m), in [1e-6, 1e6]."""
         return self._radius
 
     @property
-    def half_height(self):
+    def half_height(self) -> float:
         """Half the length of the cylinder part (m), in [1e-6, 1e6]."""
         return self._half_height
 
@@ -190,12 +193,12 @@ class Capsule(Shape):
         p[1] = self.half_height
         return p
 
-    def volume(self):
+    def volume(self) -> float:
         """Volume in m^3: ``pi r^2 h + 4/3 pi r^3``."""
         r, h = self.radius, 2.0 * self.half_height
         return math.pi * r * r * h + 4.0 / 3.0 * math.pi * r ** 3
 
-    def mass_properties(self, density):
+    def mass_properties(self, density: float) -> tuple[float, np.ndarray]:
         r, h = self.radius, 2.0 * self.half_height
         mc = density * math.pi * r * r * h
         ms = density * 4.0 / 3.0 * math.pi * r ** 3
@@ -203,7 +206,7 @@ class Capsule(Shape):
         ixx = mc * (r * r / 4.0 + h * h / 12.0) + ms * (0.4 * r * r + h * h / 4.0 + 3.0 / 8.0 * h * r)
         return mc + ms, np.diag([ixx, iyy, ixx])
 
-    def bounding_radius(self):
+    def bounding_radius(self) -> float:
         return self.radius + self.half_height
 
     def __repr__(self):
@@ -220,18 +223,18 @@ class Plane(Shape):
     _type = st.PLANE
     is_static_only = True
 
-    def __init__(self, normal=(0.0, 1.0, 0.0), offset=0.0):
+    def __init__(self, normal: ArrayLike = (0.0, 1.0, 0.0), offset: float = 0.0) -> None:
         n = as_direction("normal", normal)
         n.flags.writeable = False
         self._init(_normal=n, _offset=as_float("offset", offset, lo=-1e12, hi=1e12, unit="m"))
 
     @property
-    def normal(self):
+    def normal(self) -> np.ndarray:
         """Unit normal (new array): any finite nonzero vector given is normalised."""
         return self._normal.copy()
 
     @property
-    def offset(self):
+    def offset(self) -> float:
         """Offset (m) of the surface along the normal, within +-1e12."""
         return self._offset
 

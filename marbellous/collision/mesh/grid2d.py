@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from ..._numba.jit import njit
+from ..aabb import ray_span_xz
 from ..ray.triangle_ray import ray_triangle
 from . import mesh_layout as ml
 
@@ -227,16 +228,7 @@ def grid_raycast(params, geom_f, geom_i, off_f, off_i, o, d, t_max):
     x0, z0, cell = params[3], params[4], params[5]
     nx, nz = int(params[6]), int(params[7])
     x1, z1 = x0 + nx * cell, z0 + nz * cell
-    t0, t1 = 0.0, t_max
-    for ax, lo, hi in ((0, x0, x1), (2, z0, z1)):
-        if d[ax] == 0.0:
-            if o[ax] < lo or o[ax] > hi:
-                return math.inf, -1
-        else:
-            ta = (lo - o[ax]) / d[ax]
-            tb = (hi - o[ax]) / d[ax]
-            t0 = max(t0, min(ta, tb))
-            t1 = min(t1, max(ta, tb))
+    t0, t1 = ray_span_xz(o, d, t_max, x0, x1, z0, z1)
     if t0 > t1:
         return math.inf, -1
     ix = _cell_range(o[0] + t0 * d[0], x0, cell, nx)

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..._numba.jit import njit
 from .. import shape_types as st
-from ..aabb import boxes_overlap
+from ..aabb import boxes_overlap, ray_span_xz
 from ..ray.triangle_ray import ray_triangle
 from ..triangle.triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
 from ..triangle.triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
@@ -190,16 +190,7 @@ def heightfield_raycast(params, geom_f, off_f, o, d, t_max):
     dx, dz, x0, z0 = params[0], params[1], params[2], params[4]
     nx, nz = int(params[5]), int(params[6])
     x1, z1 = x0 + (nx - 1) * dx, z0 + (nz - 1) * dz
-    t0, t1 = 0.0, t_max
-    for ax, lo, hi in ((0, x0, x1), (2, z0, z1)):
-        if d[ax] == 0.0:
-            if o[ax] < lo or o[ax] > hi:
-                return math.inf, -1
-        else:
-            ta = (lo - o[ax]) / d[ax]
-            tb = (hi - o[ax]) / d[ax]
-            t0 = max(t0, min(ta, tb))
-            t1 = min(t1, max(ta, tb))
+    t0, t1 = ray_span_xz(o, d, t_max, x0, x1, z0, z1)
     if t0 > t1:
         return math.inf, -1
     i = _cell_index(o[0] + t0 * d[0], x0, dx, nx - 1)
