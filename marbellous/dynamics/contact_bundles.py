@@ -310,7 +310,7 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
     zero = splat_w(0.0)
     one = splat_w(1.0)
     bias_rate = soft[0]
-    bias_limit = splat_w(-soft[3])
+    twice_max_push = splat_w(2.0 * soft[3])
     touching_mass, touching_impulse = splat_w(soft[1]), splat_w(soft[2])
     store_w(largest, 0, zero)
     for bundle in range(first, last):
@@ -324,7 +324,8 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
         n = _vector(wide_f, _at(bundle, WB_NORMAL))
         # --- normal: a speculative gap s > 0 closes exactly in the sub-step; shallow overlap opens softly -
         s = load_w(wide_f, _at(bundle, WB_SEPARATION))
-        bias = where_gt(s, zero, s / h, max_w(s * bias_rate, bias_limit))
+        r = (zero - s) * bias_rate        # contact_solver.soft_bias, term for term
+        bias = where_gt(s, zero, s / h, zero - max_w(min_w(r, twice_max_push - r), zero))
         soft_mass = where_gt(s, zero, one, touching_mass)
         soft_impulse = where_gt(s, zero, zero, touching_impulse)
         vn = _dot(_relative_velocity(ua, ra, ub, rb), n)

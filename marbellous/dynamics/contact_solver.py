@@ -18,7 +18,8 @@ Impulses accumulate per contact and are warm-started from the last step (matched
 
 Overlap (separation s < 0) is corrected through the velocities only as deep as they open it below
 ``max_push`` (``D = max_push / rate``, 2.9 cm at 60 Hz: softly in the solve passes, the correction's
-velocity taken out by the rigid relax pass: :func:`solve_contacts`).  After the positions moved, the push
+velocity taken out by the rigid relax pass, handed over to the pushes between D and 2 D:
+:func:`soft_bias`).  After the positions moved, the push
 passes (split impulses, Catto 2006, as in Bullet and Box2D 2.x) solve the same rows on a second set of
 pseudo-velocities ``u_p`` (``pb``, zero at the start of each sub-step), which move the poses by ``h u_p``
 and are then dropped:
@@ -205,6 +206,21 @@ def contact_separation(sb, cf, c, a, b):
                                                         row3(cf, c, C_RB)), row3(cf, c, C_NORMAL))
 
 
+@njit_inline
+def soft_bias(s, rate, max_push):
+    """The velocity bias (m/s) of a contact of overlap ``d = -s >= 0`` (m) in the soft solve passes:
+
+        bias = -rate d                        for d <= D = max_push / rate
+        bias = -(2 max_push - rate d)         for D <= d <= 2 D,   0 beyond
+
+    so the velocities open shallow overlap softly (a resting contact's) and hand deep overlap over to the
+    pushes (:func:`push_target`), whose ``rate (d - D)`` grows as this falls: together they open it at
+    ``max_push`` from ``D`` on.  (Deep overlap opened at ``max_push`` through the velocities of every
+    contact of a heap spawned at one point, and the relax pass did not take it all out again: 258 m/s.)"""
+    r = rate * (0.0 - s)
+    return 0.0 - max(min(r, 2.0 * max_push - r), 0.0)
+
+
 @njit
 def solve_contacts(cf, ci, order, first, last, sb, h, soft):
     """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_push) of ``soft.py``) or "relax"
@@ -213,11 +229,11 @@ def solve_contacts(cf, ci, order, first, last, sb, h, soft):
 
     A contact keeps its bodies from closing by more than its gap ``s > 0`` in the sub-step of ``h`` s
     (speculative: exactly), and a touching one (``s <= 0``) opens its overlap softly, at ``bias_rate (-s)``
-    but no faster than ``max_push`` (the soft step of ``soft.py``, Box2D 3's, which keeps tall stacks
-    standing: with rigid passes and the overlap left to the pushes alone a 20-box tower tilted until it
-    fell); the rigid relax pass after the positions moved takes the correction's velocity out again.
-    Overlap deeper than ``max_push / bias_rate`` (which that would open at the cap: 2.9 cm at 60 Hz) is
-    left to :func:`push_contacts`.  Returns the largest velocity change made (m/s), for the adaptive
+    up to ``max_push`` (the soft step of ``soft.py``, Box2D 3's, which keeps tall stacks standing: with
+    rigid passes and the overlap left to the pushes alone a 20-box tower tilted until it fell); the rigid
+    relax pass after the positions moved takes the correction's velocity out again.  Overlap deeper than
+    ``D = max_push / bias_rate`` (2.9 cm at 60 Hz) is handed over to :func:`push_contacts`
+    (:func:`soft_bias`).  Returns the largest velocity change made (m/s), for the adaptive
     iteration count.  Each contact's two bodies are read once, updated in registers through the normal,
     friction and rolling impulses, and written back once; bodies that cannot move are never written, so
     passes over contacts that share no movable body may run at the same time.
@@ -241,7 +257,7 @@ def solve_contacts(cf, ci, order, first, last, sb, h, soft):
         if s > 0.0:
             bias, soft_mass, soft_impulse = s / h, 1.0, 0.0        # speculative: close the gap exactly
         else:
-            bias, soft_mass, soft_impulse = max(bias_rate * s, -max_push), mass_scale, impulse_scale
+            bias, soft_mass, soft_impulse = soft_bias(s, bias_rate, max_push), mass_scale, impulse_scale
         vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
         mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
@@ -560,7 +576,7 @@ def solve_supported(cf, ci, supported, sb, pb, h, pushing, rate, max_push, depth
             else:
                 ua = velocity(sb, a)
                 ub = velocity(sb, b)
-                bias = s / h if s > 0.0 else max(rate * s, -max_push)
+                bias = s / h if s > 0.0 else soft_bias(s, rate, max_push)
             vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
             # the effective mass of the body above alone (the one below held)
             if up > 0.0:
