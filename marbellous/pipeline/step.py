@@ -355,14 +355,20 @@ def _push_out(ctx):
     pseudo-velocities, from zero, until none changes by more than the tolerance or ``iterations`` passes
     are done; then the heavy-on-light pushes, the static world's contacts last (no push into it), and
     every body moved by its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs
-    the solver bodies of the poses just integrated."""
+    the solver bodies of the poses just integrated.  A first pass that pushes nothing (no overlap deeper
+    than the velocity passes take, the usual case) leaves every pseudo-velocity zero, and so would the
+    rest: then it is the only one."""
     if ctx.nc == 0:
         return
     clear_push(ctx.push_bodies, ctx.nb)
+    change = _contact_pass(ctx, True, True, False)
+    if change == 0.0:
+        return
     tolerance = ctx.params_f[PF_TOLERANCE]
-    for k in range(ctx.params_i[PI_ITERATIONS]):
-        if _contact_pass(ctx, True, k == 0, False) < tolerance:
-            break
+    passes = 1
+    while change >= tolerance and passes < ctx.params_i[PI_ITERATIONS]:
+        change = _contact_pass(ctx, True, False, False)
+        passes += 1
     _supported_pass(ctx, True, False)
     if ctx.n_static > 0:
         push_static(ctx.cf, ctx.ci, ctx.static_contacts[:ctx.n_static], ctx.solver_bodies, ctx.push_bodies, ctx.h,
