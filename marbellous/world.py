@@ -236,7 +236,8 @@ class World:
 
     @property
     def substeps(self) -> int:
-        """Sub-steps per step: each integrates, solves and relaxes over dt / substeps."""
+        """Sub-steps per step: each integrates, solves and relaxes over dt / substeps (more in steps longer
+        than ``substeps / 120`` s: no sub-step is longer than 1/120 s, ``state/params.MAX_SUBSTEP``)."""
         return self._substeps
 
     @substeps.setter
@@ -571,9 +572,9 @@ class World:
 
     # --- time ------------------------------------------------------------------------------------------
     def step(self, dt: float) -> None:
-        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps, in several
-        intervals as :attr:`time_stepping` and :attr:`ccd` ask: :attr:`last_step`); ``dt`` in [1e-6, 1] s
-        (``_validate.MIN_DT``, ``MAX_DT``)."""
+        """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps, or more, none
+        longer than 1/120 s, in several intervals as :attr:`time_stepping` and :attr:`ccd` ask:
+        :attr:`last_step`); ``dt`` in [1e-6, 1] s (``_validate.MIN_DT``, ``MAX_DT``)."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
             dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
             if dt != self._params_dt:

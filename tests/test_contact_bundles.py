@@ -1,7 +1,8 @@
 """The wide contact solver (dynamics/contact_bundles.py): no colour has two contacts on one movable body,
 every solved contact is in exactly one lane or the overflow, and a pass over the bundles gives bit for
 bit what the scalar pass (contact_solver.solve_contacts) gives visiting the same contacts in bundle
-order: for spheres (isotropic inertia) and for flat boxes (the inertia turns with the body)."""
+order, and a push pass of the split impulses (push_bundles) what contact_solver.push_contacts gives: for
+spheres (isotropic inertia) and for flat boxes (the inertia turns with the body)."""
 import numpy as np
 import pytest
 from numba import njit
@@ -9,19 +10,21 @@ from numba import njit
 import marbellous as mb
 from marbellous._numba.wide import LANES
 from marbellous.dynamics.contact_bundles import (MAX_COLOURS, MIN_BUNDLED_CONTACTS, accumulate_bundles,
-                                                 bundle_capacity, bundle_contacts, load_bundle_bodies, solve_bundles,
-                                                 store_bundles, warm_start_bundles)
-from marbellous.dynamics.contact_solver import accumulate_applied, solve_contacts, warm_start_listed
+                                                 bundle_capacity, bundle_contacts, load_bundle_bodies, push_bundles,
+                                                 solve_bundles, store_bundles, warm_start_bundles)
+from marbellous.dynamics.contact_solver import accumulate_applied, push_contacts, solve_contacts, warm_start_listed
 from marbellous.dynamics.solver_bodies import prepare_solver_bodies
 from marbellous.scenes import sphere_pile
 from marbellous.state import layout as L
-from marbellous.state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, SB_COLS, SB_ISO, WI_CONTACT, WI_READ_A, WI_READ_B,
-                                     WI_TURNING, WI_WRITE_A, WI_WRITE_B)
+from marbellous.state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, PB_COLS, SB_COLS, SB_ISO, WB_LAMBDA_P, WI_CONTACT,
+                                     WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 DT = 1 / 60
 H = DT / 4
-SOFT = np.array([30.0, 0.9, 0.1])      # (bias rate, mass scale, impulse scale) of a soft contact
-MAX_PUSH = 3.0
+SOFT = (30.0, 0.9, 0.1, 3.0)    # (bias rate, mass scale, impulse scale, max push) of a soft contact
+RATE = 30.0             # bias rate of the push (1/s)
+MAX_PUSH = 0.05         # (low enough that some contacts push at the cap)
+DEPTH = 1e-3            # overlap left to the velocity passes (m)
 
 
 @njit
@@ -39,10 +42,11 @@ def _accumulate(cf, ci, nc):
 class Bundled:
     """The last step's contacts of a world laid out in bundles, with the solver bodies they were made from."""
 
-    def __init__(self, world, rolling=()):
+    def __init__(self, world, rolling=(), deeper=0.0):
         self.nc = world._state.n_cached
         self.cf = world._state.cache_f[:self.nc].copy()
         self.ci = world._state.cache_i[:self.nc].copy()
+        self.cf[:, L.C_ADJ_SEP] -= deeper           # overlap, some of it deeper than DEPTH, for the pushes
         for c in rolling:
             self.cf[c, L.C_ROLL] = 0.01
         self.sb = _solver_bodies(world._state.bf, world._state.bi, world._state.bodies.end)
@@ -134,8 +138,9 @@ def test_the_serial_step_solves_a_pile_in_bundles(pile):
 
 
 def _compare_passes(world):
-    """Warm start, three solve passes and a relax pass, wide and scalar in the same contact order."""
-    b = Bundled(world)
+    """Warm start, three soft and one rigid velocity pass and three push passes, wide and scalar in the same
+    contact order."""
+    b = Bundled(world, deeper=3e-3)
     order = b.lane_order()
     assert b.n_over == 0 and len(order) == b.nc and b.bundles >= 4
     cf, sb = b.cf.copy(), b.sb[:-2].copy()
@@ -143,11 +148,25 @@ def _compare_passes(world):
     warm_start_bundles(b.wide_f, b.wide_i, b.bundles, b.sb)
     assert np.array_equal(b.sb[:-2], sb)
     largest = np.zeros(LANES)
-    for use_bias in (True, True, True, False):
-        wide = solve_bundles(b.wide_f, b.wide_i, 0, b.bundles, b.sb, H, use_bias, SOFT, MAX_PUSH, largest)
-        scalar = solve_contacts(cf, b.ci, order, 0, len(order), sb, H, use_bias, SOFT, MAX_PUSH)
+    for soft in (SOFT, SOFT, SOFT, (0.0, 1.0, 0.0, 0.0)):
+        wide = solve_bundles(b.wide_f, b.wide_i, 0, b.bundles, b.sb, H, soft, largest)
+        scalar = solve_contacts(cf, b.ci, order, 0, len(order), sb, H, soft)
         assert wide == scalar
         assert np.array_equal(b.sb[:-2], sb)
+    pb_wide, pb_scalar = np.zeros((len(b.sb), PB_COLS)), np.zeros((len(b.sb), PB_COLS))
+    lam_p = np.zeros(b.nc)
+    for first_pass in (True, False, False):
+        wide = push_bundles(b.wide_f, b.wide_i, 0, b.bundles, b.sb, pb_wide, H, RATE, MAX_PUSH, DEPTH, first_pass,
+                            largest)
+        scalar = push_contacts(cf, b.ci, order, 0, len(order), sb, pb_scalar, lam_p, H, RATE, MAX_PUSH, DEPTH,
+                               first_pass)
+        assert wide == scalar > 0.0
+        assert np.array_equal(pb_wide[:-2], pb_scalar[:-2])
+    for bundle in range(b.bundles):
+        for lane, c in enumerate(b.block(bundle, WI_CONTACT)):
+            if c >= 0:
+                assert b.wide_f[(bundle * BUNDLE_FIELDS + WB_LAMBDA_P) * LANES + lane] == lam_p[c]
+    assert np.count_nonzero(lam_p) > b.nc // 4
     _accumulate(cf, b.ci, b.nc)
     accumulate_bundles(b.wide_f, b.bundles)
     stored = b.cf.copy()

@@ -22,8 +22,9 @@ more than the world has body slots: the pad row (second to last) and the sink ro
 
 Stages, as the step calls them: ``bundle_contacts`` (once per step, after ``prepare_contacts``),
 ``load_bundle_bodies`` (after every ``prepare_solver_bodies``: inverse masses and inertias, separations),
-``warm_start_bundles``, ``solve_bundles`` (solve and relax passes), ``accumulate_bundles`` (end of each
-sub-step), ``store_bundles`` (end of the step: impulses back to the contact table).
+``warm_start_bundles``, ``solve_bundles`` (velocity passes), ``push_bundles`` (the split impulses' push passes
+on the pseudo-velocities ``pb``), ``accumulate_bundles`` (end of each sub-step), ``store_bundles`` (end of the
+step: impulses back to the contact table).
 """
 from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w, where_gt
@@ -32,8 +33,9 @@ from ..state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, CP_MATCHED, CP_SENSOR, C
                             C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
                             SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A, WB_INV_I_B, WB_INV_MASS_A,
                             WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_T1, WB_LAMBDA_T2, WB_MASS_N, WB_MASS_T1, WB_MASS_T2,
-                            WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB, WB_SEPARATION, WB_SUM_N, WB_SUM_T, WB_T1,
-                            WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
+                            WB_LAMBDA_P, WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB, WB_SEPARATION, WB_SUM_N,
+                            WB_SUM_T, WB_T1, WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A,
+                            WI_WRITE_B)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
 from .solver_bodies import effective_mass_along, lighter
@@ -299,16 +301,17 @@ def warm_start_bundles(wide_f, wide_i, bundles, sb):
 
 
 @njit
-def solve_bundles(wide_f, wide_i, first, last, sb, h, use_bias, soft, max_push, largest):
-    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over the bundles
-    ``first:last``, as ``contact_solver.solve_contacts`` (normal impulse with soft position correction or
-    speculative gap, then Coulomb friction on the tangent disc).  Returns the largest velocity change
-    (m/s); ``largest`` is scratch of ``LANES`` floats."""
-    zero, one = splat_w(0.0), splat_w(1.0)
-    if use_bias:
-        bias_rate, soft_mass, soft_impulse = soft[0], splat_w(soft[1]), splat_w(soft[2])
-    else:
-        bias_rate, soft_mass, soft_impulse = 0.0, one, zero
+def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
+    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_push)) or "relax" (rigid:
+    (0, 1, 0, 0)): one pass of sequential impulses over the bundles ``first:last``, as
+    ``contact_solver.solve_contacts`` (normal impulse closing a speculative gap exactly or opening overlap
+    softly, then Coulomb friction on the tangent disc).  Returns the largest velocity change (m/s);
+    ``largest`` is scratch of ``LANES`` floats."""
+    zero = splat_w(0.0)
+    one = splat_w(1.0)
+    bias_rate = soft[0]
+    twice_max_push = splat_w(2.0 * soft[3])
+    touching_mass, touching_impulse = splat_w(soft[1]), splat_w(soft[2])
     store_w(largest, 0, zero)
     for bundle in range(first, last):
         rows = bundle * BUNDLE_ROWS * LANES
@@ -319,16 +322,16 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, use_bias, soft, max_push, 
         ia, ib = _inertia(wide_f, _at(bundle, WB_INV_I_A), turning), _inertia(wide_f, _at(bundle, WB_INV_I_B), turning)
         ra, rb = _vector(wide_f, _at(bundle, WB_RA)), _vector(wide_f, _at(bundle, WB_RB))
         n = _vector(wide_f, _at(bundle, WB_NORMAL))
-        # --- normal: a speculative gap s > 0 closes exactly in the sub-step, overlap softly ---------------
+        # --- normal: a speculative gap s > 0 closes exactly in the sub-step; shallow overlap opens softly -
         s = load_w(wide_f, _at(bundle, WB_SEPARATION))
-        soft_bias = max_w(s * bias_rate, splat_w(-max_push)) if use_bias else zero
-        bias = where_gt(s, zero, s / h, soft_bias)
-        mass_scale = where_gt(s, zero, one, soft_mass)
-        impulse_scale = where_gt(s, zero, zero, soft_impulse)
+        r = (zero - s) * bias_rate        # contact_solver.soft_bias, term for term
+        bias = where_gt(s, zero, s / h, zero - max_w(min_w(r, twice_max_push - r), zero))
+        soft_mass = where_gt(s, zero, one, touching_mass)
+        soft_impulse = where_gt(s, zero, zero, touching_impulse)
         vn = _dot(_relative_velocity(ua, ra, ub, rb), n)
         mass_n = load_w(wide_f, _at(bundle, WB_MASS_N))
         old = load_w(wide_f, _at(bundle, WB_LAMBDA_N))
-        new = max_w(old - mass_n * mass_scale * (vn + bias) - impulse_scale * old, zero)
+        new = max_w(old - mass_n * soft_mass * (vn + bias) - soft_impulse * old, zero)
         store_w(wide_f, _at(bundle, WB_LAMBDA_N), new)
         max_n, vn0 = load_w(wide_f, _at(bundle, WB_MAX_N)), load_w(wide_f, _at(bundle, WB_VN0))
         # a new contact engages (new > 0, max_n == 0, WB_NEW = 1): the approach speed at impact
@@ -357,6 +360,47 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, use_bias, soft, max_push, 
         p = (d1 * t1[0] + d2 * t2[0], d1 * t1[1] + d2 * t2[1], d1 * t1[2] + d2 * t2[2])
         _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, _push(ua, ima, ia, ra, p, -1.0, turning))
         _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, _push(ub, imb, ib, rb, p, 1.0, turning))
+    change = 0.0
+    for lane in range(LANES):
+        change = max(change, largest[lane])
+    return change
+
+
+@njit
+def push_bundles(wide_f, wide_i, first, last, sb, pb, h, rate, max_push, depth, first_pass, largest):
+    """Stage "relax", contacts: one pass of split impulses over the bundles ``first:last`` on the
+    pseudo-velocities ``pb``, as ``contact_solver.push_contacts`` (term for term):
+
+        lambda_p := max(lambda_p + m_n (target - dv_p . n), 0),
+        target = -s / h for a gap s >= 0, else min(rate max(-s - depth, 0), max_push)
+
+    (``lambda_p`` taken as 0 on the ``first_pass`` of a sub-step).  Returns the largest pseudo-velocity
+    change (m/s); ``largest`` is scratch of ``LANES`` floats."""
+    zero = splat_w(0.0)
+    depth = splat_w(depth)
+    store_w(largest, 0, zero)
+    for bundle in range(first, last):
+        rows = bundle * BUNDLE_ROWS * LANES
+        ua = gather_w(pb, wide_i, rows + WI_READ_A * LANES, 0, 6)
+        ub = gather_w(pb, wide_i, rows + WI_READ_B * LANES, 0, 6)
+        ima, imb = load_w(wide_f, _at(bundle, WB_INV_MASS_A)), load_w(wide_f, _at(bundle, WB_INV_MASS_B))
+        turning = _turning(wide_i, bundle)
+        ia, ib = _inertia(wide_f, _at(bundle, WB_INV_I_A), turning), _inertia(wide_f, _at(bundle, WB_INV_I_B), turning)
+        ra, rb = _vector(wide_f, _at(bundle, WB_RA)), _vector(wide_f, _at(bundle, WB_RB))
+        n = _vector(wide_f, _at(bundle, WB_NORMAL))
+        s = load_w(wide_f, _at(bundle, WB_SEPARATION))
+        overlap = zero - s
+        target = where_gt(zero, s, min_w(max_w(overlap - depth, zero) * rate, splat_w(max_push)), overlap / h)
+        vn = _dot(_relative_velocity(ua, ra, ub, rb), n)
+        mass_n = load_w(wide_f, _at(bundle, WB_MASS_N))
+        old = zero if first_pass else load_w(wide_f, _at(bundle, WB_LAMBDA_P))
+        new = max_w(old + mass_n * (target - vn), zero)
+        store_w(wide_f, _at(bundle, WB_LAMBDA_P), new)
+        d = new - old
+        store_w(largest, 0, max_w(load_w(largest, 0), where_gt(mass_n, zero, abs_w(d) / mass_n, zero)))
+        p = (d * n[0], d * n[1], d * n[2])
+        scatter_w(pb, wide_i, rows + WI_WRITE_A * LANES, 0, _push(ua, ima, ia, ra, p, -1.0, turning))
+        scatter_w(pb, wide_i, rows + WI_WRITE_B * LANES, 0, _push(ub, imb, ib, rb, p, 1.0, turning))
     change = 0.0
     for lane in range(LANES):
         change = max(change, largest[lane])

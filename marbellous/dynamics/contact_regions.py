@@ -20,8 +20,8 @@ from numba import prange
 from .._numba.jit import njit, njit_inline, njit_parallel
 from .._numba.wide import LANES
 from ..state.layout import C_BODY_A, C_BODY_B, POS
-from .contact_bundles import bundle_contacts, solve_bundles
-from .contact_solver import solve_contacts
+from .contact_bundles import bundle_contacts, push_bundles, solve_bundles
+from .contact_solver import push_contacts, solve_contacts
 from .forces import is_moving
 
 #: fewest contacts for which a pass runs in regions
@@ -106,38 +106,47 @@ def bundle_regions(cf, ci, order, starts, regions, sb, used, colour_of, colour_f
 
 
 @njit
-def _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, part, sb, h, use_bias, soft,
-                max_push, lane_change):
+def _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, part, sb, pb, lam_p, h, pushing, rate,
+                max_push, first_pass, soft, lane_change):
     """One pass over part ``part``: its bundles, then its overflow by the scalar pass; the largest velocity
-    change (m/s).  ``lane_change`` is scratch of ``LANES`` floats."""
-    change = solve_bundles(wide_f, wide_i, part_bundles[part], part_bundles[part + 1], sb, h, use_bias, soft,
-                           max_push, lane_change)
-    return max(change, solve_contacts(cf, ci, overflow, part_overflow[part], part_overflow[part + 1], sb, h,
-                                      use_bias, soft, max_push))
+    change (m/s).  A velocity pass (``solve_bundles``, ``solve_contacts``; ``soft`` = (bias_rate, mass_scale,
+    impulse_scale), (0, 1, 0) in the rigid relax pass) or, when ``pushing``, a push pass on the pseudo-velocities ``pb``
+    (``push_bundles``, ``push_contacts``; ``lam_p`` the overflow's push impulses).  ``lane_change`` is
+    scratch of ``LANES`` floats."""
+    lo, hi = part_overflow[part], part_overflow[part + 1]
+    if pushing:
+        depth = max_push / rate if rate > 0.0 else 0.0
+        change = push_bundles(wide_f, wide_i, part_bundles[part], part_bundles[part + 1], sb, pb, h, rate, max_push,
+                              depth, first_pass, lane_change)
+        return max(change, push_contacts(cf, ci, overflow, lo, hi, sb, pb, lam_p, h, rate, max_push, depth,
+                                         first_pass))
+    change = solve_bundles(wide_f, wide_i, part_bundles[part], part_bundles[part + 1], sb, h, soft, lane_change)
+    return max(change, solve_contacts(cf, ci, overflow, lo, hi, sb, h, soft))
 
 
 @njit_parallel
-def _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias, soft,
-                   max_push, lane_change, largest):
+def _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, pb, lam_p, h, pushing,
+                   rate, max_push, first_pass, soft, lane_change, largest):
     """One pass: the regions at the same time, then the boundary; the largest velocity change (m/s)."""
     for r in prange(regions):
-        largest[r] = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, r, sb, h, use_bias,
-                                 soft, max_push, lane_change[r * LANES:(r + 1) * LANES])
-    change = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias,
-                         soft, max_push, lane_change[regions * LANES:(regions + 1) * LANES])
+        largest[r] = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, r, sb, pb, lam_p, h,
+                                 pushing, rate, max_push, first_pass, soft, lane_change[r * LANES:(r + 1) * LANES])
+    change = _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, pb, lam_p, h,
+                         pushing, rate, max_push, first_pass, soft, lane_change[regions * LANES:(regions + 1) * LANES])
     for r in range(regions):
         change = max(change, largest[r])
     return change
 
 
 @njit_inline
-def solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h, use_bias, soft,
-                      max_push, lane_change, largest):
+def solve_bundle_pass(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, pb, lam_p, h,
+                      pushing, rate, max_push, first_pass, soft, lane_change, largest):
     """One pass of sequential impulses over the bundles and overflow of every part (``bundle_regions``), the
-    regions on ``regions`` threads; returns the largest velocity change (m/s).  Scratch: ``lane_change``
-    (``LANES`` floats per part), ``largest`` (one float per region)."""
+    regions on ``regions`` threads: a velocity pass, or a push pass when ``pushing`` (``_solve_part``);
+    returns the largest velocity change (m/s).  Scratch: ``lane_change`` (``LANES`` floats per part),
+    ``largest`` (one float per region)."""
     if regions > 1:
-        return _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, h,
-                              use_bias, soft, max_push, lane_change, largest)
-    return _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, 0, sb, h, use_bias, soft,
-                       max_push, lane_change)
+        return _solve_regions(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, regions, sb, pb, lam_p,
+                              h, pushing, rate, max_push, first_pass, soft, lane_change, largest)
+    return _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, 0, sb, pb, lam_p, h, pushing,
+                       rate, max_push, first_pass, soft, lane_change)

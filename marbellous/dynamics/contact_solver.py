@@ -1,10 +1,13 @@
-"""Sequential impulses on contact points, as the lecture teaches them, made stable by soft constraints.
+"""Sequential impulses on contact points, as the lecture teaches them, with the overlap pushed out by split
+impulses.
 
 For each contact point (normal n from a to b, offsets ra, rb from the centres of mass):
 
     relative velocity     dv = (v_b + w_b x rb) - (v_a + w_a x ra)
     change per impulse    K_d = m_a^-1 + m_b^-1 + (ra x d) I_a^-1 (ra x d) + (rb x d) I_b^-1 (rb x d)
-    normal                lambda_n += -(dv.n + bias) / K_n,  lambda_n >= 0   (separation, soft)
+    normal                lambda_n += -(dv.n + bias) / K_n,  lambda_n >= 0,
+                          bias = s / h for a gap s > 0 (speculative: it may close exactly), else 0
+                          (touching, soft in the solve passes: see solve_contacts)
     friction (Coulomb)    (lambda_t1, lambda_t2) += -(dv.t1 / K_t1, dv.t2 / K_t2),
                           clamped to the disc |lambda_t| <= mu lambda_n, mu = mu_s while the contact
                           sticks and mu_d once it slides
@@ -12,18 +15,40 @@ For each contact point (normal n from a to b, offsets ra, rb from the centres of
     restitution           after the solve, dv.n := -e dv.n(before) for contacts that were closing
 
 Impulses accumulate per contact and are warm-started from the last step (matched by feature).
-A speculative contact (separation s > 0) lets the bodies approach by exactly s in the sub-step.
+
+Overlap (separation s < 0) is corrected through the velocities only as deep as they open it below
+``max_push`` (``D = max_push / rate``, 2.9 cm at 60 Hz: softly in the solve passes, the correction's
+velocity taken out by the rigid relax pass, handed over to the pushes between D and 2 D:
+:func:`soft_bias`).  After the positions moved, the push
+passes (split impulses, Catto 2006, as in Bullet and Box2D 2.x) solve the same rows on a second set of
+pseudo-velocities ``u_p`` (``pb``, zero at the start of each sub-step), which move the poses by ``h u_p``
+and are then dropped:
+
+    push                  lambda_p += K_n^-1 (target - dv_p.n),  lambda_p >= 0,
+                          target = min(rate max(-s - D, 0), max_push) for s < 0,
+                          -s / h for a gap s >= 0
+
+so each contact opens at no more than ``max_push`` (m/s), and each body's pseudo-velocity is capped at
+``max_push`` before it moves the pose (:func:`apply_push`): the pushes that add up along chains of bodies
+spawned into one another move no body faster than that, and none of them is ever momentum.  ``rate`` is
+the contact's soft-constraint bias rate (``soft.py``: ``omega / (2 zeta + h omega)`` from
+``contact_hertz`` and ``contact_damping_ratio``), the overdamped rate at which overlap decays.
+(The soft step with a relax pass, used before, put the correction into the velocities and took it out in
+one relax pass; along chains it did not take it all out: 1,000 spheres spawned at one point flew apart
+at 158 m/s with ``max_push`` at 3 m/s.)
 """
 import math
 
 
 from .._numba.jit import njit, njit_inline
-from ..math3d import dot3, row3
+from ..math3d import dot3, quat_step, row3, row4
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS,
                             C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
                             C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
-                            FRICTION, POS, RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION)
+                            DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT, RESTITUTION, ROLLING,
+                            SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION)
 from .contact_basis import contact_basis
+from .forces import is_moving
 from .solver_bodies import (effective_mass_along, lighter, motion, push, relative_velocity_at, set_velocity, twist,
                             velocity)
 
@@ -181,17 +206,39 @@ def contact_separation(sb, cf, c, a, b):
                                                         row3(cf, c, C_RB)), row3(cf, c, C_NORMAL))
 
 
-@njit
-def solve_contacts(cf, ci, order, first, last, sb, h, use_bias, soft, max_push):
-    """Stage "solve" (``use_bias``) or "relax" (not): one pass of sequential impulses over the contacts
-    ``order[first:last]``, in that order.
+@njit_inline
+def soft_bias(s, rate, max_push):
+    """The velocity bias (m/s) of a contact of overlap ``d = -s >= 0`` (m) in the soft solve passes:
 
-    ``soft`` = (bias_rate, mass_scale, impulse_scale) of the contact softness; ``max_push`` (m/s) caps
-    the speed at which overlap is removed.  Returns the largest velocity change made (m/s), for the
-    adaptive iteration count.  Each contact's two bodies are read once, updated in registers through
-    the normal, friction and rolling impulses, and written back once; bodies that cannot move are never
-    written, so passes over contacts that share no movable body may run at the same time.
+        bias = -rate d                        for d <= D = max_push / rate
+        bias = -(2 max_push - rate d)         for D <= d <= 2 D,   0 beyond
+
+    so the velocities open shallow overlap softly (a resting contact's) and hand deep overlap over to the
+    pushes (:func:`push_target`), whose ``rate (d - D)`` grows as this falls: together they open it at
+    ``max_push`` from ``D`` on.  (Deep overlap opened at ``max_push`` through the velocities of every
+    contact of a heap spawned at one point, and the relax pass did not take it all out again: 258 m/s.)"""
+    r = rate * (0.0 - s)
+    return 0.0 - max(min(r, 2.0 * max_push - r), 0.0)
+
+
+@njit
+def solve_contacts(cf, ci, order, first, last, sb, h, soft):
+    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_push) of ``soft.py``) or "relax"
+    (rigid: ``soft`` = (0, 1, 0, 0)): one pass of sequential impulses over the contacts ``order[first:last]``,
+    in that order, on the velocities of the solver bodies ``sb``.
+
+    A contact keeps its bodies from closing by more than its gap ``s > 0`` in the sub-step of ``h`` s
+    (speculative: exactly), and a touching one (``s <= 0``) opens its overlap softly, at ``bias_rate (-s)``
+    up to ``max_push`` (the soft step of ``soft.py``, Box2D 3's, which keeps tall stacks standing: with
+    rigid passes and the overlap left to the pushes alone a 20-box tower tilted until it fell); the rigid
+    relax pass after the positions moved takes the correction's velocity out again.  Overlap deeper than
+    ``D = max_push / bias_rate`` (2.9 cm at 60 Hz) is handed over to :func:`push_contacts`
+    (:func:`soft_bias`).  Returns the largest velocity change made (m/s), for the adaptive
+    iteration count.  Each contact's two bodies are read once, updated in registers through the normal,
+    friction and rolling impulses, and written back once; bodies that cannot move are never written, so
+    passes over contacts that share no movable body may run at the same time.
     """
+    bias_rate, mass_scale, impulse_scale, max_push = soft
     largest = 0.0
     for k in range(first, last):
         c = order[k]
@@ -208,16 +255,13 @@ def solve_contacts(cf, ci, order, first, last, sb, h, use_bias, soft, max_push):
         # --- normal: non-penetration -------------------------------------------------------------
         s = contact_separation(sb, cf, c, a, b)
         if s > 0.0:
-            bias, mass_scale, impulse_scale = s / h, 1.0, 0.0      # speculative: close the gap exactly
-        elif use_bias:
-            bias = max(soft[0] * s, -max_push)
-            mass_scale, impulse_scale = soft[1], soft[2]
+            bias, soft_mass, soft_impulse = s / h, 1.0, 0.0        # speculative: close the gap exactly
         else:
-            bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
+            bias, soft_mass, soft_impulse = soft_bias(s, bias_rate, max_push), mass_scale, impulse_scale
         vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
         mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
-        new = max(old - mass_n * mass_scale * (vn + bias) - impulse_scale * old, 0.0)
+        new = max(old - mass_n * soft_mass * (vn + bias) - soft_impulse * old, 0.0)
         cf[c, C_LAMBDA_N] = new
         if new > 0.0 and cf[c, C_MAX_N] == 0.0 and (flags & CP_MATCHED) == 0:
             # A new contact engages: the approach speed at impact, gravity of earlier sub-steps included.
@@ -262,6 +306,168 @@ def solve_contacts(cf, ci, order, first, last, sb, h, use_bias, soft, max_push):
         if sb[b, SB_ISO] != 0.0:
             set_velocity(sb, b, ub)
     return largest
+
+
+@njit
+def pseudo_velocity(pb, i):
+    """``u_p = (v_p, omega_p)`` of body ``i``: its push pseudo-velocity (m/s, rad/s)."""
+    return (pb[i, PB_V], pb[i, PB_V + 1], pb[i, PB_V + 2], pb[i, PB_W], pb[i, PB_W + 1], pb[i, PB_W + 2])
+
+
+@njit
+def set_pseudo_velocity(pb, i, u):
+    """Write ``u_p = (v_p, omega_p)`` to body ``i``."""
+    for k in range(3):
+        pb[i, PB_V + k] = u[k]
+        pb[i, PB_W + k] = u[3 + k]
+
+
+@njit_inline
+def push_target(s, h, rate, max_push, depth):
+    """The relative normal pseudo-velocity a contact of separation ``s`` (m) asks for (m/s): overlap deeper
+    than ``depth`` (``max_push / rate`` for sequential impulses, whose velocity passes open shallower
+    overlap; 0 for the LCP) opens at ``rate (-s - depth)``, no faster than ``max_push``; a gap ``s >= 0``
+    may close by ``s`` in the sub-step of ``h`` s and no more (as a speculative contact)."""
+    return (0.0 - s) / h if s >= 0.0 else min(rate * max((0.0 - s) - depth, 0.0), max_push)
+
+
+@njit
+def push_contacts(cf, ci, order, first, last, sb, pb, lam_p, h, rate, max_push, depth, first_pass):
+    """Stage "relax", contacts: one pass of split impulses over the contacts ``order[first:last]`` on the
+    pseudo-velocities ``pb`` (see the module's docstring):
+
+        lambda_p := max(lambda_p + m_n (target - dv_p . n), 0),   target = push_target(s)
+
+    with the separation ``s`` the poses have now (``depth``: :func:`push_target`), the accumulated ``lambda_p``
+    in ``lam_p[c]`` (taken as 0 on
+    the ``first_pass`` of a sub-step) and the inverse masses of ``sb``.  Returns the largest pseudo-velocity
+    change made (m/s).  The arithmetic is ``contact_bundles.push_bundles``' term for term.
+    """
+    largest = 0.0
+    for k in range(first, last):
+        c = order[k]
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        a = ci[c, C_BODY_A]
+        b = ci[c, C_BODY_B]
+        ra = row3(cf, c, C_RA)
+        rb = row3(cf, c, C_RB)
+        n = row3(cf, c, C_NORMAL)
+        target = push_target(contact_separation(sb, cf, c, a, b), h, rate, max_push, depth)
+        ua = pseudo_velocity(pb, a)
+        ub = pseudo_velocity(pb, b)
+        vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
+        mass_n = cf[c, C_MASS_N]
+        old = 0.0 if first_pass else lam_p[c]
+        new = max(old + mass_n * (target - vn), 0.0)
+        lam_p[c] = new
+        d = new - old
+        if d != 0.0:
+            if sb[a, SB_ISO] != 0.0:
+                set_pseudo_velocity(pb, a, push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0))
+            if sb[b, SB_ISO] != 0.0:
+                set_pseudo_velocity(pb, b, push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0))
+            if mass_n > 0.0:
+                largest = max(largest, abs(d) / mass_n)
+    return largest
+
+
+@njit
+def list_static_contacts(ci, nc, sb, out):
+    """Write the contacts (not sensors) between a movable body and one that cannot move (static or sleeping)
+    to ``out``; returns how many."""
+    count = 0
+    for c in range(nc):
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        if (sb[ci[c, C_BODY_A], SB_ISO] == 0.0) != (sb[ci[c, C_BODY_B], SB_ISO] == 0.0):
+            out[count] = c
+            count += 1
+    return count
+
+
+@njit
+def push_static(cf, ci, listed, sb, pb, h, rate, max_push, depth):
+    """After the push passes: each contact ``listed`` of a movable body with one that cannot move raises the
+    movable body's pseudo-velocity along the normal to the contact's ``push_target`` if it is below:
+
+        d lambda = max(m_n (target - dv_p . n), 0)
+
+    Sequential impulses converge slowly in a heap of bodies spawned into one another, and the pushes of the
+    bodies above could leave one at the bottom moving into the floor (a column of 300 spheres spawned at
+    one point pressed the lowest 0.39 m into the ground); the static world is then visited last, and no
+    push moves a body into it.  (The per-body cap of :func:`apply_push` scales the pseudo-velocity, so it
+    keeps its sign along every normal.)"""
+    for k in range(listed.shape[0]):
+        c = listed[k]
+        a = ci[c, C_BODY_A]
+        b = ci[c, C_BODY_B]
+        ra = row3(cf, c, C_RA)
+        rb = row3(cf, c, C_RB)
+        n = row3(cf, c, C_NORMAL)
+        target = push_target(contact_separation(sb, cf, c, a, b), h, rate, max_push, depth)
+        ua = pseudo_velocity(pb, a)
+        ub = pseudo_velocity(pb, b)
+        d = max(cf[c, C_MASS_N] * (target - dot3(relative_velocity_at(ua, ra, ub, rb), n)), 0.0)
+        if d > 0.0:
+            if sb[a, SB_ISO] != 0.0:
+                set_pseudo_velocity(pb, a, push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0))
+            else:
+                set_pseudo_velocity(pb, b, push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0))
+
+
+@njit
+def clear_push(pb, nb):
+    """Zero the pseudo-velocities of the body rows ``0 .. nb - 1`` (the start of each sub-step's pushes)."""
+    for i in range(nb):
+        for k in range(6):
+            pb[i, k] = 0.0
+
+
+@njit
+def apply_push(bf, bi, nb, pb, h, max_push):
+    """Move every awake dynamic body by its pseudo-velocity over the sub-step of ``h`` s, then forget it:
+
+        v_p := v_p min(1, max_push / |v_p|),   x += v_p h,   q := exp(omega_p h / 2) q,   dtheta += omega_p h
+
+    The cap makes ``max_push`` (m/s) the fastest any body is pushed, however many contacts push it along
+    a chain.  A body whose inertia is not isotropic also turns its angular velocity with the push,
+    ``omega := R omega`` (``R`` the push's rotation): ``omega . I_w omega / 2`` is then unchanged, as
+    ``I_w`` turns with the body (``R I_w R^T``), so the push moves the body without changing its kinetic
+    energy (the velocities are never touched otherwise).
+    """
+    for i in range(nb):
+        if not is_moving(bi, i):
+            continue
+        vx, vy, vz = pb[i, PB_V], pb[i, PB_V + 1], pb[i, PB_V + 2]
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+        if speed > max_push:
+            scale = max_push / speed
+            vx, vy, vz = vx * scale, vy * scale, vz * scale
+        bf[i, POS] += vx * h
+        bf[i, POS + 1] += vy * h
+        bf[i, POS + 2] += vz * h
+        wp = (pb[i, PB_W], pb[i, PB_W + 1], pb[i, PB_W + 2])
+        if wp[0] == 0.0 and wp[1] == 0.0 and wp[2] == 0.0:
+            continue
+        q = quat_step(row4(bf, i, QUAT), wp, h)
+        for k in range(4):
+            bf[i, QUAT + k] = q[k]
+        for k in range(3):
+            bf[i, DTHETA + k] += wp[k] * h
+        if (bi[i, FLAGS] & F_ISOTROPIC) == 0:
+            # omega := R omega, R the rotation by phi = omega_p h (Rodrigues)
+            p0, p1, p2 = wp[0] * h, wp[1] * h, wp[2] * h
+            angle = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+            if angle == 0.0:
+                continue
+            e0, e1, e2 = p0 / angle, p1 / angle, p2 / angle
+            w0, w1, w2 = bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2]
+            cos_a, sin_a = math.cos(angle), math.sin(angle)
+            along = (e0 * w0 + e1 * w1 + e2 * w2) * (1.0 - cos_a)
+            bf[i, OMEGA] = w0 * cos_a + (e1 * w2 - e2 * w1) * sin_a + e0 * along
+            bf[i, OMEGA + 1] = w1 * cos_a + (e2 * w0 - e0 * w2) * sin_a + e1 * along
+            bf[i, OMEGA + 2] = w2 * cos_a + (e0 * w1 - e1 * w0) * sin_a + e2 * along
 
 
 #: A contact is "heavy on light" when the body above (along -g) is at least this many times heavier than
@@ -329,29 +535,30 @@ SUPPORTED_PASSES = 4
 
 
 @njit
-def solve_supported(cf, ci, supported, sb, h, use_bias, soft, max_push, gravity):
+def solve_supported(cf, ci, supported, sb, pb, h, pushing, rate, max_push, depth, gravity):
     """Passes over the heavy-on-light contacts ``supported`` (:func:`heavy_on_light`) with the light body
     below held still (shock propagation, Guendelman, Bridson and Fedkiw 2003): the normal impulse
 
         d lambda_s = -m_up (v_n + bias),   m_up = 1 / (m_up^-1 + (r x n) . I_up^-1 (r x n))
 
     with the effective mass of the body above alone, applied to that body alone, its own accumulated
-    ``lambda_s >= 0`` (``supported[:, 1]``: started at zero by the solve call of each sub-step, carried
-    into its relax call, which takes the position correction's velocity out again).  The light body never
-    feels these impulses, so nothing is warm-started from them.
+    ``lambda_s >= 0`` (``supported[:, 1]``, from zero at each call).  The light body never feels these
+    impulses, so nothing is warm-started from them.  Without ``pushing`` they act on the velocities of
+    ``sb`` (after the solve passes, ``bias`` as in :func:`solve_contacts` with the bias rate ``rate``;
+    after the relax pass with ``rate`` 0); with it, on the pseudo-velocities ``pb`` (after the push
+    passes; ``v_n + bias`` is ``dv_p . n - push_target(s)``, ``rate`` the push's); ``depth`` as in
+    :func:`push_target`.
 
     Sequential impulses move momentum between two bodies by about the lighter one's mass times their
-    relative speed per pass, so a 1e4 kg box on a 1 kg box needs thousands of passes to stop, and its
-    soft contact, as stiff as the light box's mass allows (``k = m_light omega^2``), lets it sink
-    ``M g / (m_light omega^2)``: at 1:1000 the heavy box ended inside the light one, at 1:1e4 it pressed
-    the light one through the floor.  Bottom up, the light body first stopped on its own supports, then
-    the heavy one held on it, the heavy one stops within these passes.  Called after the solve passes
-    (with the position bias) and after the relax pass (without).
+    relative speed per pass, so a 1e4 kg box on a 1 kg box needs thousands of passes to stop, and pushing
+    it out of the light one moves the light one rather than the heavy one: at 1:1000 the heavy box ended
+    inside the light one, at 1:1e4 it pressed the light one through the floor.  Bottom up, the light body
+    first stopped (or pushed) on its own supports, then the heavy one held on it, the heavy one stops
+    within these passes.
     """
     g = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
-    if use_bias:
-        for k in range(supported.shape[0]):
-            supported[k, 1] = 0.0
+    for k in range(supported.shape[0]):
+        supported[k, 1] = 0.0
     for _ in range(SUPPORTED_PASSES):
         for k in range(supported.shape[0]):
             c = int(supported[k, 0])
@@ -361,15 +568,15 @@ def solve_supported(cf, ci, supported, sb, h, use_bias, soft, max_push, gravity)
             up = -(n[0] * gravity[0] + n[1] * gravity[1] + n[2] * gravity[2]) / g
             ra = row3(cf, c, C_RA)
             rb = row3(cf, c, C_RB)
-            ua = velocity(sb, a)
-            ub = velocity(sb, b)
             s = contact_separation(sb, cf, c, a, b)
-            if s > 0.0:
-                bias = s / h
-            elif use_bias:
-                bias = max(soft[0] * s, -max_push)
+            if pushing:
+                ua = pseudo_velocity(pb, a)
+                ub = pseudo_velocity(pb, b)
+                bias = 0.0 - push_target(s, h, rate, max_push, depth)
             else:
-                bias = 0.0
+                ua = velocity(sb, a)
+                ub = velocity(sb, b)
+                bias = s / h if s > 0.0 else soft_bias(s, rate, max_push)
             vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
             # the effective mass of the body above alone (the one below held)
             if up > 0.0:
@@ -383,9 +590,17 @@ def solve_supported(cf, ci, supported, sb, h, use_bias, soft, max_push, gravity)
                 continue
             supported[k, 1] = new
             if up > 0.0:
-                set_velocity(sb, b, push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0))
+                ub = push(sb, b, ub, rb, d * n[0], d * n[1], d * n[2], 1.0)
+                if pushing:
+                    set_pseudo_velocity(pb, b, ub)
+                else:
+                    set_velocity(sb, b, ub)
             else:
-                set_velocity(sb, a, push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0))
+                ua = push(sb, a, ua, ra, d * n[0], d * n[1], d * n[2], -1.0)
+                if pushing:
+                    set_pseudo_velocity(pb, a, ua)
+                else:
+                    set_velocity(sb, a, ua)
 
 
 @njit

@@ -34,12 +34,12 @@ def add_applied_forces(bf, bi, nb, gravity, F, T):
 
 
 @njit_inline
-def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs):
+def accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, implicit, vecs):
     """Fill ``F`` (N) and ``T`` (N m) for the state ``(X, Q, V, W)``: applied forces and springs.
 
     ``record``: weight with which each spring's force is added to its recorded mean (0: none);
-    ``vecs``: scratch (see ``add_spring_forces``).
+    ``implicit``: the springs the constraint solver takes instead; ``vecs``: scratch (see ``add_spring_forces``).
     """
     add_applied_forces(bf, bi, nb, gravity, F, T)
     if nk > 0:
-        add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs)
+        add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, implicit, vecs)

@@ -128,7 +128,7 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
 
 
 @njit
-def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, Lw, W, F, T, dX, dQ, dV, dL, record):
+def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, Lw, W, F, T, dX, dQ, dV, dL, record, implicit):
     """The right-hand side ``dy/dt = (v, omega (x) q / 2, F/m, T)`` at the state (X, Q, V, L), with the
     stage's angular velocity ``omega = I_w(q)^-1 L`` written to ``W`` (the springs read it)."""
     vecs = np.empty((SCRATCH_VECS, 4))
@@ -144,7 +144,7 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, Lw, W, F, T, dX, d
         w = tensor_vec(inverse_inertia_world(bf, i, (qn[0], qn[1], qn[2], qn[3])), (Lw[i, 0], Lw[i, 1], Lw[i, 2]))
         for k in range(3):
             W[i, k] = w[k]
-    accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, vecs)
+    accumulate_forces(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, W, F, T, record, implicit, vecs)
     for i in range(nb):
         if not is_moving(bi, i):
             continue
@@ -165,7 +165,7 @@ def _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity, X, Q, V, Lw, W, F, T, dX, d
 
 
 @njit
-def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
+def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record, implicit):
     """RK4 on ``y = (x, q, v, L)`` (world angular momentum ``L``, so the stiff gyroscopic term of Euler's
     equation never enters an explicit stage): ``X_PRED`` and ``v`` are RK4's, and the angular velocity
     becomes ``I_w(q)^-1 (L + h/6 (T1 + 2 T2 + 2 T3 + T4))``, the torque impulse of the four stages; the
@@ -193,7 +193,8 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
                 ys[i, k] = y0[i, k] + offsets[stage] * h * kk[i, k]
         _rk4_derivative(bf, bi, kf, ki, nb, nk, gravity,
                         ys[:, 0:3], ys[:, 3:7], ys[:, 7:10], ys[:, 10:13], ws, F, T,
-                        kk[:, 0:3], kk[:, 3:7], kk[:, 7:10], kk[:, 10:13], record if stage == 0 else 0.0)
+                        kk[:, 0:3], kk[:, 3:7], kk[:, 7:10], kk[:, 10:13], record if stage == 0 else 0.0,
+                        implicit)
         for i in range(nb):
             for k in range(13):
                 acc[i, k] += weights[stage] * kk[i, k]
@@ -209,20 +210,21 @@ def _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record):
 
 
 @njit_inline
-def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record, vecs):
+def integrate_velocities(method, bf, bi, kf, ki, nb, nk, gravity, F, T, h, prev_h, record, implicit, vecs):
     """Stage "integrate velocities": apply all forces over ``h`` seconds with the chosen ``method``.
 
     ``F``, ``T`` are scratch (nb, 3) tables, ``vecs`` the stages' scratch (see SCRATCH_VECS); the springs'
-    forces at the sub-step's start are added to their recorded mean with weight ``record``.
+    forces at the sub-step's start are added to their recorded mean with weight ``record``; the springs
+    flagged in ``implicit`` are left to the constraint solver (``springs.classify_springs``).
     """
     if method == RK4:
-        _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record)
+        _rk4_velocities(bf, bi, kf, ki, nb, nk, gravity, F, T, h, record, implicit)
         return
     # accumulate_forces on the body table's own state (its column views made only when springs need them)
     add_applied_forces(bf, bi, nb, gravity, F, T)
     if nk > 0:
         add_spring_forces(kf, ki, nk, bf[:, POS:POS + 3], bf[:, QUAT:QUAT + 4], bf[:, VEL:VEL + 3],
-                          bf[:, OMEGA:OMEGA + 3], F, T, record, vecs)
+                          bf[:, OMEGA:OMEGA + 3], F, T, record, implicit, vecs)
     if method == EXPLICIT_EULER:
         _explicit_euler_velocities(bf, bi, nb, F, T, h)
     else:

@@ -12,13 +12,16 @@ velocity it constrains:
 
 With the impulses ``lambda`` the velocities become ``v + M^-1 J^T lambda``, so the constrained
 velocities are ``w = A lambda + b`` with the assembled matrix ``A = J M^-1 J^T`` and
-``b = J v + bias``: a mixed linear complementarity problem (``lcp_solve.py``).  Position errors enter
-through the same soft constraints as the sequential-impulse solver (``soft.py``): a bias
-``bias_rate * C`` (overlap removed no faster than ``max_push``) and the regularisation
-``shift_i = A_ii impulse_scale / mass_scale`` on the diagonal, the fixed point of the soft impulse
-update.  A speculative contact with gap ``s > 0`` gets the bias ``s / h`` (it may close exactly) and no
-softness; a slack cable likewise.  The "relax" solve after the positions moved uses no bias and no
-softness, which takes the correction velocity out again.
+``b = J v + bias``: a mixed linear complementarity problem (``lcp_solve.py``).  A contact row keeps the
+bodies from closing (a speculative contact with gap ``s > 0`` gets the bias ``s / h``: it may close
+exactly); overlap is pushed out afterwards by the split impulses of the sequential-impulse solver
+(``contact_solver.push_contacts``), which move the poses and never the velocities.  Rods and cables
+correct their length error through soft constraints (``soft.py``): a bias ``bias_rate * C`` (no faster
+than ``max_push``) and the regularisation ``shift_i = A_ii impulse_scale / mass_scale`` on the diagonal,
+the fixed point of the soft impulse update; a slack cable gets ``C / h`` and no softness.  A spring too
+stiff for an explicit force is a row with its own softness (``joints.spring_softness``) in both solves.
+The "relax" solve after the positions moved (only in steps with rods, cables or implicit springs) uses
+no bias and no softness for rods and cables, which takes their correction velocity out again.
 
 The impulses of the last sub-step (or the matched contacts of the last step) are the starting point:
 they have already been applied (warm start), so ``b = J v - A lambda_0 + bias`` and only the change
@@ -36,10 +39,10 @@ import numpy as np
 from .._numba.jit import njit
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                             C_LAMBDA_T1, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0,
-                            KT_CABLE, K_BODY_A, K_BODY_B, K_IMPULSE, K_LENGTH, K_TYPE, OMEGA, SB_INV_I, SB_INV_MASS,
-                            VEL)
+                            KT_CABLE, KT_SPRING, K_BODY_A, K_BODY_B, K_DAMPING, K_IMPULSE, K_LENGTH, K_STIFFNESS,
+                            K_TYPE, OMEGA, SB_INV_I, SB_INV_MASS, VEL)
 from .contact_solver import contact_separation
-from .joints import is_active_joint, joint_axis
+from .joints import is_active_joint, joint_axis, spring_softness
 from .lcp_solve import solve_bounded_lcp
 
 # What a row constrains (row_kind)
@@ -182,14 +185,15 @@ def assemble_matrix(rows, J, MJ, m, sb, nb):
 
 
 @njit
-def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joint_soft, max_push,
+def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, max_push, implicit,
               sweeps, omega, tolerance):
     """Stage "solve" (``use_bias``) or "relax" (not) of the LCP scheme over one sub-step of ``h`` s.
 
     Assembles the rows of every contact, rod and cable, solves the bounded LCP by projected Gauss-Seidel
     with over-relaxation ``omega`` (at most ``sweeps`` sweeps, stopping below ``tolerance`` m/s),
     applies the change of the impulses and stores them (C_LAMBDA_*, K_IMPULSE) for the next warm start.
-    ``contact_soft``, ``joint_soft`` as in ``soft.py``.  Returns the number of sweeps made.
+    ``joint_soft`` as in ``soft.py``; ``implicit`` flags the springs solved here.  Returns the number of
+    sweeps made.
     """
     cap = 6 * nc + nk
     rows = np.empty((cap, 2), dtype=np.int64)
@@ -219,13 +223,9 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
         b = ci[c, C_BODY_B]
         n_row = m
         _linear_row(J, MJ, m, sb, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], cf[c, C_NORMAL:C_NORMAL + 3])
-        a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
         s = contact_separation(sb, cf, c, a, b)
         if s > 0.0:
-            bias[m] = s / h                     # speculative: close the gap exactly
-        elif use_bias:
-            bias[m] = max(contact_soft[0] * s, -max_push)
-            shift[m] = a_ii * contact_soft[2] / contact_soft[1]
+            bias[m] = s / h                     # speculative: close the gap exactly (overlap: stop closing)
         lo[m] = 0.0
         kind[m] = ROW_NORMAL
         lam[m] = cf[c, C_LAMBDA_N]
@@ -255,7 +255,7 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
             source[i] = c
     # --- rod and cable rows ---------------------------------------------------------------------------
     for c in range(nk):
-        if not is_active_joint(ki, c):
+        if not is_active_joint(ki, c, implicit):
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
@@ -268,10 +268,15 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, contact_soft, joi
         cable = ki[c, K_TYPE] == KT_CABLE
         if cable:
             hi[m] = 0.0
-        if cable and err < 0.0:
+        if ki[c, K_TYPE] == KT_SPRING:
+            rate, mass_scale, impulse_scale = spring_softness(kf[c, K_STIFFNESS], kf[c, K_DAMPING],
+                                                              1.0 / a_ii if a_ii > 0.0 else 0.0, h)
+            bias[m] = rate * err
+            shift[m] = a_ii * impulse_scale / mass_scale if mass_scale > 0.0 else 0.0
+        elif cable and err < 0.0:
             bias[m] = err / h                   # slack: may open up to the full length
         elif use_bias:
-            bias[m] = joint_soft[0] * err
+            bias[m] = min(max(joint_soft[0] * err, -max_push), max_push)
             shift[m] = a_ii * joint_soft[2] / joint_soft[1]
         rows[m, 0] = a
         rows[m, 1] = b

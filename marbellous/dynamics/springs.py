@@ -6,6 +6,18 @@ For anchors ``p_a`` and ``p_b`` (world points), ``d = p_b - p_a``, ``l = |d|``, 
 
 so a stretched spring pulls a towards b.  The torque on each body is ``r x F`` with ``r`` the anchor's
 offset from the centre of mass.  Evaluated at every stage of the integrator.
+
+An explicit force is stable only while the spring is slow next to the sub-step: semi-implicit Euler and
+Verlet need ``omega h < 2`` (``omega^2 = k / m``), RK4 ``omega h < 2.8``, and the damping ``c h / m < 2``;
+beyond, each sub-step multiplies the motion (a 1e15 N/m spring between 1 g bodies reached inf, then a
+ZeroDivisionError, within a few steps).  So each step, ``joints.classify_springs`` hands every spring with
+
+    (k h^2 + c h) / m_eff > joints.EXPLICIT_LIMIT     (m_eff: the two bodies' effective mass along the spring)
+
+to the constraint solver, which solves it implicitly with its own k and c (``joints.spring_softness``:
+backward Euler, stable for any k and never adding energy), and its force is left out here.  Below the
+limit (``omega h < 1``, with a factor 4 of margin for springs sharing a body) a spring stays an explicit
+force, integrated by the chosen integrator with its order and period.
 """
 import math
 
@@ -13,6 +25,7 @@ from .._numba.jit import njit
 from ..math3d import quat_rotate
 from ..state.layout import (K_ANCHOR_A, K_ANCHOR_B, K_BODY_A, K_BODY_B, K_DAMPING, K_FLAGS, K_FORCE, K_LENGTH,
                             K_STIFFNESS, K_TYPE, KF_ALIVE, KF_BROKEN, KT_SPRING)
+
 
 
 @njit
@@ -51,8 +64,9 @@ def add_force_at(X, F, T, body, point, f, sign):
 
 
 @njit
-def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs):
-    """Accumulate the force and torque of every live, unbroken spring.
+def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, implicit, vecs):
+    """Accumulate the force and torque of every live, unbroken spring that is not solved implicitly
+    (``implicit[c] != 0``: ``joints.classify_springs``).
 
     ``record`` (a weight, 0: none) adds ``record * F`` to each spring's K_FORCE: with weight h / dt at
     each sub-step, K_FORCE ends up as the step's mean force.  ``vecs``: scratch of at least (6, 3).
@@ -60,7 +74,8 @@ def add_spring_forces(kf, ki, nk, X, Q, V, W, F, T, record, vecs):
     pa, pb, va, vb, f, r = vecs[0, :3], vecs[1, :3], vecs[2, :3], vecs[3, :3], vecs[4, :3], vecs[5, :3]
     for c in range(nk):
         flags = ki[c, K_FLAGS]
-        if ki[c, K_TYPE] != KT_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0:
+        if (ki[c, K_TYPE] != KT_SPRING or (flags & KF_ALIVE) == 0 or (flags & KF_BROKEN) != 0
+                or implicit[c] != 0.0):
             continue
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]

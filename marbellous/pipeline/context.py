@@ -18,7 +18,7 @@ from .._numba.record import new_record_function, reader, viewer
 from .._numba.wide import LANES
 from ..dynamics.contact_bundles import MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
-from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, SB_COLS, TIME_COLS
+from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, PB_COLS, SB_COLS, TIME_COLS
 from .collide import pose_tables
 
 #: most threads of the contact passes (World.threads)
@@ -68,6 +68,7 @@ FIELDS = TABLE_FIELDS + (
     ("iterations", types.int64),    # velocity iterations used so far in the step
     ("turning", types.boolean),     # some contact touches a body whose world inertia turns with it
     ("n_supported", types.int64),   # heavy-on-light contacts of the step (rows of ``supported``)
+    ("n_static", types.int64),      # contacts of a movable body with a static or sleeping one
     ("clock", types.int64),         # cycle counter at the end of the last profiled stage
     # scratch, one row per body slot (or constraint slot), reused by every step
     ("sweep", _F1),           # sweep distance of each body over the step (m)
@@ -110,6 +111,10 @@ FIELDS = TABLE_FIELDS + (
     ("toi_rot", types.float64[:, :, ::1]),   # (2, 3, 3) and rotations
     ("toi_q", _F1),           # a quaternion
     ("toi_touch", _I1),       # the count and the triangles of a mesh that touch when the search starts
+    ("push_bodies", _F2),     # pseudo-velocities of the split impulses, rows as the solver bodies'
+    ("push_impulse", _F1),    # accumulated push impulse of each contact in the sub-step (N s)
+    ("implicit", _F1),        # 1 for each spring the constraint solver takes (too stiff for a force), else 0
+    ("static_contacts", _I1),  # the contacts of a movable body with one that cannot move (their count: n_static)
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -131,7 +136,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.nb, t.nk = nb, nk
     t.h, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 0, 0, False, False
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
-    t.turning, t.n_supported = False, 0
+    t.turning, t.n_supported, t.n_static = False, 0, 0
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
     t.filters = np.zeros((3, n_slots), dtype=np.int64)
@@ -172,6 +177,10 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.toi_rot = np.zeros((2, 3, 3))
     t.toi_q = np.zeros(4)
     t.toi_touch = np.zeros(TOI_TOUCH + 1, dtype=np.int64)
+    t.push_bodies = np.zeros((n_slots + 2, PB_COLS))
+    t.push_impulse = np.zeros(contacts)
+    t.implicit = np.zeros(kf.shape[0])
+    t.static_contacts = np.zeros(contacts, dtype=np.int64)
     return t
 
 

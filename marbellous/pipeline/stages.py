@@ -21,10 +21,12 @@ STAGES = (
     ("integrate_velocities", "forces (gravity, user forces, springs; penalty springs in that scheme) to "
                              "velocities by the chosen integrator"),
     ("warm_start", "last sub-step's impulses of joints and contacts applied again"),
-    ("solve", "sequential impulses with soft position correction, iterated until no velocity changes "
-              "more than the tolerance (the LCP scheme: all rows as one assembled LCP)"),
+    ("solve", "sequential impulses with soft position correction (overlap opened at no more than "
+              "max_push_speed), iterated until no velocity changes more than the tolerance (the LCP scheme: "
+              "all rows as one assembled LCP)"),
     ("integrate_positions", "velocities to poses; quaternions renormalised"),
-    ("relax", "sequential impulses without position bias, removing the correction's velocity"),
+    ("relax", "sequential impulses without position bias, removing the correction's velocity; overlap too "
+              "deep for that pushed out by split impulses that move the poses, never the velocities"),
     ("sum_impulses", "the sub-step's impulses added to the step's totals"),
     ("restitution", "closing contacts bounce at -e times their approach speed"),
     ("store_impulses", "contacts at the friction cone slide in the next step; joints' forces recorded"),

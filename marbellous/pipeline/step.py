@@ -27,27 +27,29 @@ from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
-from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_restitution, has_turning_contacts,
-                                       heavy_on_light, prepare_contacts, refresh_turning_masses, solve_contacts,
-                                       solve_supported, store_friction_state, warm_start_contacts, warm_start_listed)
+from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_push, apply_restitution,
+                                       clear_push, has_turning_contacts, heavy_on_light, list_static_contacts,
+                                       prepare_contacts, push_contacts, push_static, refresh_turning_masses,
+                                       solve_contacts, solve_supported, store_friction_state, warm_start_contacts,
+                                       warm_start_listed)
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
-from ..dynamics.joints import record_joint_forces, solve_joints, warm_start_joints
+from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, LCP,
-                            MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
-                            PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
-                            PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED,
-                            PF_SPECULATIVE, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE,
-                            PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SUBSTEPS, PI_THREADS, POS,
-                            POS0, SEQUENTIAL_IMPULSE, STAT_CACHE_SIDE, STAT_CACHED, STAT_CONTACTS, STAT_CYCLES,
-                            STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
-                            STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
+from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, LCP, MASK,
+                            OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY, PF_JOINT_HERTZ,
+                            PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ, PF_RESTITUTION_SPEED,
+                            PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_SWEEP,
+                            PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS,
+                            PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS, POS, POS0, SEQUENTIAL_IMPULSE,
+                            STAT_CACHE_SIDE, STAT_CACHED, STAT_CONTACTS, STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS,
+                            STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE,
+                            W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .impacts import stage_time_of_impact
@@ -182,13 +184,15 @@ def stage_match_and_wake(ctx):
 
 # --- prepare -------------------------------------------------------------------------------------------------
 @njit_inline
-def stage_prepare(ctx, may_bundle, may_turn):
+def stage_prepare(ctx, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
     and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle``, the
     sequential-impulse scheme, and enough contacts, in regions when ``threads`` > 1) or one scalar pass.
-    With ``may_turn`` (the schemes that solve on the solver bodies) the contacts of turning bodies are
-    marked for fresh effective masses after each position update.  Also the soft-constraint coefficients
-    of the sub-step and the springs' force records."""
+    With ``may_turn`` the contacts of turning bodies are marked for fresh effective masses after each
+    position update; with ``shock`` the contacts of a heavy body on a light one are found for the passes
+    with the light one held.  Also the soft-constraint coefficients of the sub-step, the springs too
+    stiff for explicit forces (solved implicitly by the constraint solver) and the springs' force
+    records."""
     bf, bi, nb, nc, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nc, ctx.nk
     params_f = ctx.params_f
     dt = params_f[PF_DT]
@@ -235,17 +239,20 @@ def stage_prepare(ctx, may_bundle, may_turn):
     ctx.bundles = bundles
     ctx.n_overflow = ctx.part_overflow[regions + 1] if bundled else 0
     # contacts on bodies whose world inertia turns get their effective masses again after each position
-    # update; contacts of a heavy body on a light one get passes with the light one held (scalar pass only)
+    # update; contacts of a heavy body on a light one get passes with the light one held
     ctx.turning = nc > 0 and may_turn and has_turning_contacts(ctx.ci, nc, sb)
     ctx.n_supported = 0
-    if nc > 0 and may_bundle and not bundled:
+    ctx.n_static = 0
+    if nc > 0 and shock:
         ctx.n_supported = heavy_on_light(ctx.cf, ctx.ci, nc, sb, params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.light,
                                          ctx.heavy, ctx.supported)
+        ctx.n_static = list_static_contacts(ctx.ci, nc, sb, ctx.static_contacts)
     soft = ctx.soft
     soft_coefficients(params_f[PF_CONTACT_HERTZ], params_f[PF_CONTACT_ZETA], ctx.h, soft[0])
     soft_coefficients(params_f[PF_JOINT_HERTZ], params_f[PF_JOINT_ZETA], ctx.h, soft[1])
     if nk > 0:
         clear_spring_forces(ctx.kf, ctx.ki, nk)
+        classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
     lap(ctx, ST_PREPARE)
 
 
@@ -263,7 +270,7 @@ def stage_integrate_velocities(ctx, penalty):
                            params_f[PF_SLIDE_SPEED], user_forces, params_f[PF_RESTITUTION_SPEED])
     integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
                          params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
-                         ctx.ws[W_PREV_DT], 1.0 / params_i[PI_SUBSTEPS], ctx.vecs)
+                         ctx.ws[W_PREV_DT], 1.0 / params_i[PI_SUBSTEPS], ctx.implicit, ctx.vecs)
     if penalty:
         restore_user_forces(bf, nb, user_forces)
     if ctx.constrained:
@@ -274,8 +281,7 @@ def stage_integrate_velocities(ctx, penalty):
 @njit_inline
 def _warm_start_joints(ctx):
     if ctx.nk > 0:
-        warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies,
-                          ctx.vecs)
+        warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
 
 
 @njit_inline
@@ -294,36 +300,84 @@ def stage_warm_start(ctx):
 
 
 @njit_inline
-def _contact_pass(ctx, use_bias):
-    """One sequential-impulse pass over the contacts in the step's execution variant (with the position
-    bias: solve; without: relax); returns the largest velocity change (m/s)."""
+def _push_depth(ctx):
+    """Overlap (m) the pushes leave to the velocity passes: for sequential impulses what their solve passes
+    open softly below ``max_push`` (``max_push / rate``); none for the LCP, whose rows only stop closing."""
+    rate = ctx.soft[0, 0]
+    if ctx.params_i[PI_SOLVER] == LCP or rate <= 0.0:
+        return 0.0
+    return ctx.params_f[PF_MAX_PUSH] / rate
+
+
+@njit_inline
+def _contact_pass(ctx, pushing, first_pass, softened):
+    """One sequential-impulse pass over the contacts in the step's execution variant: on the velocities
+    (solve: ``softened``, shallow overlap opened softly; relax: rigid), or, when ``pushing``, on the
+    pseudo-velocities of the split impulses (``first_pass``: the sub-step's first); returns the largest
+    velocity change (m/s)."""
     sb, cf, ci = ctx.solver_bodies, ctx.cf, ctx.ci
-    soft = ctx.soft
+    h = ctx.h
+    rate = ctx.soft[0, 0]
     max_push = ctx.params_f[PF_MAX_PUSH]
+    soft = (ctx.soft[0, 0], ctx.soft[0, 1], ctx.soft[0, 2], max_push) if softened else (0.0, 1.0, 0.0, 0.0)
     if ctx.bundled:
-        return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles,
-                                 ctx.overflow, ctx.part_overflow, ctx.regions, sb, ctx.h, use_bias,
-                                 soft[0], max_push, ctx.wide_change, ctx.region_change)
-    if ctx.nc > 0:
-        return solve_contacts(cf, ci, ctx.contact_order, 0, ctx.nc, sb, ctx.h, use_bias, soft[0], max_push)
-    return 0.0
+        return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles, ctx.overflow, ctx.part_overflow,
+                                 ctx.regions, sb, ctx.push_bodies, ctx.push_impulse, h, pushing, rate, max_push,
+                                 first_pass, soft, ctx.wide_change, ctx.region_change)
+    if ctx.nc == 0:
+        return 0.0
+    if pushing:
+        return push_contacts(cf, ci, ctx.contact_order, 0, ctx.nc, sb, ctx.push_bodies, ctx.push_impulse, h, rate,
+                             max_push, _push_depth(ctx), first_pass)
+    return solve_contacts(cf, ci, ctx.contact_order, 0, ctx.nc, sb, h, soft)
 
 
 @njit_inline
 def _joint_pass(ctx, use_bias):
-    """One sequential-impulse pass over the rods and cables; returns the largest velocity change (m/s)."""
+    """One sequential-impulse pass over the rods, cables and implicit springs; returns the largest velocity
+    change (m/s)."""
     if ctx.nk == 0:
         return 0.0
-    return solve_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h,
-                        use_bias, ctx.soft[1], ctx.vecs)
+    return solve_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h, use_bias, ctx.soft[1],
+                        ctx.params_f[PF_MAX_PUSH], ctx.implicit, ctx.vecs)
 
 
 @njit_inline
-def _supported_pass(ctx, use_bias):
-    """The heavy-on-light contacts' passes with the light body held (``contact_solver.solve_supported``)."""
+def _supported_pass(ctx, pushing, softened):
+    """The heavy-on-light contacts' passes with the light body held (``contact_solver.solve_supported``), on
+    the velocities (``softened``: after the solve passes, with their bias; else after a rigid pass) or
+    (``pushing``) the pseudo-velocities."""
     if ctx.n_supported > 0:
-        solve_supported(ctx.cf, ctx.ci, ctx.supported[:ctx.n_supported], ctx.solver_bodies, ctx.h, use_bias,
-                        ctx.soft[0], ctx.params_f[PF_MAX_PUSH], ctx.params_f[PF_GRAVITY:PF_GRAVITY + 3])
+        solve_supported(ctx.cf, ctx.ci, ctx.supported[:ctx.n_supported], ctx.solver_bodies, ctx.push_bodies,
+                        ctx.h, pushing, ctx.soft[0, 0] if pushing or softened else 0.0, ctx.params_f[PF_MAX_PUSH],
+                        _push_depth(ctx), ctx.params_f[PF_GRAVITY:PF_GRAVITY + 3])
+
+
+@njit_inline
+def _push_out(ctx):
+    """The contacts' position correction by split impulses (``contact_solver``): push passes on the
+    pseudo-velocities, from zero, until none changes by more than the tolerance or ``iterations`` passes
+    are done; then the heavy-on-light pushes, the static world's contacts last (no push into it), and
+    every body moved by its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs
+    the solver bodies of the poses just integrated.  A first pass that pushes nothing (no overlap deeper
+    than the velocity passes take, the usual case) leaves every pseudo-velocity zero, and so would the
+    rest: then it is the only one."""
+    if ctx.nc == 0:
+        return
+    clear_push(ctx.push_bodies, ctx.nb)
+    change = _contact_pass(ctx, True, True, False)
+    if change == 0.0:
+        return
+    tolerance = ctx.params_f[PF_TOLERANCE]
+    passes = 1
+    while change >= tolerance and passes < ctx.params_i[PI_ITERATIONS]:
+        change = _contact_pass(ctx, True, False, False)
+        passes += 1
+    _supported_pass(ctx, True, False)
+    if ctx.n_static > 0:
+        push_static(ctx.cf, ctx.ci, ctx.static_contacts[:ctx.n_static], ctx.solver_bodies, ctx.push_bodies, ctx.h,
+                    ctx.soft[0, 0], ctx.params_f[PF_MAX_PUSH], _push_depth(ctx))
+    apply_push(ctx.bf, ctx.bi, ctx.nb, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH])
 
 
 @njit_inline
@@ -335,11 +389,11 @@ def stage_solve(ctx, contacts):
         ctx.iterations += 1
         change = _joint_pass(ctx, True)
         if contacts:
-            change = max(change, _contact_pass(ctx, True))
+            change = max(change, _contact_pass(ctx, False, False, True))
         if change < tolerance:
             break
     if contacts:
-        _supported_pass(ctx, True)
+        _supported_pass(ctx, False, True)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
     lap(ctx, ST_SOLVE)
@@ -351,20 +405,24 @@ def _lcp_pass(ctx, use_bias):
     position bias, or without it to relax); returns the projected Gauss-Seidel sweeps used."""
     params_f, params_i, soft = ctx.params_f, ctx.params_i, ctx.soft
     return solve_lcp(ctx.bf, ctx.cf, ctx.ci, ctx.nc, ctx.kf, ctx.ki, ctx.nk,
-                     ctx.solver_bodies, ctx.nb, ctx.h, use_bias, soft[0], soft[1], params_f[PF_MAX_PUSH],
+                     ctx.solver_bodies, ctx.nb, ctx.h, use_bias, soft[1], params_f[PF_MAX_PUSH], ctx.implicit,
                      params_i[PI_LCP_SWEEPS], params_f[PF_LCP_SOR], params_f[PF_TOLERANCE])
 
 
 @njit_inline
 def stage_solve_lcp(ctx):
     """Stage "solve" of the LCP scheme: joints' and contacts' warm start on the solver bodies, then the
-    assembled LCP, which works on the body table."""
+    assembled LCP, which works on the body table; then the heavy-on-light passes on the solver bodies."""
     if ctx.constrained:
         _warm_start_joints(ctx)
-        sb = ctx.solver_bodies
+        bf, bi, nb, sb = ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies
         warm_start_contacts(ctx.cf, ctx.ci, ctx.nc, sb)
-        store_velocities(ctx.bf, ctx.bi, ctx.nb, sb)
+        store_velocities(bf, bi, nb, sb)
         ctx.iterations += _lcp_pass(ctx, True)
+        if ctx.n_supported > 0:
+            prepare_solver_bodies(bf, bi, nb, sb)
+            _supported_pass(ctx, False, False)
+            store_velocities(bf, bi, nb, sb)
     lap(ctx, ST_SOLVE)
 
 
@@ -389,24 +447,32 @@ def stage_integrate_positions(ctx):
 
 @njit_inline
 def stage_relax(ctx, contacts):
-    """Stage "relax" (sequential impulses): one pass over the joints and (when ``contacts``) the contacts
-    without position bias, so that the correction leaves no velocity behind."""
-    _joint_pass(ctx, False)
-    if contacts:
+    """Stage "relax" (sequential impulses): one pass over the joints without position bias, so that their
+    correction leaves no velocity behind, and (when ``contacts``) one rigid pass over the contacts, which
+    stops what the soft solve passes let close; then the contacts' overlap pushed out by split impulses,
+    which move the poses and leave the velocities alone."""
+    if ctx.nk > 0:
+        _joint_pass(ctx, False)
+    if contacts and ctx.nc > 0:
         if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
             load_bundle_bodies(ctx.wide_f, ctx.wide_i, ctx.bundles, ctx.solver_bodies, False)
-        _contact_pass(ctx, False)
-        _supported_pass(ctx, False)
+        _contact_pass(ctx, False, False, False)
+        _supported_pass(ctx, False, False)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
+    if contacts:
+        _push_out(ctx)
     lap(ctx, ST_RELAX)
 
 
 @njit_inline
 def stage_relax_lcp(ctx):
-    """Stage "relax" of the LCP scheme: the assembled LCP without position bias."""
-    if ctx.constrained:
+    """Stage "relax" of the LCP scheme: the assembled LCP without position bias (in steps with rods, cables or
+    implicit springs, whose correction it takes out of the velocities); then the contacts' overlap pushed
+    out by the split impulses of the sequential-impulse solver."""
+    if ctx.nk > 0:
         _lcp_pass(ctx, False)
+    _push_out(ctx)
     lap(ctx, ST_RELAX)
 
 
@@ -452,7 +518,7 @@ def stage_store_impulses(ctx):
         store_friction_state(ctx.cf, ctx.ci, ctx.nc)
     if ctx.nk > 0:
         record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
-                            ctx.joint_totals, ctx.vecs)
+                            ctx.joint_totals, ctx.implicit, ctx.vecs)
     lap(ctx, ST_STORE_IMPULSES)
 
 
@@ -514,15 +580,15 @@ def step_sequential_impulse(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, True, True)
+    stage_prepare(ctx, may_bundle=True, may_turn=True, shock=True)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
-        stage_integrate_velocities(ctx, False)
+        stage_integrate_velocities(ctx, penalty=False)
         stage_warm_start(ctx)
-        stage_solve(ctx, True)
+        stage_solve(ctx, contacts=True)
         stage_integrate_positions(ctx)
-        stage_relax(ctx, True)
+        stage_relax(ctx, contacts=True)
         stage_sum_impulses(ctx)
-    stage_restitution(ctx, False)
+    stage_restitution(ctx, on_body_table=False)
     stage_store_impulses(ctx)
     stage_break_constraints(ctx)
     stage_islands_and_sleep(ctx)
@@ -538,14 +604,14 @@ def step_penalty(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, False, True)
+    stage_prepare(ctx, may_bundle=False, may_turn=True, shock=False)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
-        stage_integrate_velocities(ctx, True)
+        stage_integrate_velocities(ctx, penalty=True)
         _warm_start_joints(ctx)
         lap(ctx, ST_WARM_START)
-        stage_solve(ctx, False)
+        stage_solve(ctx, contacts=False)
         stage_integrate_positions(ctx)
-        stage_relax(ctx, False)
+        stage_relax(ctx, contacts=False)
         stage_sum_impulses(ctx)
     stage_store_impulses(ctx)
     stage_break_constraints(ctx)
@@ -561,14 +627,14 @@ def step_lcp(ctx):
     if status != OK:
         return status
     stage_match_and_wake(ctx)
-    stage_prepare(ctx, False, False)
+    stage_prepare(ctx, may_bundle=False, may_turn=True, shock=True)
     for _ in range(ctx.params_i[PI_SUBSTEPS]):
-        stage_integrate_velocities(ctx, False)
+        stage_integrate_velocities(ctx, penalty=False)
         stage_solve_lcp(ctx)
         stage_integrate_positions(ctx)
         stage_relax_lcp(ctx)
         stage_sum_impulses(ctx)
-    stage_restitution(ctx, True)
+    stage_restitution(ctx, on_body_table=True)
     stage_store_impulses(ctx)
     stage_break_constraints(ctx)
     stage_islands_and_sleep(ctx)

@@ -218,6 +218,12 @@ SB_DTHETA = 19          # rotation vector since the step began (rad), 3
 SB_ISO = 22             # s if I_w^-1 = s E (spheres, cubes, and every body that cannot move: s = 0), else -1
 SB_COLS = 24            # 23 used, padded to three 64-byte cache lines
 
+# --- push bodies, float pb: each body's pseudo-velocity of the sub-step's position correction (split impulses,
+# dynamics/contact_solver.py), one 64-byte line per row; rows like the solver bodies' (pad and sink rows last)
+PB_V = 0                # pseudo linear velocity (m/s), 3
+PB_W = 3                # pseudo angular velocity (rad/s), 3
+PB_COLS = 8             # 6 used, padded to one cache line
+
 # --- contact bundles (dynamics/contact_bundles.py): wide_f fields, one block of LANES values each ----
 WB_NORMAL = 0           # 3
 WB_RA = 3               # 3
@@ -242,7 +248,8 @@ WB_INV_MASS_B = 37
 WB_INV_I_B = 38         # 9
 WB_SUM_N = 47           # impulses applied over the step's sub-steps
 WB_SUM_T = 48           # 3 (right after the normal total)
-BUNDLE_FIELDS = 51
+WB_LAMBDA_P = 51        # accumulated push (split) impulse of the sub-step's position correction (N s)
+BUNDLE_FIELDS = 52
 # wide_i blocks of LANES ints
 WI_READ_A = 0           # solver-body row read for a
 WI_READ_B = 1           # and for b
