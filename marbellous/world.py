@@ -131,9 +131,9 @@ class World:
                                      "and taken as two halves", positive=True, hi=MAX_SIZE)
 
     __slots__ = ("_tunables", "_params_dt", "_gravity", "_solver", "_integrator", "_broadphase", "_iterations",
-                 "_substeps", "_threads", "_ccd", "_sleeping", "_state", "_body_at", "_constraint_at", "_living",
-                 "_living_constraints", "_accumulator", "_time_stepping", "_retroactive", "_max_halvings", "_last",
-                 "__weakref__")
+                 "_substeps", "_substeps_auto", "_threads", "_ccd", "_sleeping", "_state", "_body_at",
+                 "_constraint_at", "_living", "_living_constraints", "_accumulator", "_time_stepping", "_retroactive",
+                 "_max_halvings", "_last", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -154,7 +154,7 @@ class World:
         self.solver = solver
         self.integrator = integrator
         self.iterations = DEFAULT_ITERATIONS if iterations is None else iterations
-        self.substeps = DEFAULT_SUBSTEPS if substeps is None else substeps
+        self.substeps = substeps
         self.threads = threads
         self.ccd = ccd
         self.sleeping = sleeping
@@ -236,13 +236,15 @@ class World:
 
     @property
     def substeps(self) -> int:
-        """Sub-steps per step: each integrates, solves and relaxes over dt / substeps (more in steps longer
-        than ``substeps / 120`` s: no sub-step is longer than 1/120 s, ``state/params.MAX_SUBSTEP``)."""
+        """Sub-steps per step: each integrates, solves and relaxes over dt / substeps.  Set to None (the
+        default) for 4, or more in steps longer than 4/120 s so that no sub-step is longer than 1/120 s
+        (``state/params.MAX_SUBSTEP``); a number given here is taken exactly."""
         return self._substeps
 
     @substeps.setter
-    def substeps(self, value: int) -> None:
-        self._substeps = as_int("substeps", value, lo=1, hi=1000)
+    def substeps(self, value: int | None) -> None:
+        self._substeps = DEFAULT_SUBSTEPS if value is None else as_int("substeps", value, lo=1, hi=1000)
+        self._substeps_auto = value is None
         self._params_dt = None
 
     @property

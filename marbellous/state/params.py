@@ -17,8 +17,9 @@ from . import layout as L
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
 
 
-#: the longest sub-step (s): a step of ``dt`` takes at least ``ceil(dt / MAX_SUBSTEP)`` sub-steps whatever
-#: ``World.substeps`` says.  A sub-step's velocity passes stop only what they converge on in ``iterations``
+#: the longest sub-step (s) of the automatic sub-steps (``World.substeps = None``, the default): a step of
+#: ``dt`` takes at least ``ceil(dt / MAX_SUBSTEP)`` of them (a number the user sets is taken exactly).
+#: A sub-step's velocity passes stop only what they converge on in ``iterations``
 #: passes, and gravity adds ``g h`` per sub-step: at ``h = 0.25 s`` (dt = 1 s, 4 sub-steps) a three-cube stack
 #: sank 20 cm per step and toppled, and the penalty springs, capped at ``0.4 / h`` rad/s, let it sink 1.5 m.
 #: At 1/120 s a stack sinks by at most 0.3 mm with sequential impulses (LCP 1 um), and the penalty springs'
@@ -28,8 +29,10 @@ MAX_SUBSTEP = 1.0 / 120.0
 
 
 def substeps_for(world, dt):
-    """Sub-steps of a step of ``dt`` s: ``world.substeps``, or more so that none is longer than
-    ``MAX_SUBSTEP``."""
+    """Sub-steps of a step of ``dt`` s: ``world.substeps``, or with automatic sub-steps more, so that none is
+    longer than ``MAX_SUBSTEP``."""
+    if not world._substeps_auto:
+        return world.substeps
     return max(world.substeps, math.ceil(dt / MAX_SUBSTEP - 1e-9))
 
 
