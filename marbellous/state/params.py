@@ -11,6 +11,7 @@ import numpy as np
 from .._validate import as_float
 from ..collision.broadphase import METHODS as BROADPHASE_CODES
 from ..dynamics.integrators import INTEGRATORS
+from ..dynamics.penalty import STABLE_FRACTION
 from . import layout as L
 
 #: the collision-handling schemes, in the order of their codes (layout.SEQUENTIAL_IMPULSE, PENALTY, LCP)
@@ -99,7 +100,11 @@ def write_params(world, dt, params_f, params_i, step_dt=None):
     pi[L.PI_BROADPHASE] = BROADPHASE_CODES[world.broadphase]
     pi[L.PI_SOLVER] = SOLVERS.index(world.solver)
     pi[L.PI_THREADS] = world.threads
-    pf[L.PF_PENALTY_HERTZ] = world.penalty_hertz
+    # The penalty springs are as stiff as the whole step's sub-steps allow, also in a shorter interval of it
+    # (time_stepping, ccd): a spring that stiffened there would push a body resting at the long sub-steps'
+    # depth out with the energy of the stiffer spring, 1/2 k d^2 for a larger k.
+    whole = dt if step_dt is None else step_dt
+    pf[L.PF_PENALTY_HERTZ] = min(world.penalty_hertz, STABLE_FRACTION * substeps_for(world, whole) / whole)
     pi[L.PI_LCP_SWEEPS] = int(world.lcp_sweeps)
     pf[L.PF_LCP_SOR] = world.lcp_relaxation
     mode = toi_mode(world.time_stepping, world.ccd)
