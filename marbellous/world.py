@@ -253,7 +253,9 @@ class World:
         (speculative contacts), and the impacts of bodies that move far in a step for their size (or added
         with ``ccd=True``) are found by time of impact, taken in time order and each resolved at its time,
         the rest of the step going on from there (docs/architecture.md, "Time stepping and continuous
-        collision").  False: neither (bodies added with ``ccd=True`` too)."""
+        collision").  False: neither (bodies added with ``ccd=True`` too).  The penalty scheme takes no
+        impacts at their time (its springs would give back an impulse's work as energy): there, fast bodies
+        can pass through thin shapes."""
         return self._ccd
 
     @ccd.setter

@@ -107,7 +107,7 @@ def write_params(world, dt, params_f, params_i, step_dt=None):
     pf[L.PF_PENALTY_HERTZ] = min(world.penalty_hertz, STABLE_FRACTION * substeps_for(world, whole) / whole)
     pi[L.PI_LCP_SWEEPS] = int(world.lcp_sweeps)
     pf[L.PF_LCP_SOR] = world.lcp_relaxation
-    mode = toi_mode(world.time_stepping, world.ccd)
+    mode = toi_mode(world.time_stepping, world.ccd and world.solver != "penalty")
     pi[L.PI_TOI_MODE] = mode
     pi[L.PI_TOI_SPLIT] = int(mode != L.TOI_NONE)
     pi[L.PI_DETECT] = 0
