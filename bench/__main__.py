@@ -3,13 +3,15 @@
 Every scene is built once in Marbellous (``marbellous.scenes``) and translated body by body into each
 peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (best of the scene's
 repeats, which go round the engines in turn), and checked by a sanity measure (``bench/scenes.py``).
-Prints a table, writes ``bench/results/<date>-<host>.json``, the bar plot ``docs/bench/latest.png``
-and the table in ``docs/bench/latest.md``.
+Prints a table and writes ``bench/results/<date>-<host>.json`` with its bar plot beside it (``.png``);
+``--write-docs`` also publishes the table and the plot as ``docs/bench/latest.md`` and ``latest.png``.
+Runs from any directory: ``python -m bench`` with the checkout on the path, or ``python path/to/bench``.
 
     python -m bench                         all scenes, all engines (about 10-15 minutes on 2 cores)
     python -m bench --quick                 small scenes, few steps: a check of the harness
     python -m bench --scenes tower_20 pile_1k --engines marbellous pybullet
     python -m bench --profile               add the per-stage profile of Marbellous' step per scene
+    python -m bench --write-docs            a full run that updates docs/bench/latest.md and latest.png
 """
 import argparse
 import json
@@ -19,10 +21,14 @@ import sys
 import time
 import traceback
 
-from .machine import describe
-from .peers import Unsupported, make_peer, version
-from .runs import MarbellousRun, timed_run
-from .scenes import DT, SCENES
+if not __package__:         # run as ``python path/to/bench``: the checkout's bench and marbellous packages
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    __package__ = "bench"   # noqa: A001 (makes the relative imports below resolve)
+
+from .machine import describe  # noqa: E402
+from .peers import Unsupported, make_peer, version  # noqa: E402
+from .runs import MarbellousRun, timed_run  # noqa: E402
+from .scenes import DT, SCENES  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -63,6 +69,8 @@ def run_world_scene(name, engine, quick, cap, steps=None):
            f"(time cap {cap:.0f} s)", "steps": res["steps"], "seconds": res["seconds"],
            "ms_per_step": 1e3 * res["seconds"] / res["steps"], "steps_per_s": res["steps"] / res["seconds"],
            "sanity": spec.sanity(res["positions"], meta, res["max_penetration"])}
+    if quick and not spec.judged_when_quick:
+        out["sanity"]["ok"] = None      # too few steps for the verdict (a pile has not settled): not judged
     if engine.startswith("marbellous"):
         from marbellous.state import layout as L
         out["contacts_last_step"] = int(world._state.stats[L.STAT_CONTACTS])
@@ -137,6 +145,13 @@ def run_scene(name, engines, quick, cap):
     return results
 
 
+def _verdict(sanity):
+    """The table's "ok" column: yes, NO, or n/a (quick) for a measure a quick run cannot judge."""
+    if sanity.get("ok") is None:
+        return "n/a (quick)"
+    return "yes" if sanity["ok"] else "NO"
+
+
 def _sanity_text(s):
     keys = [k for k in s if k != "ok"]
     return ", ".join(f"{k}={s[k]:.3g}" if isinstance(s[k], float) else f"{k}={s[k]}" for k in keys)
@@ -156,7 +171,7 @@ def table(results, engines):
                 lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['status']}")
                 continue
             ratio = f"{r['steps_per_s'] / ref:.2f}x" if ref else "-"
-            ok = "yes" if r["sanity"].get("ok") else "NO"
+            ok = _verdict(r["sanity"])
             note = "" if r["status"] == "ok" else f"  [{r['status']}]"
             lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
                          f"{r['steps_per_s']:10.1f} "
@@ -182,7 +197,7 @@ def plot(results, engines, machine, path):
             if "steps_per_s" in r:
                 xs.append(i + (k - (len(engines) - 1) / 2) * width)
                 ys.append(r["steps_per_s"])
-                hatches.append("" if r["sanity"].get("ok") else "xx")
+                hatches.append("xx" if r["sanity"].get("ok") is False else "")
         bars = ax.bar(xs, ys, width, label=engine, color=colours.get(engine), edgecolor="white")
         for bar, hatch in zip(bars, hatches):
             bar.set_hatch(hatch)
@@ -199,6 +214,30 @@ def plot(results, engines, machine, path):
     plt.close(fig)
 
 
+def output_paths(machine, out=None, quick=False, plot=True, write_docs=False):
+    """Where a run writes, as absolute paths: ``results`` (the JSON: ``out``, else
+    ``bench/results/<date>-<host>[-quick].json`` in the checkout), ``plot`` (beside it, ``.png``; None
+    without ``plot``), and with ``write_docs`` the published table and plot, ``docs_table`` and
+    ``docs_plot`` (``docs/bench/latest.md``, ``latest.png``; else None).  Independent of the working
+    directory."""
+    results = os.path.abspath(out) if out else os.path.join(
+        HERE, "results", f"{machine['date']}-{machine['hostname']}{'-quick' if quick else ''}.json")
+    docs = os.path.join(ROOT, "docs", "bench")
+    return {"results": results, "plot": os.path.splitext(results)[0] + ".png" if plot else None,
+            "docs_table": os.path.join(docs, "latest.md") if write_docs else None,
+            "docs_plot": os.path.join(docs, "latest.png") if write_docs else None}
+
+
+def _docs_table(machine, text):
+    return (f"# Latest benchmark ({machine['date']})\n\n`python -m bench` on {machine['cpu']}, "
+            f"{machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, Numba "
+            f"{machine['numba']}, peers {machine['peers']}, commit {machine['git_commit']}"
+            f"{' (with local changes)' if machine['git_dirty'] else ''}.  60 Hz; ms per step of the "
+            f"`step()` calls only, best of the scene's repeats (taken round the engines in turn); "
+            f"sphere-mesh queries in ms per query from Python.\n\n```\n{text}\n```\n\n"
+            f"![steps per second](latest.png)\n")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m bench", description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES), help="scenes to run")
@@ -206,12 +245,16 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="small scenes, few steps (a check, not numbers)")
     ap.add_argument("--cap", type=float, default=150.0, help="most seconds of stepping per engine and scene")
     ap.add_argument("--profile", action="store_true", help="add Marbellous' per-stage profile of each scene")
-    ap.add_argument("--out", default=None, help="results file (default bench/results/<date>-<host>.json, "
-                    "which also updates docs/bench/latest.md)")
-    ap.add_argument("--no-plot", action="store_true", help="skip the plot")
+    ap.add_argument("--out", default=None, help="results file (default bench/results/<date>-<host>.json)")
+    ap.add_argument("--no-plot", action="store_true", help="skip the plot beside the results file")
+    ap.add_argument("--write-docs", action="store_true",
+                    help="also publish the table and plot as docs/bench/latest.md and latest.png")
     args = ap.parse_args(argv)
+    if args.write_docs and args.quick:
+        ap.error("--write-docs publishes a full run's numbers, not a --quick check")
 
     machine = describe(ROOT, {e: version(e) for e in ENGINES if not e.startswith("marbellous")})
+    paths = output_paths(machine, args.out, args.quick, not args.no_plot, args.write_docs)
     print(f"{machine['cpu']}, {machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, "
           f"Numba {machine['numba']}, peers {machine['peers']}")
     compile_s = warm_up()
@@ -238,28 +281,18 @@ def main(argv=None):
         print(f"profile {name:16s} " + "  ".join(f"{k} {1e3 * v:.1f}" for k, v in row.items()) + "  (us/step)")
     record = {"machine": machine, "quick": args.quick, "dt": DT, "warm_up_s": compile_s, "results": results,
               "profile_ms_per_step": profiles}
-    path = args.out or os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}"
-                                    f"{'-quick' if args.quick else ''}.json")
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w") as f:
+    os.makedirs(os.path.dirname(paths["results"]), exist_ok=True)
+    with open(paths["results"], "w") as f:
         json.dump(record, f, indent=1)
-    print("written", os.path.relpath(path, ROOT))
-    if not args.quick and args.out is None:      # a run written elsewhere (--out) is a side run
-        md = os.path.join(ROOT, "docs", "bench", "latest.md")
-        os.makedirs(os.path.dirname(md), exist_ok=True)
-        with open(md, "w") as f:
-            f.write(f"# Latest benchmark ({machine['date']})\n\n`python -m bench` on {machine['cpu']}, "
-                    f"{machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, Numba "
-                    f"{machine['numba']}, peers {machine['peers']}, commit {machine['git_commit']}"
-                    f"{' (with local changes)' if machine['git_dirty'] else ''}.  60 Hz; ms per step of the "
-                    f"`step()` calls only, best of the scene's repeats (taken round the engines in turn); "
-                    f"sphere-mesh queries in ms per query from Python.\n\n```\n{text}\n```\n\n"
-                    f"![steps per second](latest.png)\n")
-        print("written", os.path.relpath(md, ROOT))
-    if not args.no_plot:
-        png = os.path.join(ROOT, "docs", "bench", "latest-quick.png" if args.quick else "latest.png")
-        plot(results, args.engines, machine, png)
-        print("written", os.path.relpath(png, ROOT))
+    print("written", paths["results"])
+    for key in ("plot", "docs_plot"):
+        if paths[key] is not None:
+            plot(results, args.engines, machine, paths[key])
+            print("written", paths[key])
+    if paths["docs_table"] is not None:
+        with open(paths["docs_table"], "w") as f:
+            f.write(_docs_table(machine, text))
+        print("written", paths["docs_table"])
     return 0
 
 

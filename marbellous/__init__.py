@@ -9,24 +9,56 @@ SI units, y up, quaternions (w, x, y, z).  Start with :class:`World`::
     w.step(1 / 60)
 
 Look at any world with ``mb.show(w)`` (a window) or ``mb.record(w, "out.mp4", seconds=5)`` (headless).
+
+The public names load on first use (``mb.World`` imports the engine), so ``import marbellous`` and
+commands that need no physics (``marbellous levels``) start in a fraction of a second.
 """
-from .body import Body
-from .constraints import Cable, Rod, Spring
-from .pipeline.profile import StepProfile
-from .query import ContactPoint, collide
-from .shapes import Box, Capsule, HeightField, Plane, Shape, Sphere, TriangleMesh
-from .reports import Contact, RayHit
-from .state.snapshot import Snapshot
-from .world import World
+import importlib
+from typing import TYPE_CHECKING
 
 __version__ = "0.1.0"
 
-from .app.envs import register_envs  # noqa: E402  (after the API: the environment builds worlds)
-from .app.record import record, render_image  # noqa: E402  (rendering packages load on first call)
-from .app.viewer import show  # noqa: E402
-
-register_envs()
+#: the module (relative to the package) that defines each public name
+_HOME = {
+    "World": ".world", "Body": ".body", "Snapshot": ".state.snapshot", "Contact": ".reports", "RayHit": ".reports",
+    "Shape": ".shapes", "Sphere": ".shapes", "Box": ".shapes", "Capsule": ".shapes",
+    "Plane": ".shapes",
+    "HeightField": ".shapes", "TriangleMesh": ".shapes", "Spring": ".constraints", "Rod": ".constraints",
+    "Cable": ".constraints", "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
+    "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
+}
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
            "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "StepProfile",
            "show", "record", "render_image", "__version__"]
+
+if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
+    from .app.record import record, render_image
+    from .app.viewer import show
+    from .body import Body
+    from .constraints import Cable, Rod, Spring
+    from .pipeline.profile import StepProfile
+    from .query import ContactPoint, collide
+    from .reports import Contact, RayHit
+    from .shapes import Box, Capsule, HeightField, Plane, Shape, Sphere, TriangleMesh
+    from .state.snapshot import Snapshot
+    from .world import World
+
+
+def __getattr__(name):
+    """A public name, imported from its module on first use (PEP 562)."""
+    home = _HOME.get(name)
+    if home is None:
+        raise AttributeError(f"module 'marbellous' has no attribute {name!r}")
+    value = getattr(importlib.import_module(home, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_HOME))
+
+
+from .app.envs import register_envs  # noqa: E402  (gymnasium's registry names the environment's module lazily)
+
+register_envs()

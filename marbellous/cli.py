@@ -95,11 +95,11 @@ def _levels_arguments(p):
 
 
 def _run_levels(args):
-    from .game.level import level_names, load_level
+    from .game.level_index import level_names, level_summary
 
     for name in level_names():
-        lvl = load_level(name)
-        print(f"{name:10s} {lvl.name}: {lvl.description}")
+        title, description = level_summary(name)
+        print(f"{name:10s} {title}: {description}")
     return 0
 
 

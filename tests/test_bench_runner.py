@@ -1,5 +1,10 @@
 """The benchmark runner (bench/__main__.py): a scene's repeats go round the engines in turn, each engine
-keeps its fastest run, and an engine that cannot run is not tried again."""
+keeps its fastest run, and an engine that cannot run is not tried again; where a run writes; the runner
+starts from any directory."""
+import os
+import subprocess
+import sys
+
 import bench.__main__ as runner
 from bench.scenes import SCENES
 
@@ -48,3 +53,40 @@ def test_a_query_scene_runs_each_engine_once(monkeypatch):
     results = runner.run_scene("mesh_queries", ["a", "b"], quick=True, cap=None)
     assert [e for _, e in calls] == ["a", "b"]
     assert results["b"]["ms_per_step"] == 2.0
+
+
+def test_a_run_writes_the_docs_only_when_asked(tmp_path, monkeypatch):
+    machine = {"date": "2026-12-02", "hostname": "host"}
+    monkeypatch.chdir(tmp_path)                         # the paths do not depend on the working directory
+    plain = runner.output_paths(machine)
+    assert plain["docs_table"] is None and plain["docs_plot"] is None
+    assert plain["results"] == os.path.join(runner.HERE, "results", "2026-12-02-host.json")
+    assert plain["plot"] == os.path.join(runner.HERE, "results", "2026-12-02-host.png")
+    assert runner.output_paths(machine, quick=True)["results"].endswith("2026-12-02-host-quick.json")
+    assert runner.output_paths(machine, out="x.json")["results"] == str(tmp_path / "x.json")
+    docs = runner.output_paths(machine, write_docs=True)
+    assert docs["docs_table"] == os.path.join(runner.ROOT, "docs", "bench", "latest.md")
+    assert docs["docs_plot"] == os.path.join(runner.ROOT, "docs", "bench", "latest.png")
+    assert runner.output_paths(machine, plot=False)["plot"] is None
+
+
+def test_the_runner_starts_from_any_directory(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    r = subprocess.run([sys.executable, os.path.join(runner.HERE), "--help"], cwd=tmp_path, env=env,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "--write-docs" in r.stdout
+    r = subprocess.run([sys.executable, os.path.join(runner.HERE), "--quick", "--write-docs"], cwd=tmp_path,
+                       env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "not a --quick check" in r.stderr
+
+
+def test_a_quick_run_does_not_judge_a_pile_that_had_no_time_to_settle():
+    assert not SCENES["pile_1k"].judged_when_quick and not SCENES["pile_8k"].judged_when_quick
+    assert SCENES["tower_20"].judged_when_quick
+    assert runner._verdict({"ok": None}) == "n/a (quick)"
+    assert runner._verdict({"ok": True}) == "yes" and runner._verdict({"ok": False}) == "NO"
+    row = {"status": "ok", "steps": 10, "seconds": 0.01, "ms_per_step": 1.0, "steps_per_s": 1e3,
+           "sanity": {"ok": None, "spread": 1.0}}
+    text = runner.table({"pile_1k": {"marbellous": row}}, ["marbellous"])
+    assert "n/a (quick)" in text and " NO" not in text

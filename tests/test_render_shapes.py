@@ -9,10 +9,23 @@ import marbellous as mb
 from marbellous.render.body_solids import PLANE_SCALE, body_solids
 from marbellous.render.bounds import shape_points, world_points
 from marbellous.render.draw_lists import GRID, OCTANTS, PLAIN, WorldFrame
-from marbellous.render.geometry import heightfield_triangles
+from marbellous.render.geometry import box_triangles, capsule_triangles, heightfield_triangles, uv_sphere
 from marbellous.render.orbit_camera import OrbitCamera
 from marbellous.render.shape_meshes import plane_frame, shape_mesh
 from marbellous.render.transforms import look_at, perspective, quat_to_matrix, quats_to_matrices
+
+
+def test_drawing_meshes_need_no_optional_package_and_log_nothing(caplog):
+    # trimesh's vertex normals go through scipy (not a dependency) and log a traceback without it
+    caplog.set_level("DEBUG")
+    for pos, nrm in (capsule_triangles(0.3, 0.5), uv_sphere(1.0, 8, 16), box_triangles((1.0, 2.0, 3.0))):
+        assert pos.shape == nrm.shape and np.allclose(np.linalg.norm(nrm, axis=1), 1.0, atol=1e-5)
+    assert not [r for r in caplog.records if r.levelno >= 30], [r.getMessage() for r in caplog.records]
+    pos, nrm = capsule_triangles(0.3, 0.5)
+    axis = np.zeros_like(pos)
+    axis[:, 1] = np.clip(pos[:, 1], -0.5, 0.5)
+    assert np.allclose(np.linalg.norm(pos - axis, axis=1), 0.3, atol=1e-5)     # on the surface
+    assert np.all(np.sum((pos - axis) * nrm, axis=1) > 0.299)                  # normals point out
 
 
 def test_heightfield_triangles_lie_on_the_physics_surface():

@@ -59,12 +59,14 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
 
     Writes the video to ``out`` (``.mp4`` or ``.gif``; None writes none) unless ``render`` is False.
     With ``frames_dir``, a PNG of every ``frame_interval`` seconds of video and of the last frame is
-    saved there as ``frame-NNNN.png``.  Returns a :class:`DemoResult`.
+    saved there as ``frame-NNNN.png``.  The autopilot's finish is not the player's: it is kept in
+    ``best_times`` when given, else in memory only (the player's best times are never written).  Returns a
+    :class:`DemoResult`.
     """
     lvl = load_level(level) if level is None or not hasattr(level, "colliders") else level
     if lvl.path is None:
         raise ValueError(f"level {lvl.name!r} has no [course] path for the autopilot")
-    game = Game(lvl, best_times=best_times if best_times is not None else BestTimes())
+    game = Game(lvl, best_times=best_times if best_times is not None else BestTimes(persistent=False))
     pilot = Autopilot(game.course, game.spec.push)
     steps_per_frame = max(1, int(round(1.0 / (fps * game.dt))))
     renderer = writer = None

@@ -65,11 +65,8 @@ from .._validate import MAX_FRICTION, MIN_SIZE, normalized
 from ..shapes import Box, Capsule, HeightField, Plane, Sphere, TriangleMesh
 from ..shapes.mesh import MAX_TRIANGLES
 from ..shapes.mesh_file import read_mesh_file
+from .level_index import DEFAULT_LEVEL, LEVEL_DIR, level_names
 
-#: Where the shipped levels live.
-LEVEL_DIR = pathlib.Path(__file__).resolve().parent.parent / "levels"
-#: The level ``marbellous demo`` and ``marbellous play`` use when none is named.
-DEFAULT_LEVEL = "course"
 #: Limits that keep a hostile or broken level file from exhausting memory.
 MAX_FILE_BYTES = 64 * 1024 * 1024
 #: Largest level TOML file (bytes); the files it names may each be up to ``MAX_FILE_BYTES``.
@@ -206,11 +203,6 @@ def _bounding_radius(c):
     if c.kind == "capsule":
         return p["radius"] + p["half_height"]
     return p["radius"]
-
-
-def level_names():
-    """Names of the shipped levels (file stems in :data:`LEVEL_DIR`), sorted."""
-    return sorted(p.stem for p in LEVEL_DIR.glob("*.toml"))
 
 
 def resolve_level(name_or_path):

@@ -63,7 +63,14 @@ def capsule_triangles(radius, half_height, count=24):
     hemispherical caps, smooth normals, ``count`` segments around and per cap."""
     m = trimesh.creation.capsule(height=2.0 * half_height, radius=radius, count=[count, count])
     to_y = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])   # trimesh's axis is z, ours is y
-    return smooth(m.vertices @ to_y.T, m.faces, m.vertex_normals @ to_y.T)
+    v = m.vertices @ to_y.T
+    # the exact normal: from the nearest point of the axis segment to the vertex (trimesh's
+    # ``vertex_normals`` would average face normals through scipy, an optional package)
+    axis_point = np.zeros_like(v)
+    axis_point[:, 1] = np.clip(v[:, 1], -half_height, half_height)
+    n = v - axis_point
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    return smooth(v, m.faces, n)
 
 
 def collider_triangles(collider, center=(0.0, 0.0, 0.0)):
