@@ -128,7 +128,7 @@ def _check(shape, orientation, spin, gap, floor, solver, integrator, extra=None)
 @seed(0)
 @settings(max_examples=40, database=None)
 @given(shape=shapes_5mm, orientation=quaternions, spin=spins, gap=gaps, floor=floors)
-@pytest.mark.parametrize("solver", ["sequential_impulse", "lcp"])     # (LCP's open cases: strict xfails below)
+@pytest.mark.parametrize("solver", ["sequential_impulse", "lcp"])     # (the cases once open: regression tests below)
 def test_a_dropped_spinning_body_never_gains_energy(solver, shape, orientation, spin, gap, floor):
     for integrator in INTEGRATORS:
         _check(shape, orientation, spin, gap, floor, solver, integrator)
