@@ -302,7 +302,7 @@ def warm_start_bundles(wide_f, wide_i, bundles, sb):
 
 @njit
 def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
-    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_push)) or "relax" (rigid:
+    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_bias)) or "relax" (rigid:
     (0, 1, 0, 0)): one pass of sequential impulses over the bundles ``first:last``, as
     ``contact_solver.solve_contacts`` (normal impulse closing a speculative gap exactly or opening overlap
     softly, then Coulomb friction on the tangent disc).  Returns the largest velocity change (m/s);
@@ -310,7 +310,7 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
     zero = splat_w(0.0)
     one = splat_w(1.0)
     bias_rate = soft[0]
-    twice_max_push = splat_w(2.0 * soft[3])
+    twice_max_bias = splat_w(2.0 * soft[3])
     touching_mass, touching_impulse = splat_w(soft[1]), splat_w(soft[2])
     store_w(largest, 0, zero)
     for bundle in range(first, last):
@@ -325,7 +325,7 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
         # --- normal: a speculative gap s > 0 closes exactly in the sub-step; shallow overlap opens softly -
         s = load_w(wide_f, _at(bundle, WB_SEPARATION))
         r = (zero - s) * bias_rate        # contact_solver.soft_bias, term for term
-        bias = where_gt(s, zero, s / h, zero - max_w(min_w(r, twice_max_push - r), zero))
+        bias = where_gt(s, zero, s / h, zero - max_w(min_w(r, twice_max_bias - r), zero))
         soft_mass = where_gt(s, zero, one, touching_mass)
         soft_impulse = where_gt(s, zero, zero, touching_impulse)
         vn = _dot(_relative_velocity(ua, ra, ub, rb), n)

@@ -23,6 +23,7 @@ from ..state.layout import C_BODY_A, C_BODY_B, POS
 from .contact_bundles import bundle_contacts, push_bundles, solve_bundles
 from .contact_solver import push_contacts, solve_contacts
 from .forces import is_moving
+from .soft import soft_depth
 
 #: fewest contacts for which a pass runs in regions
 MIN_PARALLEL_CONTACTS = 256
@@ -115,7 +116,7 @@ def _solve_part(cf, ci, wide_f, wide_i, part_bundles, overflow, part_overflow, p
     scratch of ``LANES`` floats."""
     lo, hi = part_overflow[part], part_overflow[part + 1]
     if pushing:
-        depth = max_push / rate if rate > 0.0 else 0.0
+        depth = soft_depth(rate, max_push)
         change = push_bundles(wide_f, wide_i, part_bundles[part], part_bundles[part + 1], sb, pb, h, rate, max_push,
                               depth, first_pass, lane_change)
         return max(change, push_contacts(cf, ci, overflow, lo, hi, sb, pb, lam_p, h, rate, max_push, depth,

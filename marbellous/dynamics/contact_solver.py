@@ -16,10 +16,9 @@ For each contact point (normal n from a to b, offsets ra, rb from the centres of
 
 Impulses accumulate per contact and are warm-started from the last step (matched by feature).
 
-Overlap (separation s < 0) is corrected through the velocities only as deep as they open it below
-``max_push`` (``D = max_push / rate``, 2.9 cm at 60 Hz: softly in the solve passes, the correction's
-velocity taken out by the rigid relax pass, handed over to the pushes between D and 2 D:
-:func:`soft_bias`).  After the positions moved, the push
+Overlap (separation s < 0) is corrected through the velocities only as deep as ``D = min(max_push / rate,
+SOFT_DEPTH)`` (``soft.soft_depth``, 1 cm: softly in the solve passes, the correction's velocity taken out
+by the rigid relax pass, handed over to the pushes between D and 2 D: :func:`soft_bias`).  After the positions moved, the push
 passes (split impulses, Catto 2006, as in Bullet and Box2D 2.x) solve the same rows on a second set of
 pseudo-velocities ``u_p`` (``pb``, zero at the start of each sub-step), which move the poses by ``h u_p``
 and are then dropped:
@@ -207,38 +206,40 @@ def contact_separation(sb, cf, c, a, b):
 
 
 @njit_inline
-def soft_bias(s, rate, max_push):
-    """The velocity bias (m/s) of a contact of overlap ``d = -s >= 0`` (m) in the soft solve passes:
+def soft_bias(s, rate, max_bias):
+    """The velocity bias (m/s) of a contact of overlap ``d = -s >= 0`` (m) in the soft solve passes, with
+    ``max_bias = rate D`` (m/s, ``D`` from ``soft.soft_depth``):
 
-        bias = -rate d                        for d <= D = max_push / rate
-        bias = -(2 max_push - rate d)         for D <= d <= 2 D,   0 beyond
+        bias = -rate d                        for d <= D
+        bias = -(2 max_bias - rate d)         for D <= d <= 2 D,   0 beyond
 
     so the velocities open shallow overlap softly (a resting contact's) and hand deep overlap over to the
     pushes (:func:`push_target`), whose ``rate (d - D)`` grows as this falls: together they open it at
-    ``max_push`` from ``D`` on.  (Deep overlap opened at ``max_push`` through the velocities of every
-    contact of a heap spawned at one point, and the relax pass did not take it all out again: 258 m/s.)"""
+    ``rate D`` from ``D`` on, and faster as the pushes take over.  (Deep overlap opened through the
+    velocities of every contact of a heap spawned at one point, and the relax pass did not take it all out
+    again: 258 m/s.)"""
     r = rate * (0.0 - s)
-    return 0.0 - max(min(r, 2.0 * max_push - r), 0.0)
+    return 0.0 - max(min(r, 2.0 * max_bias - r), 0.0)
 
 
 @njit
 def solve_contacts(cf, ci, order, first, last, sb, h, soft):
-    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_push) of ``soft.py``) or "relax"
-    (rigid: ``soft`` = (0, 1, 0, 0)): one pass of sequential impulses over the contacts ``order[first:last]``,
+    """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_bias) of ``soft.py``, ``max_bias``
+    as in :func:`soft_bias`) or "relax" (rigid: ``soft`` = (0, 1, 0, 0)): one pass of sequential impulses over the contacts ``order[first:last]``,
     in that order, on the velocities of the solver bodies ``sb``.
 
     A contact keeps its bodies from closing by more than its gap ``s > 0`` in the sub-step of ``h`` s
     (speculative: exactly), and a touching one (``s <= 0``) opens its overlap softly, at ``bias_rate (-s)``
-    up to ``max_push`` (the soft step of ``soft.py``, Box2D 3's, which keeps tall stacks standing: with
+    up to ``max_bias`` (the soft step of ``soft.py``, Box2D 3's, which keeps tall stacks standing: with
     rigid passes and the overlap left to the pushes alone a 20-box tower tilted until it fell); the rigid
     relax pass after the positions moved takes the correction's velocity out again.  Overlap deeper than
-    ``D = max_push / bias_rate`` (2.9 cm at 60 Hz) is handed over to :func:`push_contacts`
+    ``D = max_bias / bias_rate`` (``soft.soft_depth``, 1 cm) is handed over to :func:`push_contacts`
     (:func:`soft_bias`).  Returns the largest velocity change made (m/s), for the adaptive
     iteration count.  Each contact's two bodies are read once, updated in registers through the normal,
     friction and rolling impulses, and written back once; bodies that cannot move are never written, so
     passes over contacts that share no movable body may run at the same time.
     """
-    bias_rate, mass_scale, impulse_scale, max_push = soft
+    bias_rate, mass_scale, impulse_scale, max_bias = soft
     largest = 0.0
     for k in range(first, last):
         c = order[k]
@@ -257,7 +258,7 @@ def solve_contacts(cf, ci, order, first, last, sb, h, soft):
         if s > 0.0:
             bias, soft_mass, soft_impulse = s / h, 1.0, 0.0        # speculative: close the gap exactly
         else:
-            bias, soft_mass, soft_impulse = soft_bias(s, bias_rate, max_push), mass_scale, impulse_scale
+            bias, soft_mass, soft_impulse = soft_bias(s, bias_rate, max_bias), mass_scale, impulse_scale
         vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
         mass_n = cf[c, C_MASS_N]
         old = cf[c, C_LAMBDA_N]
@@ -325,7 +326,7 @@ def set_pseudo_velocity(pb, i, u):
 @njit_inline
 def push_target(s, h, rate, max_push, depth):
     """The relative normal pseudo-velocity a contact of separation ``s`` (m) asks for (m/s): overlap deeper
-    than ``depth`` (``max_push / rate`` for sequential impulses, whose velocity passes open shallower
+    than ``depth`` (``soft.soft_depth`` for sequential impulses, whose velocity passes open shallower
     overlap; 0 for the LCP) opens at ``rate (-s - depth)``, no faster than ``max_push``; a gap ``s >= 0``
     may close by ``s`` in the sub-step of ``h`` s and no more (as a speculative contact)."""
     return (0.0 - s) / h if s >= 0.0 else min(rate * max((0.0 - s) - depth, 0.0), max_push)
@@ -576,7 +577,7 @@ def solve_supported(cf, ci, supported, sb, pb, h, pushing, rate, max_push, depth
             else:
                 ua = velocity(sb, a)
                 ub = velocity(sb, b)
-                bias = s / h if s > 0.0 else soft_bias(s, rate, max_push)
+                bias = s / h if s > 0.0 else soft_bias(s, rate, rate * depth)
             vn = dot3(relative_velocity_at(ua, ra, ub, rb), n)
             # the effective mass of the body above alone (the one below held)
             if up > 0.0:

@@ -38,7 +38,7 @@ from ..dynamics.joints import classify_springs, record_joint_forces, solve_joint
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
-from ..dynamics.soft import soft_coefficients
+from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
 from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, LCP, MASK,
@@ -302,11 +302,10 @@ def stage_warm_start(ctx):
 @njit_inline
 def _push_depth(ctx):
     """Overlap (m) the pushes leave to the velocity passes: for sequential impulses what their solve passes
-    open softly below ``max_push`` (``max_push / rate``); none for the LCP, whose rows only stop closing."""
-    rate = ctx.soft[0, 0]
-    if ctx.params_i[PI_SOLVER] == LCP or rate <= 0.0:
+    open softly (``soft.soft_depth``); none for the LCP, whose rows only stop closing."""
+    if ctx.params_i[PI_SOLVER] == LCP:
         return 0.0
-    return ctx.params_f[PF_MAX_PUSH] / rate
+    return soft_depth(ctx.soft[0, 0], ctx.params_f[PF_MAX_PUSH])
 
 
 @njit_inline
@@ -319,7 +318,7 @@ def _contact_pass(ctx, pushing, first_pass, softened):
     h = ctx.h
     rate = ctx.soft[0, 0]
     max_push = ctx.params_f[PF_MAX_PUSH]
-    soft = (ctx.soft[0, 0], ctx.soft[0, 1], ctx.soft[0, 2], max_push) if softened else (0.0, 1.0, 0.0, 0.0)
+    soft = (rate, ctx.soft[0, 1], ctx.soft[0, 2], rate * _push_depth(ctx)) if softened else (0.0, 1.0, 0.0, 0.0)
     if ctx.bundled:
         return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles, ctx.overflow, ctx.part_overflow,
                                  ctx.regions, sb, ctx.push_bodies, ctx.push_impulse, h, pushing, rate, max_push,
