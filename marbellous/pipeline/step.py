@@ -7,9 +7,11 @@ uses the LCP or penalty scheme never compiles them.  The execution variant of th
 scalar pass, coloured bundles solved eight at a time, regions on several threads) is chosen once per
 step by the prepare stage and recorded in the context; the stages that differ by variant read it there.
 
-Every stage is inlined into the step (``njit_inline``), so the step stays one compiled call whose fixed
-cost is a few hundred nanoseconds.  The stages take a view of the context (``_numba/record.py``), so
-that neither passing it nor reading its tables counts references.  The step returns ``OK``, or ``GROW_PAIRS`` /
+The stages are compiled functions of their own, called by the step (``njit``); only the small helpers
+and the scheme's step itself are inlined (``njit_inline``).  Inlined into one function, the stages made a
+step that took Numba 100 s and 3 GB to compile on a first run, as calls 10 s (the whole first world
+from 210 to 145 s); the calls cost a lone body's step ~0.14 us.  The stages take a view of the context
+(``_numba/record.py``), so that neither passing it nor reading its tables counts references.  The step returns ``OK``, or ``GROW_PAIRS`` /
 ``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes in ``stats``), so the caller can
 grow the buffers and call again.
 
@@ -100,7 +102,7 @@ def _needs_pairs(bi, nb):
     return False
 
 
-@njit_inline
+@njit
 def stage_aabbs(ctx):
     """Stage "aabbs": every body's box, swept over the step (continuous collision) and grown by the
     speculative distance; shapes posed for the narrow phase."""
@@ -113,7 +115,7 @@ def stage_aabbs(ctx):
     lap(ctx, ST_AABBS)
 
 
-@njit_inline
+@njit
 def stage_broad_phase(ctx):
     """Stage "broad phase": candidate pairs into ``pairs`` (their number in ``ctx.n_pairs``)."""
     bi, nb = ctx.bi, ctx.nb
@@ -133,7 +135,7 @@ def stage_broad_phase(ctx):
     lap(ctx, ST_BROAD_PHASE)
 
 
-@njit_inline
+@njit
 def stage_narrow_phase(ctx):
     """Stage "narrow phase": the contact points of the candidate pairs into the contact table (their
     number in ``ctx.nc``, which may exceed its capacity: the caller then grows it)."""
@@ -170,7 +172,7 @@ def collide(ctx):
     return status
 
 
-@njit_inline
+@njit
 def stage_match_and_wake(ctx):
     """Stage "match and wake": warm-start impulses from last step's contacts; sleeping islands touched by
     awake bodies wake."""
@@ -183,7 +185,7 @@ def stage_match_and_wake(ctx):
 
 
 # --- prepare -------------------------------------------------------------------------------------------------
-@njit_inline
+@njit
 def stage_prepare(ctx, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
     and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle``, the
@@ -257,7 +259,7 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
 
 
 # --- sub-step stages -----------------------------------------------------------------------------------------
-@njit_inline
+@njit
 def stage_integrate_velocities(ctx, penalty):
     """Stage "integrate velocities": all forces over the sub-step by the chosen integrator (with the penalty
     scheme's contact springs added to the user's forces for its duration, when ``penalty``)."""
@@ -284,7 +286,7 @@ def _warm_start_joints(ctx):
         warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
 
 
-@njit_inline
+@njit
 def stage_warm_start(ctx):
     """Stage "warm start" (sequential impulses): last sub-step's impulses of joints and contacts again."""
     _warm_start_joints(ctx)
@@ -379,7 +381,7 @@ def _push_out(ctx):
     apply_push(ctx.bf, ctx.bi, ctx.nb, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH])
 
 
-@njit_inline
+@njit
 def stage_solve(ctx, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
     until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
@@ -408,7 +410,7 @@ def _lcp_pass(ctx, use_bias):
                      params_i[PI_LCP_SWEEPS], params_f[PF_LCP_SOR], params_f[PF_TOLERANCE])
 
 
-@njit_inline
+@njit
 def stage_solve_lcp(ctx):
     """Stage "solve" of the LCP scheme: joints' and contacts' warm start on the solver bodies, then the
     assembled LCP, which works on the body table; then the heavy-on-light passes on the solver bodies."""
@@ -425,7 +427,7 @@ def stage_solve_lcp(ctx):
     lap(ctx, ST_SOLVE)
 
 
-@njit_inline
+@njit
 def stage_integrate_positions(ctx):
     """Stage "integrate positions": poses from velocities by the chosen integrator, and the rotation since
     the step began (for the solver's separations)."""
@@ -444,7 +446,7 @@ def stage_integrate_positions(ctx):
     lap(ctx, ST_INTEGRATE_POSITIONS)
 
 
-@njit_inline
+@njit
 def stage_relax(ctx, contacts):
     """Stage "relax" (sequential impulses): one pass over the joints without position bias, so that their
     correction leaves no velocity behind, and (when ``contacts``) one rigid pass over the contacts, which
@@ -464,7 +466,7 @@ def stage_relax(ctx, contacts):
     lap(ctx, ST_RELAX)
 
 
-@njit_inline
+@njit
 def stage_relax_lcp(ctx):
     """Stage "relax" of the LCP scheme: the assembled LCP without position bias (in steps with rods, cables or
     implicit springs, whose correction it takes out of the velocities); then the contacts' overlap pushed
@@ -475,7 +477,7 @@ def stage_relax_lcp(ctx):
     lap(ctx, ST_RELAX)
 
 
-@njit_inline
+@njit
 def stage_sum_impulses(ctx):
     """Stage "sum impulses": the sub-step's impulses of contacts and joints added to the step's totals."""
     cf = ctx.cf
@@ -492,7 +494,7 @@ def stage_sum_impulses(ctx):
 
 
 # --- end of step -----------------------------------------------------------------------------------------------
-@njit_inline
+@njit
 def stage_restitution(ctx, on_body_table):
     """Stage "restitution": the bundles' impulses back to the contact table, then closing contacts bounce.
     ``on_body_table``: the scheme's last pass worked on the body table (LCP), so the solver bodies are
@@ -509,7 +511,7 @@ def stage_restitution(ctx, on_body_table):
     lap(ctx, ST_RESTITUTION)
 
 
-@njit_inline
+@njit
 def stage_store_impulses(ctx):
     """Stage "store impulses": each contact's friction state for the next step's warm start (a contact at
     the cone slides); the joints' forces over the step."""
@@ -521,7 +523,7 @@ def stage_store_impulses(ctx):
     lap(ctx, ST_STORE_IMPULSES)
 
 
-@njit_inline
+@njit
 def stage_break_constraints(ctx):
     """Stage "break constraints": springs, rods and cables over their breaking force snap."""
     if ctx.nk > 0:
@@ -529,7 +531,7 @@ def stage_break_constraints(ctx):
     lap(ctx, ST_BREAK_CONSTRAINTS)
 
 
-@njit_inline
+@njit
 def stage_islands_and_sleep(ctx):
     """Stage "islands and sleep": islands, rest timers, resting islands asleep; the clock advances and the
     force accumulators are cleared."""
@@ -546,7 +548,7 @@ def stage_islands_and_sleep(ctx):
     lap(ctx, ST_ISLANDS_AND_SLEEP)
 
 
-@njit_inline
+@njit
 def finish_step(ctx):
     """The step's counts into ``stats``, and this step's contacts become the next step's cache (the caller
     swaps the context's two contact tables: :func:`swap_contact_tables`)."""

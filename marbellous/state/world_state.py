@@ -11,6 +11,8 @@ fail on what it passes.
 """
 import numpy as np
 
+from .._numba.progress import compiling
+from .._numba.progress import install as install_compile_progress
 from .._numba.record import compiled_entry, record_address
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..pipeline.context import pack_context
@@ -18,6 +20,8 @@ from ..pipeline.stages import STAGES
 from ..pipeline.step import GROW_CONTACTS, GROW_PAIRS, STEPS
 from . import layout as L
 from .slots import Slots
+
+install_compile_progress()
 
 
 def grow(arr, needed):
@@ -80,15 +84,17 @@ class WorldState:
         self.context = None
 
     def pack(self):
-        """The step context of the current tables and the compiled entry of the scheme's step."""
-        self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
-                                    self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
-                                    self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
-                                    self.cache_f, self.cache_i, self.params_f, self.params_i, self.stats,
-                                    self.bodies.end, self.constraints.end, self.threads, self.time_f,
-                                    self.impact_f)
-        self._address = record_address(self.context)
-        self._entry = compiled_entry(STEPS[self.solver], self._address)
+        """The step context of the current tables and the compiled entry of the scheme's step (compiled on a
+        first run: a progress line, then a notice, ``_numba/progress.py``)."""
+        with compiling():
+            self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
+                                        self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
+                                        self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
+                                        self.cache_f, self.cache_i, self.params_f, self.params_i, self.stats,
+                                        self.bodies.end, self.constraints.end, self.threads, self.time_f,
+                                        self.impact_f)
+            self._address = record_address(self.context)
+            self._entry = compiled_entry(STEPS[self.solver], self._address)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too
