@@ -5,7 +5,7 @@ after an upgrade) compiles; that takes minutes, and a silent terminal for minute
 A Numba compile listener counts the package's kernels as they compile and, once compiling has gone on
 for :data:`QUIET_SECONDS`, keeps one line on standard error up to date:
 
-    marbellous: compiling kernels (first run only) 210/~400 dynamics.rigid.inverse_inertia_world, 1 min 18 s, ~1 min 11 s left
+    marbellous: compiling kernels (first run only) 210/~400 dynamics.rigid.inverse_inertia_world, 78 s, ~71 s left
 
 (on a terminal the line is rewritten in place; otherwise a line is printed every
 :data:`PLAIN_INTERVAL` seconds).  When the operation that compiled finishes (:func:`compiling`), one

@@ -18,10 +18,10 @@ Impulses accumulate per contact and are warm-started from the last step (matched
 
 Overlap (separation s < 0) is corrected through the velocities only as deep as ``D = min(max_push / rate,
 SOFT_DEPTH)`` (``soft.soft_depth``, 1 cm: softly in the solve passes, the correction's velocity taken out
-by the rigid relax pass, handed over to the pushes between D and 2 D: :func:`soft_bias`).  After the positions moved, the push
-passes (split impulses, Catto 2006, as in Bullet and Box2D 2.x) solve the same rows on a second set of
-pseudo-velocities ``u_p`` (``pb``, zero at the start of each sub-step), which move the poses by ``h u_p``
-and are then dropped:
+by the rigid relax pass, handed over to the pushes between D and 2 D: :func:`soft_bias`).  After the
+positions moved, the push passes (split impulses, Catto 2006, as in Bullet and Box2D 2.x) solve the same
+rows on a second set of pseudo-velocities ``u_p`` (``pb``, zero at the start of each sub-step), which move
+the poses by ``h u_p`` and are then dropped:
 
     push                  lambda_p += K_n^-1 (target - dv_p.n),  lambda_p >= 0,
                           target = min(rate max(-s - D, 0), max_push) for s < 0,
@@ -225,8 +225,8 @@ def soft_bias(s, rate, max_bias):
 @njit
 def solve_contacts(cf, ci, order, first, last, sb, h, soft):
     """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_bias) of ``soft.py``, ``max_bias``
-    as in :func:`soft_bias`) or "relax" (rigid: ``soft`` = (0, 1, 0, 0)): one pass of sequential impulses over the contacts ``order[first:last]``,
-    in that order, on the velocities of the solver bodies ``sb``.
+    as in :func:`soft_bias`) or "relax" (rigid: ``soft`` = (0, 1, 0, 0)): one pass of sequential impulses
+    over the contacts ``order[first:last]``, in that order, on the velocities of the solver bodies ``sb``.
 
     A contact keeps its bodies from closing by more than its gap ``s > 0`` in the sub-step of ``h`` s
     (speculative: exactly), and a touching one (``s <= 0``) opens its overlap softly, at ``bias_rate (-s)``

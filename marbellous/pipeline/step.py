@@ -10,10 +10,10 @@ step by the prepare stage and recorded in the context; the stages that differ by
 The stages are compiled functions of their own, called by the step (``njit``); only the small helpers
 and the scheme's step itself are inlined (``njit_inline``).  Inlined into one function, the stages made a
 step that took Numba 100 s and 3 GB to compile on a first run, as calls 10 s (the whole first world
-from 210 to 145 s); the calls cost a lone body's step ~0.14 us.  The stages take a view of the context
-(``_numba/record.py``), so that neither passing it nor reading its tables counts references.  The step returns ``OK``, or ``GROW_PAIRS`` /
-``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes in ``stats``), so the caller can
-grow the buffers and call again.
+from 210 to 145 s), at no measured cost per step.  The stages take a view of the context
+(``_numba/record.py``), so that neither passing it nor reading its tables counts references.  The step
+returns ``OK``, or ``GROW_PAIRS`` / ``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes
+in ``stats``), so the caller can grow the buffers and call again.
 
 The stages, in order:
 
