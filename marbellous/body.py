@@ -106,7 +106,9 @@ class Body:
 
     @property
     def inertia(self) -> np.ndarray:
-        """Inertia tensor about the centre of mass in world coordinates, ``R I_body R^T`` (kg m^2)."""
+        """Inertia tensor about the centre of mass in world coordinates, ``R I_body R^T`` (kg m^2): the one
+        simulated, whose principal moments are within a factor 1e4 of each other (a needle's smallest moment
+        is raised to that, ``dynamics.mass_properties.conditioned_inertia``)."""
         row = self._row()
         if self.is_static:
             return np.diag([np.inf, np.inf, np.inf])

@@ -18,7 +18,7 @@ from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import Cable, Constraint, Rod, Spring
 from .dynamics.integrators import INTEGRATORS
-from .dynamics.mass_properties import compound_mass_properties
+from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
 from .dynamics.rigid import inverse_inertia_np
 from .math3d import quat_to_matrix_np
 from .pipeline.context import MAX_THREADS
@@ -375,7 +375,10 @@ class World:
         integers; the defaults, 1 and -1 (all bits), let everything collide).  Bounds (``marbellous._validate``):
         position within +-1e12 m, velocities within +-1e9 m/s (rad/s), mass 1e-30 .. 1e30 kg,
         density 1e-6 .. 1e6 kg/m^3, friction 0 .. 1000; a compound's parts within 1e6 m of its origin; the
-        principal moments of inertia within a factor 1e10 of each other.  ``ccd`` (continuous collision, while
+        principal moments of inertia within a factor 1e10 of each other; moments more than
+        ``MAX_MOMENT_RATIO`` (1e4) below the largest are raised to that (``Body.inertia`` gives the tensor
+        simulated: a needle's spin about its own axis would otherwise take up the contacts' rounding as
+        hundreds of rad/s).  ``ccd`` (continuous collision, while
         the world's :attr:`ccd` is on): None sweeps the body when it moves far in a step for its size, True
         always, False never (not even its motion in its bounding box).
         """
@@ -406,6 +409,7 @@ class World:
             raise ValueError(f"shape: the body's principal moments of inertia ({moments[0]:.3g} .. {moments[2]:.3g} "
                              f"kg m^2) differ by more than a factor {MAX_INERTIA_RATIO:g}; so thin a body spins "
                              "up from rounding alone: make it thicker or its parts closer")
+        inertia = conditioned_inertia(inertia)
         inverse = inverse_inertia_np(inertia)
         # Shapes are stored relative to the centre of mass: the body's origin is its centre of mass.
         parts = [(s, p - com, q) for s, p, q in parts]
