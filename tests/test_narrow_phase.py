@@ -8,7 +8,11 @@ contact: the reference below is the plain loop (pose both shapes, order by type 
 test by name, negate the normals of a swapped pair), and the two must agree bit for bit, row by row,
 in the same order, with the same bodies, shapes, features and sensor flags.
 """
+import subprocess
+import sys
+
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 
@@ -23,7 +27,9 @@ from marbellous.collision.pairs.plane_pairs import collide_box_plane, collide_ca
 from marbellous.collision.pairs.sphere_box import collide_sphere_box
 from marbellous.collision.pairs.sphere_capsule import collide_sphere_capsule
 from marbellous.collision.pairs.sphere_sphere import collide_sphere_sphere
-from marbellous.pipeline.collide import narrow_phase, pose_tables, shape_pose, update_aabbs
+from marbellous.pipeline.collide import (narrow_phase_all, narrow_phase_ground, narrow_phase_spheres, pose_tables,
+                                         shape_pose, update_aabbs)
+from marbellous.state.world_state import scene_coverage
 from marbellous.state import layout as L
 
 DT = 1.0 / 60.0
@@ -120,24 +126,30 @@ def random_shape(rng):
             (mb.Capsule(0.1, 0.2), rng.uniform(-0.4, 0.4, 3), random_quat(rng))]
 
 
-def mixed_world(seed, bodies=24):
+def mixed_world(seed, bodies=24, moving=None, ground=True):
     """Bodies of every kind crowded over a plane, a static box, a bumpy mesh and a height field, some
-    of them moving, asleep or sensors: many overlaps and near misses."""
+    of them moving, asleep or sensors: many overlaps and near misses.  ``moving``: a function of the
+    random generator giving each moving body's shape (every kind by default); without ``ground``, no
+    mesh and no height field."""
     rng = np.random.default_rng(seed)
+    moving = random_shape if moving is None else moving
     w = mb.World()
     w.add_static(mb.Plane((0.0, 1.0, 0.0), -0.3))
-    w.add_static(bump_mesh(rng))
-    w.add_static(mb.HeightField(0.2 * rng.standard_normal((5, 5)), spacing=(0.75, 0.75), origin=(-1.5, -0.1, -1.5)))
+    if ground:
+        w.add_static(bump_mesh(rng))
+        w.add_static(mb.HeightField(0.2 * rng.standard_normal((5, 5)), spacing=(0.75, 0.75),
+                                    origin=(-1.5, -0.1, -1.5)))
     w.add_static(mb.Box((0.5, 0.3, 0.5)), position=rng.uniform(-1.0, 1.0, 3), orientation=random_quat(rng))
     w.add_static(mb.Sphere(0.4), position=rng.uniform(-1.0, 1.0, 3), sensor=True)
     for k in range(bodies):
-        body = w.add_body(random_shape(rng), position=rng.uniform(-1.5, 1.5, 3) * (1.0, 0.4, 1.0) + (0, 0.3, 0),
+        body = w.add_body(moving(rng), position=rng.uniform(-1.5, 1.5, 3) * (1.0, 0.4, 1.0) + (0, 0.3, 0),
                           orientation=random_quat(rng), velocity=rng.normal(0.0, 1.0, 3),
                           angular_velocity=rng.normal(0.0, 2.0, 3), sensor=k % 11 == 5)
         if k % 7 == 3:
             w._state.bi[body._index, L.FLAGS] |= L.F_SLEEPING
-    # a second mesh after the bodies: its pairs have the mesh second (the first mesh's have it first)
-    w.add_static(bump_mesh(rng), position=(0.0, 0.3, 0.0))
+    if ground:
+        # a second mesh after the bodies: its pairs have the mesh second (the first mesh's have it first)
+        w.add_static(bump_mesh(rng), position=(0.0, 0.3, 0.0))
     return w
 
 
@@ -153,7 +165,7 @@ def collide_input(w):
     return pairs, sweep
 
 
-def run_narrow_phase(w, pairs, sweep, capacity):
+def run_narrow_phase(w, pairs, sweep, capacity, narrow_phase=narrow_phase_all):
     raw_f = np.zeros((capacity, 7))
     raw_i = np.zeros(capacity, np.int64)
     ci = np.zeros((capacity, L.CI_COLS), np.int64)
@@ -174,6 +186,81 @@ def test_narrow_phase_matches_the_plain_loop_bit_for_bit(seed):
     assert np.array_equal(raw_f[:n], ref_f)
     assert np.array_equal(raw_i[:n], ref_i)
     assert np.array_equal(ci[:n, :6], ref_ci)
+
+
+def _sphere(rng):
+    return mb.Sphere(float(rng.uniform(0.1, 0.35)))
+
+
+@settings(max_examples=15, deadline=None)
+@given(hs.integers(0, 2 ** 31), hs.booleans())
+def test_the_narrow_phase_of_a_coverage_matches_the_plain_loop_in_its_worlds(seed, ground):
+    # moving spheres over a plane, a box and a sphere sensor, and (ground) meshes and a height field: the
+    # narrow phase compiled for the world's coverage, without the pair tests it cannot meet, finds every
+    # contact the full one does
+    w = mixed_world(seed, moving=_sphere, ground=ground)
+    coverage = scene_coverage(w._state.bi, w._state.si, w._state.bodies.end)
+    assert coverage == (st.COVER_GROUND if ground else st.COVER_SPHERES)
+    pairs, sweep = collide_input(w)
+    ref_f, ref_i, ref_ci = reference_narrow_phase(w, pairs, sweep)
+    n, raw_f, raw_i, ci = run_narrow_phase(w, pairs, sweep, 4096,
+                                           narrow_phase_ground if ground else narrow_phase_spheres)
+    assert n == len(ref_f) > 0
+    assert np.array_equal(raw_f[:n], ref_f)
+    assert np.array_equal(raw_i[:n], ref_i)
+    assert np.array_equal(ci[:n, :6], ref_ci)
+
+
+def test_a_world_has_the_coverage_of_its_moving_shapes():
+    w = mb.World()
+    coverage = lambda: scene_coverage(w._state.bi, w._state.si, w._state.bodies.end)   # noqa: E731
+    assert coverage() == st.COVER_SPHERES
+    w.add_static(mb.Box((1.0, 1.0, 1.0)))               # a static box meets only moving spheres
+    w.add_body(mb.Sphere(0.5), position=(0.0, 3.0, 0.0))
+    assert coverage() == st.COVER_SPHERES
+    w.add_static(mb.TriangleMesh([(0, 0, 0), (1, 0, 0), (0, 0, 1)], [(0, 2, 1)]), position=(5.0, 0.0, 0.0))
+    assert coverage() == st.COVER_GROUND
+    capsule = w.add_body(mb.Capsule(0.2, 0.5), position=(0.0, 6.0, 0.0))
+    assert coverage() == st.COVER_ALL
+    w.remove(capsule)
+    assert coverage() == st.COVER_GROUND
+    w.add_body([mb.Sphere(0.2), (mb.Box((0.1, 0.1, 0.1)), (0.5, 0.0, 0.0))], position=(3.0, 6.0, 0.0))
+    assert coverage() == st.COVER_ALL
+
+
+def test_a_sphere_world_that_gains_a_moving_box_steps_with_every_pair_test():
+    # the step compiled for spheres has no box pair test; the next step after adding a box uses the step
+    # of the new coverage, so the box lands on the plane as in a world that had it from the start
+    def run(box_first):
+        w = mb.World()
+        w.add_static(mb.Plane())
+        if box_first:
+            box = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 0.5, 0.0))
+        w.add_body(mb.Sphere(0.5), position=(3.0, 0.5, 0.0))
+        w.step(DT)
+        if not box_first:
+            box = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 0.5, 0.0))
+        for _ in range(60):
+            w.step(DT)
+        return box.position[1]
+    assert run(False) == pytest.approx(0.5, abs=1e-3)
+    assert run(True) == pytest.approx(0.5, abs=1e-3)
+
+
+def test_a_sphere_world_compiles_no_box_or_mesh_pair_test():
+    code = ("import marbellous as mb\n"
+            "from marbellous.collision.pairs import box_box, capsule_box\n"
+            "from marbellous.collision.mesh import mesh_collide, heightfield_collide\n"
+            "w = mb.World(); w.add_static(mb.Plane()); w.add_static(mb.Box((1.0, 1.0, 1.0)))\n"
+            "w.add_body(mb.Sphere(0.5), position=(0.0, 3.0, 0.0), velocity=(0.0, -50.0, 0.0))\n"
+            "for _ in range(30): w.step(1 / 60)\n"
+            "print(len(box_box.collide_box_box.signatures) + len(capsule_box.collide_capsule_box.signatures)\n"
+            "      + len(mesh_collide.collide_sphere_mesh.signatures)\n"
+            "      + len(mesh_collide.collide_convex_mesh.signatures)\n"
+            "      + len(heightfield_collide.collide_convex_heightfield.signatures))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "0"
 
 
 def test_mixed_world_exercises_every_kind_of_pair():

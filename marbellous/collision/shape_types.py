@@ -11,3 +11,15 @@ MESH = 5
 N_SHAPE_PARAMS = 8
 
 NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh")
+
+# Coverage: which pair tests a world's step can need, from the kinds of shape its bodies have.  A world's
+# step is compiled for its coverage (``pipeline/step.py``), so that a first run compiles only the pair
+# tests its scene can meet (static shapes never meet each other):
+#: every moving shape a sphere, no mesh or height field: the sphere-primitive tests alone
+COVER_SPHERES = 0
+#: every moving shape a sphere, meshes or height fields too (the marble on its level)
+COVER_GROUND = 1
+#: capsules or boxes that move: every pair test
+COVER_ALL = 2
+#: the number of coverages
+COVERAGES = 3

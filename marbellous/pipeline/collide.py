@@ -28,8 +28,8 @@ from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
-from ..collision.pairs.dispatch import collide_pair, flip_normals, sphere_primitive
-from ..collision.shape_types import N_SHAPE_PARAMS
+from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_moving
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
@@ -188,11 +188,12 @@ def limit_pairs_per_body(pairs, n_pairs, bi, nb, limit):
 
 
 @njit_inline
-def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                 pos_t, rot_t, state, q):
+def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                  pos_t, rot_t, state, q):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
-    (bodies, shapes, sensor flag).  Returns the number of points (it may exceed the capacity).
-    ``pos_t, rot_t, state, q`` are the scratch of :func:`pose_tables` for at least ``sf``'s rows."""
+    (bodies, shapes, sensor flag), with the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns
+    the number of points (it may exceed the capacity).  ``pos_t, rot_t, state, q`` are the scratch of
+    :func:`pose_tables` for at least ``sf``'s rows."""
     if n_pairs == 0:
         return 0
     n = 0
@@ -244,7 +245,8 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                             raw_f[n, 3 + k] = side * normal[k]
                         raw_f[n, 6] = depth
                         raw_i[n] = 0
-                elif (ta == st.SPHERE and tb == st.MESH) or (tb == st.SPHERE and ta == st.MESH):
+                elif coverage != COVER_SPHERES and ((ta == st.SPHERE and tb == st.MESH)
+                                                    or (tb == st.SPHERE and ta == st.MESH)):
                     # Fast path: a sphere against a mesh (the marble on its level), both poses by value.
                     flip = ta != st.SPHERE
                     s1, b1, s2, b2 = (sb, b, sa, a) if flip else (sa, a, sb, b)
@@ -262,7 +264,8 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                         pose_shape(bf, sf, si, sa, a, True, q, pos_t, rot_t, state)
                     if state[sb] != POSE_FULL:
                         pose_shape(bf, sf, si, sb, b, True, q, pos_t, rot_t, state)
-                    m = collide_pair(ta, pos_t[sa], rot_t[sa], sf[sa, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
+                    m = collide_pair_covering(
+                                     coverage, ta, pos_t[sa], rot_t[sa], sf[sa, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
                                      tb, pos_t[sb], rot_t[sb], sf[sb, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS],
                                      geom_f, geom_i, si[sa, S_OFF_F], si[sa, S_OFF_I], si[sb, S_OFF_F],
                                      si[sb, S_OFF_I], prediction, raw_f, raw_i, n)
@@ -275,3 +278,46 @@ def narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculat
                     ci[c, C_FLAGS] = CP_SENSOR if sensor else 0
                 n = m
     return n
+
+
+# --- the narrow phase of each coverage: a world compiles the one of its own -------------------------------------
+@njit
+def narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                         pos_t, rot_t, state, q):
+    """:func:`narrow_phase` of a world whose moving shapes are all spheres, with no mesh or height field."""
+    return _narrow_phase(COVER_SPHERES, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                         raw_i, ci, pos_t, rot_t, state, q)
+
+
+@njit
+def narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                        pos_t, rot_t, state, q):
+    """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes or height fields."""
+    return _narrow_phase(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                         raw_i, ci, pos_t, rot_t, state, q)
+
+
+@njit
+def narrow_phase_all(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                     pos_t, rot_t, state, q):
+    """:func:`narrow_phase` with every pair test."""
+    return _narrow_phase(COVER_ALL, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                         raw_i, ci, pos_t, rot_t, state, q)
+
+
+@njit_inline
+def narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                 pos_t, rot_t, state, q):
+    """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
+    (bodies, shapes, sensor flag); returns the number of points (it may exceed the capacity).
+    ``coverage`` (``shape_types.COVER_*``, a constant where this is inlined) picks the compiled narrow phase
+    with the pair tests the world can meet.  ``pos_t, rot_t, state, q`` are the scratch of
+    :func:`pose_tables` for at least ``sf``'s rows."""
+    if coverage == COVER_SPHERES:
+        return narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                                    raw_i, ci, pos_t, rot_t, state, q)
+    if coverage == COVER_GROUND:
+        return narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                                   raw_i, ci, pos_t, rot_t, state, q)
+    return narrow_phase_all(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                            pos_t, rot_t, state, q)

@@ -32,6 +32,7 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision import shape_types as st
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
 from ..collision.toi.closed_forms import gap_comes_within, spheres_come_within
 from ..collision.toi.conservative_advancement import IMPACT, MISS, time_of_impact
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
@@ -160,14 +161,14 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon):
     return -1
 
 
-@njit
-def pair_time_of_impact(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
-                        rot_t, q, touch):
-    """``(outcome, t)`` of the time-of-impact search for the shape pair of contact ``c`` within ``horizon``
-    (s), impacts closing faster than ``speed`` (m/s); ``touch`` receives a mesh's touching triangles."""
+@njit_inline
+def _pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+                         pos_t, rot_t, q, touch):
+    """:func:`pair_time_of_impact` with the pair tests of ``coverage``."""
     a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
     sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
     return time_of_impact(
+        coverage,
         si[sa, S_TYPE], sf[sa, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[sa, S_OFF_F], si[sa, S_OFF_I],
         body_motion(bf, bi, a, gravity), (sf[sa, S_LOCAL_POS], sf[sa, S_LOCAL_POS + 1], sf[sa, S_LOCAL_POS + 2]),
         (sf[sa, S_LOCAL_QUAT], sf[sa, S_LOCAL_QUAT + 1], sf[sa, S_LOCAL_QUAT + 2], sf[sa, S_LOCAL_QUAT + 3]),
@@ -177,6 +178,47 @@ def pair_time_of_impact(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon,
         (sf[sb, S_LOCAL_QUAT], sf[sb, S_LOCAL_QUAT + 1], sf[sb, S_LOCAL_QUAT + 2], sf[sb, S_LOCAL_QUAT + 3]),
         shape_reach(sf, si, sb),
         geom_f, geom_i, horizon, TOUCH_TOLERANCE, HIT_TOLERANCE, speed, out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit
+def pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
+                                rot_t, q, touch):
+    """:func:`pair_time_of_impact` in a world of coverage ``COVER_SPHERES``."""
+    return _pair_time_of_impact(COVER_SPHERES, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+                                out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit
+def pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
+                               rot_t, q, touch):
+    """:func:`pair_time_of_impact` in a world of coverage ``COVER_GROUND``."""
+    return _pair_time_of_impact(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+                                out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit
+def pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
+                            rot_t, q, touch):
+    """:func:`pair_time_of_impact` with every pair test."""
+    return _pair_time_of_impact(COVER_ALL, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+                                out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit_inline
+def pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+                        pos_t, rot_t, q, touch):
+    """``(outcome, t)`` of the time-of-impact search for the shape pair of contact ``c`` within ``horizon``
+    (s), impacts closing faster than ``speed`` (m/s); ``touch`` receives a mesh's touching triangles.
+    ``coverage`` (``shape_types.COVER_*``, a constant where this is inlined) picks the compiled search
+    with the pair tests the world can meet."""
+    if coverage == COVER_SPHERES:
+        return pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f,
+                                           out_i, pos_t, rot_t, q, touch)
+    if coverage == COVER_GROUND:
+        return pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f,
+                                          out_i, pos_t, rot_t, q, touch)
+    return pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+                                   pos_t, rot_t, q, touch)
 
 
 @njit
@@ -215,8 +257,9 @@ def _keep_row(cf, ci, impact_f, c, kept):
 
 
 @njit_inline
-def stage_time_of_impact(ctx):
-    """Stage "time of impact" (module docstring): returns OK, SPLIT or DETECTED."""
+def stage_time_of_impact(ctx, coverage):
+    """Stage "time of impact" (module docstring), with the pair tests of ``coverage``
+    (``shape_types.COVER_*``): returns OK, SPLIT or DETECTED."""
     params_i, params_f = ctx.params_i, ctx.params_f
     if params_i[PI_DETECT] != 0:
         return DETECTED
@@ -259,8 +302,8 @@ def stage_time_of_impact(ctx):
                     if reach >= 0:
                         gone = reach == 0
                     else:
-                        outcome, t_hit = pair_time_of_impact(bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci, c,
-                                                             gravity, acting, speed, ctx.toi_f, ctx.toi_i,
+                        outcome, t_hit = pair_time_of_impact(coverage, bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci,
+                                                             c, gravity, acting, speed, ctx.toi_f, ctx.toi_i,
                                                              ctx.toi_pos, ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
                         gone = outcome == MISS
                         if outcome == IMPACT and swept:

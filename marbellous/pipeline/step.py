@@ -24,6 +24,7 @@ from .._numba.clock import cycle_counter
 from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES
 from ..collision.broadphase import find_pairs
+from ..collision.shape_types import COVERAGES
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
@@ -135,12 +136,13 @@ def stage_broad_phase(ctx):
     lap(ctx, ST_BROAD_PHASE)
 
 
-@njit
-def stage_narrow_phase(ctx):
+@njit_inline
+def stage_narrow_phase(ctx, coverage):
     """Stage "narrow phase": the contact points of the candidate pairs into the contact table (their
-    number in ``ctx.nc``, which may exceed its capacity: the caller then grows it)."""
+    number in ``ctx.nc``, which may exceed its capacity: the caller then grows it), by the pair tests of
+    ``coverage``."""
     raw_f, cf = ctx.raw_f, ctx.cf
-    nc = narrow_phase(ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
+    nc = narrow_phase(coverage, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
                       ctx.geom_i, ctx.pairs, ctx.n_pairs, ctx.sweep,
                       ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, ctx.pose_pos,
                       ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
@@ -154,20 +156,20 @@ def stage_narrow_phase(ctx):
 
 
 @njit_inline
-def collide(ctx):
-    """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with.
-    Returns OK, or which buffer is too small (nothing but scratch changed), or the time-of-impact stage's
-    SPLIT or DETECTED (pipeline/impacts.py)."""
+def collide(ctx, coverage):
+    """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with,
+    by the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns OK, or which buffer is too small
+    (nothing but scratch changed), or the time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
     stage_aabbs(ctx)
     stage_broad_phase(ctx)
     if ctx.n_pairs > ctx.pairs.shape[0]:
         return GROW_PAIRS
     if ctx.n_pairs > MAX_PAIRS_PER_BODY * ctx.nb:      # bodies spawned into one another: bound the contacts
         ctx.n_pairs = limit_pairs_per_body(ctx.pairs, ctx.n_pairs, ctx.bi, ctx.nb, MAX_PAIRS_PER_BODY)
-    stage_narrow_phase(ctx)
+    stage_narrow_phase(ctx, coverage)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
-    status = stage_time_of_impact(ctx)
+    status = stage_time_of_impact(ctx, coverage)
     lap(ctx, ST_TIME_OF_IMPACT)
     return status
 
@@ -574,10 +576,10 @@ def swap_contact_tables(record):
 
 # --- the steps of the three collision-handling schemes ----------------------------------------------------------
 @njit_inline
-def step_sequential_impulse(ctx):
+def step_sequential_impulse(ctx, coverage):
     """A step with contacts and joints solved by sequential impulses (the default scheme)."""
     start_clock(ctx)
-    status = collide(ctx)
+    status = collide(ctx, coverage)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -597,11 +599,11 @@ def step_sequential_impulse(ctx):
 
 
 @njit_inline
-def step_penalty(ctx):
+def step_penalty(ctx, coverage):
     """A step with contacts as penalty springs (their damping gives the restitution) and joints by
     sequential impulses."""
     start_clock(ctx)
-    status = collide(ctx)
+    status = collide(ctx, coverage)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -621,10 +623,10 @@ def step_penalty(ctx):
 
 
 @njit_inline
-def step_lcp(ctx):
+def step_lcp(ctx, coverage):
     """A step with contacts and joints solved as one assembled LCP per sub-step (projected Gauss-Seidel)."""
     start_clock(ctx)
-    status = collide(ctx)
+    status = collide(ctx, coverage)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -650,28 +652,27 @@ def _completed(record, status):
     return status
 
 
-@njit
-def step_sequential_impulse_at(address):
-    """:func:`step_sequential_impulse` on the context at ``address`` (``_numba.record.record_address``): the
-    state's entry, which passes an int rather than the context (~0.1 us less per call)."""
-    record = context_at(address)
-    return _completed(record, step_sequential_impulse(view(record)))
+def _entry(scheme, coverage):
+    """The compiled entry of ``scheme``'s step (SEQUENTIAL_IMPULSE, PENALTY, LCP) with the pair tests of
+    ``coverage`` (``shape_types.COVER_*``): it runs the step on the context at ``address``
+    (``_numba.record.record_address``), which passes an int rather than the context (~0.1 us less per call).
+    Both codes are constants of the compiled function, so it holds only its own scheme's stages and its
+    coverage's pair tests (Numba caches each such closure apart, keyed by them)."""
+    @njit
+    def step_at(address):
+        record = context_at(address)
+        if scheme == SEQUENTIAL_IMPULSE:
+            status = step_sequential_impulse(view(record), coverage)
+        elif scheme == PENALTY:
+            status = step_penalty(view(record), coverage)
+        else:
+            status = step_lcp(view(record), coverage)
+        return _completed(record, status)
+    return step_at
 
 
-@njit
-def step_penalty_at(address):
-    """:func:`step_penalty` on the context at ``address``."""
-    record = context_at(address)
-    return _completed(record, step_penalty(view(record)))
-
-
-@njit
-def step_lcp_at(address):
-    """:func:`step_lcp` on the context at ``address``."""
-    record = context_at(address)
-    return _completed(record, step_lcp(view(record)))
-
-
-#: the compiled entry of each scheme's step, indexed by its code (SEQUENTIAL_IMPULSE, PENALTY, LCP)
-STEPS = (step_sequential_impulse_at, step_penalty_at, step_lcp_at)
+#: the compiled entry of each scheme's step, ``STEPS[scheme][coverage]`` (scheme: SEQUENTIAL_IMPULSE,
+#: PENALTY, LCP; coverage: ``shape_types.COVER_*``); each compiles on its first call
+STEPS = tuple(tuple(_entry(scheme, coverage) for coverage in range(COVERAGES))
+              for scheme in (SEQUENTIAL_IMPULSE, PENALTY, LCP))
 assert (SEQUENTIAL_IMPULSE, PENALTY, LCP) == (0, 1, 2)

@@ -14,6 +14,7 @@ import numpy as np
 from .._numba.progress import compiling
 from .._numba.progress import install as install_compile_progress
 from .._numba.record import compiled_entry, record_address
+from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..pipeline.context import pack_context
 from ..pipeline.stages import STAGES
@@ -22,6 +23,27 @@ from . import layout as L
 from .slots import Slots
 
 install_compile_progress()
+
+
+def scene_coverage(bi, si, end):
+    """``shape_types.COVER_*`` of the bodies in rows ``0 .. end - 1``: which pair tests their step can need
+    (static shapes never meet each other).  ``COVER_ALL`` if a moving body has a shape other than a sphere,
+    else ``COVER_GROUND`` if there is a mesh or height field, else ``COVER_SPHERES``."""
+    flags = bi[:end, L.FLAGS]
+    rows = np.flatnonzero((flags & L.F_ALIVE) != 0)
+    starts, counts = bi[rows, L.SHAPE_START], bi[rows, L.SHAPE_COUNT]
+    if counts.sum() == 0:
+        return st.COVER_SPHERES
+    # the shape rows of the live bodies, body by body, and whether their body can move
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    shapes = np.repeat(starts - first, counts) + np.arange(counts.sum())
+    kinds = si[shapes, L.S_TYPE]
+    moving = np.repeat((flags[rows] & L.F_STATIC) == 0, counts)
+    if np.any(moving & (kinds != st.SPHERE)):
+        return st.COVER_ALL
+    if np.any((kinds == st.MESH) | (kinds == st.HEIGHTFIELD)):
+        return st.COVER_GROUND
+    return st.COVER_SPHERES
 
 
 def grow(arr, needed):
@@ -84,8 +106,9 @@ class WorldState:
         self.context = None
 
     def pack(self):
-        """The step context of the current tables and the compiled entry of the scheme's step (compiled on a
-        first run: a progress line, then a notice, ``_numba/progress.py``)."""
+        """The step context of the current tables and the compiled entry of the scheme's step for the pair
+        tests the bodies can need (``scene_coverage``; compiled on first use: a progress line, then a notice,
+        ``_numba/progress.py``)."""
         with compiling():
             self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
                                         self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
@@ -94,7 +117,8 @@ class WorldState:
                                         self.bodies.end, self.constraints.end, self.threads, self.time_f,
                                         self.impact_f)
             self._address = record_address(self.context)
-            self._entry = compiled_entry(STEPS[self.solver], self._address)
+            coverage = scene_coverage(self.bi, self.si, self.bodies.end)
+            self._entry = compiled_entry(STEPS[self.solver][coverage], self._address)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too

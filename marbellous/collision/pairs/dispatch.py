@@ -6,10 +6,13 @@ and the rows it added get their normals negated; points, depths and feature ids 
 (the point is the midpoint between the surfaces, the same seen from either side).
 
 The dispatchers are inlined into their callers (``njit_inline``): each level of calls would pass, and
-reference-count, every array again (a box pair in a stack: 780 -> 550 ns in the narrow phase).
+reference-count, every array again (a box pair in a stack: 780 -> 550 ns in the narrow phase).  Their
+``coverage`` (``shape_types.COVER_*``, a constant where they are inlined) leaves out the pair tests a world
+cannot meet, so that they are not compiled for it.
 """
 from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
+from ..shape_types import COVER_ALL, COVER_SPHERES
 from ..mesh.heightfield_collide import collide_convex_heightfield
 from ..mesh.mesh_collide import collide_convex_mesh
 from ..vec3 import load, mat_column, matrix
@@ -44,13 +47,15 @@ def sphere_primitive(c, r, type_b, pos_b, m_b, params_b, prediction):
 
 
 @njit_inline
-def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+def _ordered_convex_pair(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                          out_f, out_i, n):
     """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
     if type_a == st.SPHERE:
         hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
                                                  (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
         return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
+    if coverage != COVER_ALL:
+        return n                    # no capsule or box moves: no such pair in this world
     if type_a == st.CAPSULE:
         if type_b == st.CAPSULE:
             return collide_capsule_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
@@ -74,6 +79,19 @@ def flip_normals(out_f, start, stop):
 
 
 @njit_inline
+def _convex_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                          out_f, out_i, n):
+    """:func:`collide_convex_pair` with the pair tests of ``coverage`` only."""
+    if type_a <= type_b:
+        return _ordered_convex_pair(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                    prediction, out_f, out_i, n)
+    m = _ordered_convex_pair(coverage, type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
+                             prediction, out_f, out_i, n)
+    flip_normals(out_f, n, m)
+    return m
+
+
+@njit_inline
 def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                         out_f, out_i, n):
     """Contacts of two primitives (sphere, capsule, box, plane) in any order; returns the new count.
@@ -82,28 +100,20 @@ def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, pa
     records; ``prediction`` (m) the largest gap still reported; rows appended to ``out_f`` /
     ``out_i`` from row ``n`` (docs/architecture.md), normals from a to b.
     """
-    if type_a <= type_b:
-        return _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
-                                    prediction, out_f, out_i, n)
-    m = _ordered_convex_pair(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
-                             prediction, out_f, out_i, n)
-    flip_normals(out_f, n, m)
-    return m
+    return _convex_pair_covering(COVER_ALL, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                 prediction, out_f, out_i, n)
 
 
 @njit_inline
-def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
-                 off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
-    """Contacts of any two shapes, normals from a to b; returns the new count.
-
-    As :func:`collide_convex_pair`, plus height fields and meshes, whose bulk geometry lies in the
-    blobs ``geom_f`` (float64) and ``geom_i`` (int64) at each shape's offsets.  Two static-only
-    shapes (plane, height field, mesh) have no contacts.  Each pair test is called from here directly:
-    every level of calls between passes (and reference counts) all the arrays again.
-    """
+def collide_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                          off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """:func:`collide_pair` with the pair tests of ``coverage`` (``shape_types.COVER_*``) only: pairs that a
+    world of that coverage cannot meet report no contact."""
     if type_a <= st.PLANE and type_b <= st.PLANE:
-        return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
-                                   prediction, out_f, out_i, n)
+        return _convex_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                     prediction, out_f, out_i, n)
+    if coverage == COVER_SPHERES:
+        return n                    # no mesh or height field in this world
     if type_a <= st.BOX and type_b == st.MESH:
         return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
                                    off_f_b, off_i_b, prediction, out_f, out_i, n)
@@ -120,3 +130,17 @@ def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
         return n
     flip_normals(out_f, n, m)
     return m
+
+
+@njit_inline
+def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                 off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of any two shapes, normals from a to b; returns the new count.
+
+    As :func:`collide_convex_pair`, plus height fields and meshes, whose bulk geometry lies in the
+    blobs ``geom_f`` (float64) and ``geom_i`` (int64) at each shape's offsets.  Two static-only
+    shapes (plane, height field, mesh) have no contacts.  Each pair test is called from here directly:
+    every level of calls between passes (and reference counts) all the arrays again.
+    """
+    return collide_pair_covering(COVER_ALL, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f,
+                                 geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)

@@ -27,9 +27,9 @@ otherwise; after ``MAX_ITERATIONS`` advances t is returned as an impact (early, 
 """
 import math
 
-from ..._numba.jit import njit
+from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
-from ..pairs.dispatch import collide_pair
+from ..pairs.dispatch import collide_pair_covering
 from .closing_time import time_to_close
 from .motion import pose_shape_at, position_at, turning_speed, velocity_at
 
@@ -50,8 +50,8 @@ def _listed(touch, piece):
     return False
 
 
-@njit
-def time_of_impact(type_a, params_a, off_f_a, off_i_a, motion_a, local_pos_a, local_quat_a, reach_a,
+@njit_inline
+def time_of_impact(coverage, type_a, params_a, off_f_a, off_i_a, motion_a, local_pos_a, local_quat_a, reach_a,
                    type_b, params_b, off_f_b, off_i_b, motion_b, local_pos_b, local_quat_b, reach_b,
                    geom_f, geom_i, horizon, touch_tolerance, hit_tolerance, impact_speed,
                    out_f, out_i, pos_t, rot_t, q_scratch, touch):
@@ -62,7 +62,8 @@ def time_of_impact(type_a, params_a, off_f_a, off_i_a, motion_a, local_pos_a, lo
     body (``local_pos`` m, ``local_quat``) and ``reach`` (``motion.rotation_reach``, m).  Tolerances in m,
     ``impact_speed`` in m/s.  Scratch: ``out_f`` (rows, 7) and ``out_i`` (rows,) a contact buffer,
     ``pos_t`` (2, 3), ``rot_t`` (2, 3, 3), ``q_scratch`` (4,); ``touch`` (1 + k,) receives the count and
-    the touching pieces of a mesh or height field at t = 0.
+    the touching pieces of a mesh or height field at t = 0.  ``coverage`` (``shape_types.COVER_*``, a
+    constant where this is inlined): the pair tests the world can meet.
     """
     pieces = type_a >= st.HEIGHTFIELD or type_b >= st.HEIGHTFIELD
     touch[0] = 0
@@ -83,8 +84,9 @@ def time_of_impact(type_a, params_a, off_f_a, off_i_a, motion_a, local_pos_a, lo
         vr = (vb[0] - va[0], vb[1] - va[1], vb[2] - va[2])
         speed = math.sqrt(vr[0] * vr[0] + vr[1] * vr[1] + vr[2] * vr[2]) + turn
         prediction = speed * w + 0.5 * ar_len * w * w + hit_tolerance
-        n = collide_pair(type_a, pos_t[0], rot_t[0], params_a, type_b, pos_t[1], rot_t[1], params_b, geom_f,
-                         geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, 0)
+        n = collide_pair_covering(coverage, type_a, pos_t[0], rot_t[0], params_a, type_b, pos_t[1], rot_t[1],
+                                  params_b, geom_f, geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f,
+                                  out_i, 0)
         if n > out_f.shape[0]:
             if w <= 1e-9 * horizon:
                 return IMPACT, t                # cannot tell: early is safe
