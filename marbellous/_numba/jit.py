@@ -29,6 +29,12 @@ njit_inline = numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="alwa
 #: whose own cache entry then holds it.
 njit_parallel = numba.njit(cache=False, nogil=True, fastmath=False, parallel=True)
 
+#: As :data:`njit`, not cached on its own either: for a kernel that calls a parallel kernel, so that it is
+#: never loaded from the cache for another kernel to be compiled against (the bug above, one level up: a
+#: step compiled in a process that had loaded its contact passes from the cache crashed the next process
+#: that loaded the step).  Its callers' cache entries hold it.
+njit_calls_parallel = numba.njit(cache=False, nogil=True, fastmath=False)
+
 
 def _borrow_codegen(context, builder, signature, args):
     """The array struct of ``args[0]`` with a null memory-info pointer and no parent object."""

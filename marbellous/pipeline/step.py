@@ -10,7 +10,8 @@ step by the prepare stage and recorded in the context; the stages that differ by
 The stages are compiled functions of their own, called by the step (``njit``); only the small helpers
 and the scheme's step itself are inlined (``njit_inline``).  Inlined into one function, the stages made a
 step that took Numba 100 s and 3 GB to compile on a first run, as calls 10 s (the whole first world
-from 210 to 145 s), at no measured cost per step.  The stages take a view of the context
+from 210 to 145 s), at no measured cost per step.  The stages whose contact passes may run on threads
+(solve and relax) are not cached on their own but held in each step's cache entry (``njit_calls_parallel``).  The stages take a view of the context
 (``_numba/record.py``), so that neither passing it nor reading its tables counts references.  The step
 returns ``OK``, or ``GROW_PAIRS`` / ``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes
 in ``stats``), so the caller can grow the buffers and call again.
@@ -21,7 +22,7 @@ The stages, in order:
 import numpy as np
 
 from .._numba.clock import cycle_counter
-from .._numba.jit import njit, njit_inline
+from .._numba.jit import njit, njit_calls_parallel, njit_inline
 from .._numba.wide import LANES
 from ..collision.broadphase import find_pairs
 from ..collision.shape_types import COVERAGES
@@ -383,7 +384,7 @@ def _push_out(ctx):
     apply_push(ctx.bf, ctx.bi, ctx.nb, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH])
 
 
-@njit
+@njit_calls_parallel
 def stage_solve(ctx, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
     until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
@@ -448,7 +449,7 @@ def stage_integrate_positions(ctx):
     lap(ctx, ST_INTEGRATE_POSITIONS)
 
 
-@njit
+@njit_calls_parallel
 def stage_relax(ctx, contacts):
     """Stage "relax" (sequential impulses): one pass over the joints without position bias, so that their
     correction leaves no velocity behind, and (when ``contacts``) one rigid pass over the contacts, which
@@ -468,7 +469,7 @@ def stage_relax(ctx, contacts):
     lap(ctx, ST_RELAX)
 
 
-@njit
+@njit_calls_parallel
 def stage_relax_lcp(ctx):
     """Stage "relax" of the LCP scheme: the assembled LCP without position bias (in steps with rods, cables or
     implicit springs, whose correction it takes out of the velocities); then the contacts' overlap pushed
