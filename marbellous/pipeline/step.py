@@ -11,10 +11,11 @@ The stages are compiled functions of their own, called by the step (``njit``); o
 and the scheme's step itself are inlined (``njit_inline``).  Inlined into one function, the stages made a
 step that took Numba 100 s and 3 GB to compile on a first run, as calls 10 s (the whole first world
 from 210 to 145 s), at no measured cost per step.  The stages whose contact passes may run on threads
-(solve and relax) are not cached on their own but held in each step's cache entry (``njit_calls_parallel``).  The stages take a view of the context
-(``_numba/record.py``), so that neither passing it nor reading its tables counts references.  The step
-returns ``OK``, or ``GROW_PAIRS`` / ``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes
-in ``stats``), so the caller can grow the buffers and call again.
+(solve and relax) are not cached on their own but held in each step's cache entry
+(``njit_calls_parallel``).  The stages take a view of the context (``_numba/record.py``), so that neither
+passing it nor reading its tables counts references.  The step returns ``OK``, or ``GROW_PAIRS`` /
+``GROW_CONTACTS`` having changed nothing but scratch (the needed sizes in ``stats``), so the caller can
+grow the buffers and call again.
 
 The stages, in order:
 
