@@ -238,7 +238,9 @@ class World:
     def substeps(self) -> int:
         """Sub-steps per step: each integrates, solves and relaxes over dt / substeps.  Set to None (the
         default) for 4, or more in steps longer than 4/120 s so that no sub-step is longer than 1/120 s
-        (``state/params.MAX_SUBSTEP``); a number given here is taken exactly."""
+        (``state/params.MAX_SUBSTEP``), and more while an awake body turns so fast that it would turn by more
+        than 0.25 rad in a sub-step (up to 64 sub-steps, ``state/params.MAX_TURN_SUBSTEPS``); a number given
+        here is taken exactly."""
         return self._substeps
 
     @substeps.setter

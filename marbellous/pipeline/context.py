@@ -58,6 +58,7 @@ FIELDS = TABLE_FIELDS + (
     ("nk", types.int64),      # constraint slots, likewise
     # the step's scalars, written by one stage for the next
     ("h", types.float64),     # sub-step length (s)
+    ("substeps", types.int64),      # sub-steps of the step (the parameter's, or more: stage prepare)
     ("n_pairs", types.int64),       # candidate pairs the broad phase found
     ("nc", types.int64),      # contact points the narrow phase found
     ("constrained", types.boolean),  # the step has contacts or constraints (else the solver rests)
@@ -134,7 +135,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.raw_f, t.raw_i, t.cf, t.ci, t.pcf, t.pci = raw_f, raw_i, cf, ci, pcf, pci
     t.params_f, t.params_i, t.stats = params_f, params_i, stats
     t.nb, t.nk = nb, nk
-    t.h, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 0, 0, False, False
+    t.h, t.substeps, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 1, 0, 0, False, False
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
     t.turning, t.n_supported, t.n_static = False, 0, 0
     n_slots = bf.shape[0]

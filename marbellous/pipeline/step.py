@@ -37,6 +37,7 @@ from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, ap
                                        prepare_contacts, push_contacts, push_static, refresh_turning_masses,
                                        solve_contacts, solve_supported, store_friction_state, warm_start_contacts,
                                        warm_start_listed)
+from ..dynamics.ccd import shape_reach
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
@@ -46,15 +47,15 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, F_ALIVE, F_SENSOR, FLAGS, FORCE, GROUP, K_IMPULSE, LCP, MASK,
+from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_SENSOR, GROUP, K_IMPULSE, LCP, MASK,
                             OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY, PF_JOINT_HERTZ,
                             PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ, PF_RESTITUTION_SPEED,
                             PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_SWEEP,
                             PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS,
-                            PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS, POS, POS0, SEQUENTIAL_IMPULSE,
-                            STAT_CACHE_SIDE, STAT_CACHED, STAT_CONTACTS, STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS,
-                            STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE,
-                            W_PREV_DT, W_TIME)
+                            PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0,
+                            SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS,
+                            STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
+                            STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .impacts import stage_time_of_impact
@@ -189,6 +190,40 @@ def stage_match_and_wake(ctx):
 
 
 # --- prepare -------------------------------------------------------------------------------------------------
+#: the most an awake body may turn in one automatic sub-step (rad): contacts see a body's velocity as
+#: constant over a sub-step, ``v + omega x r``, which describes a turn of a fraction of a radian only
+MAX_TURN = 0.25
+
+
+@njit
+def _turns_a_surface(bi, sf, si, i):
+    """True if turning moves a surface of body row ``i`` (any shape but a sphere at its centre of mass)."""
+    s0 = bi[i, SHAPE_START]
+    for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
+        if shape_reach(sf, si, s) > 0.0:
+            return True
+    return False
+
+
+@njit
+def turning_substeps(bf, bi, sf, si, nb, dt, substeps, most):
+    """Sub-steps of a step of ``dt`` s: ``substeps``, or with ``most > substeps`` (automatic sub-steps) enough
+    that no awake body turns by more than ``MAX_TURN`` in one, ``ceil(dt max|omega| / MAX_TURN)``, at most
+    ``most``.  A sphere turning about its centre does not count: its contacts do not move as it turns."""
+    if most <= substeps:
+        return substeps
+    slow = (MAX_TURN * substeps / dt) ** 2
+    fastest = slow
+    for i in range(nb):
+        if is_moving(bi, i):
+            w2 = bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2
+            if w2 > fastest and _turns_a_surface(bi, sf, si, i):
+                fastest = w2
+    if fastest <= slow:
+        return substeps
+    return min(most, int(np.ceil(dt * np.sqrt(fastest) / MAX_TURN)))
+
+
 @njit
 def stage_prepare(ctx, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
@@ -202,7 +237,9 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     bf, bi, nb, nc, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nc, ctx.nk
     params_f = ctx.params_f
     dt = params_f[PF_DT]
-    ctx.h = dt / ctx.params_i[PI_SUBSTEPS]
+    ctx.substeps = turning_substeps(bf, bi, ctx.sf, ctx.si, nb, dt, ctx.params_i[PI_SUBSTEPS],
+                                    ctx.params_i[PI_TURN_SUBSTEPS])
+    ctx.h = dt / ctx.substeps
     ctx.iterations = 0
     joint_totals = ctx.joint_totals
     for c in range(nk):
@@ -276,7 +313,7 @@ def stage_integrate_velocities(ctx, penalty):
                            params_f[PF_SLIDE_SPEED], user_forces, params_f[PF_RESTITUTION_SPEED])
     integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
                          params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
-                         ctx.ws[W_PREV_DT], 1.0 / params_i[PI_SUBSTEPS], ctx.implicit, ctx.vecs)
+                         ctx.ws[W_PREV_DT], 1.0 / ctx.substeps, ctx.implicit, ctx.vecs)
     if penalty:
         restore_user_forces(bf, nb, user_forces)
     if ctx.constrained:
@@ -586,7 +623,7 @@ def step_sequential_impulse(ctx, coverage):
         return status
     stage_match_and_wake(ctx)
     stage_prepare(ctx, may_bundle=True, may_turn=True, shock=True)
-    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+    for _ in range(ctx.substeps):
         stage_integrate_velocities(ctx, penalty=False)
         stage_warm_start(ctx)
         stage_solve(ctx, contacts=True)
@@ -610,7 +647,7 @@ def step_penalty(ctx, coverage):
         return status
     stage_match_and_wake(ctx)
     stage_prepare(ctx, may_bundle=False, may_turn=True, shock=False)
-    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+    for _ in range(ctx.substeps):
         stage_integrate_velocities(ctx, penalty=True)
         _warm_start_joints(ctx)
         lap(ctx, ST_WARM_START)
@@ -633,7 +670,7 @@ def step_lcp(ctx, coverage):
         return status
     stage_match_and_wake(ctx)
     stage_prepare(ctx, may_bundle=False, may_turn=True, shock=True)
-    for _ in range(ctx.params_i[PI_SUBSTEPS]):
+    for _ in range(ctx.substeps):
         stage_integrate_velocities(ctx, penalty=False)
         stage_solve_lcp(ctx)
         stage_integrate_positions(ctx)
