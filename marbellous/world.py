@@ -140,7 +140,8 @@ class World:
                  threads=1, time_stepping="fixed"):
         self._tunables = {}
         self._params_dt = None  # dt the parameters were last written for (None: write them again)
-        self._last = None       # the last step's StepLoop if it took several intervals (None: one, of _params_dt)
+        self._last = None       # the last step's StepLoop if it took several intervals, or its StepReport if a
+        #                         setting changed since (None: one interval, of _params_dt)
         self._max_halvings = 10
         broadphase = as_choice("broadphase", broadphase, BROADPHASES)
         self._state = WorldState(BROADPHASE_CODES[broadphase])
@@ -169,7 +170,7 @@ class World:
     @gravity.setter
     def gravity(self, value: ArrayLike) -> None:
         self._gravity = as_vec3("gravity", value, bound=MAX_ACCELERATION, unit="m/s^2")
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def solver(self) -> str:
@@ -181,7 +182,7 @@ class World:
         self._solver = as_choice("solver", value, SOLVERS)
         self._state.solver = SOLVERS.index(self._solver)
         self._state.invalidate()
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def integrator(self) -> str:
@@ -191,7 +192,7 @@ class World:
     @integrator.setter
     def integrator(self, value: str) -> None:
         self._integrator = as_choice("integrator", value, INTEGRATORS)
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def broadphase(self) -> str:
@@ -202,7 +203,7 @@ class World:
     def broadphase(self, value: str) -> None:
         self._broadphase = as_choice("broadphase", value, BROADPHASES)
         self._state.set_broadphase(BROADPHASE_CODES[self._broadphase])
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def iterations(self) -> int:
@@ -212,7 +213,7 @@ class World:
     @iterations.setter
     def iterations(self, value: int) -> None:
         self._iterations = as_int("iterations", value, lo=1, hi=10000)
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def threads(self) -> int:
@@ -232,7 +233,7 @@ class World:
         self._threads = as_int("threads", value, lo=1, hi=MAX_THREADS)
         self._state.threads = self._threads
         self._state.invalidate()      # (the context's scratch is sized for the threads)
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def substeps(self) -> int:
@@ -247,7 +248,7 @@ class World:
     def substeps(self, value: int | None) -> None:
         self._substeps = DEFAULT_SUBSTEPS if value is None else as_int("substeps", value, lo=1, hi=1000)
         self._substeps_auto = value is None
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def ccd(self) -> bool:
@@ -263,7 +264,7 @@ class World:
     @ccd.setter
     def ccd(self, value: bool) -> None:
         self._ccd = _check_flag("ccd", value)
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def time_stepping(self) -> str:
@@ -286,7 +287,7 @@ class World:
     def time_stepping(self, value: str) -> None:
         self._time_stepping = as_choice("time_stepping", value, TIME_STEPPING)
         self._retroactive = self._time_stepping == "retroactive"
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def max_halvings(self) -> int:
@@ -297,6 +298,12 @@ class World:
     @max_halvings.setter
     def max_halvings(self, value: int) -> None:
         self._max_halvings = as_int("max_halvings", value, lo=0, hi=MAX_HALVINGS)
+        self._parameters_changed()
+
+    def _parameters_changed(self) -> None:
+        """A setting changed: the next step writes the parameters again (the last step's report is kept)."""
+        if self._last is None and self._params_dt is not None:
+            self._last = StepReport(1, 0, 0, self._params_dt)
         self._params_dt = None
 
     @property
@@ -304,6 +311,8 @@ class World:
         """How the last :meth:`step` was taken: intervals, halvings, time-of-impact events and the shortest
         interval (s); all zero before the first step."""
         loop = self._last
+        if isinstance(loop, StepReport):
+            return loop
         if loop is not None:
             return StepReport(loop.steps, loop.halvings, loop.toi_events, loop.smallest_dt)
         if self._params_dt is None:
@@ -318,7 +327,7 @@ class World:
     @sleeping.setter
     def sleeping(self, value: bool) -> None:
         self._sleeping = _check_flag("sleeping", value)
-        self._params_dt = None
+        self._parameters_changed()
 
     @property
     def profiling(self) -> bool:

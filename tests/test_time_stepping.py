@@ -77,6 +77,40 @@ def test_a_ball_dropped_with_restitution_one_returns_to_its_height(mode):
         assert ball.position[1] == pytest.approx(R + h - 0.5 * g * t * t, abs=1e-9)
 
 
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("integrator, sign", [("semi_implicit_euler", -1.0), ("explicit_euler", 1.0)])
+def test_first_order_integrators_change_the_bounce_height_by_their_known_error(mode, integrator, sign):
+    """Under a constant acceleration ``-g`` a sub-step ``tau`` of semi-implicit Euler changes the specific
+    energy ``e = g y + v^2 / 2`` by exactly ``-g^2 tau^2 / 2`` and explicit Euler by ``+g^2 tau^2 / 2``
+    (expand ``v' = v - g tau`` in ``e' - e``).  So a step with no impact changes it by ``n`` times that
+    (``n`` sub-steps); a step with an elastic impact taken at its time, whose sub-steps are cut there
+    (the squares of the pieces sum to less than ``tau^2``), by less than that and with the same sign; and
+    the ball loses (gains) height bounce after bounce by the sum, never by the impact itself."""
+    g, h = 9.81, 1.0
+    w = mb.World(integrator=integrator, time_stepping=mode)
+    w.add_static(mb.Plane(), restitution=1.0, friction=0.0)
+    ball = w.add_body(mb.Sphere(R), position=(0.0, R + h, 0.0), restitution=1.0, friction=0.0, ccd=True)
+
+    def energy():
+        return g * (ball.position[1] - R) + 0.5 * float(ball.velocity @ ball.velocity)
+
+    per_substep = 0.5 * (g * DT / w.substeps) ** 2
+    full = sign * w.substeps * per_substep
+    e0, impacts = energy(), 0
+    for _ in range(200):                        # 3.3 s: four bounces
+        before = energy()
+        w.step(DT)
+        change = energy() - before
+        if w.last_step.toi_events == 0:
+            assert change == pytest.approx(full, abs=1e-12)
+        else:
+            impacts += 1
+            assert 0.0 < sign * change < sign * full
+    assert impacts == 4
+    # over four bounces the ball's top height moved by the sum: 196 whole steps and 4 cut ones
+    assert 196 * abs(full) < sign * (energy() - e0) < 200 * abs(full)
+
+
 # --- ghost collisions ----------------------------------------------------------------------------------------
 def _passing(mode, where, speed, clearance):
     """A ball of radius R passing a static unit box (or a mesh floor) with ``clearance`` (m), along a path
@@ -336,3 +370,16 @@ def test_gap_comes_within_matches_a_dense_sampling(gap, speed, acceleration):
     slack = (abs(speed) + 10.0 * abs(acceleration)) * 2.5e-5 + 1e-12
     if abs(smallest - 1e-3) > slack:
         assert gap_comes_within(gap, speed, acceleration, 0.5, 1e-3) == (smallest <= 1e-3)
+
+
+@pytest.mark.parametrize("setting, value", [("gravity", (0.0, -1.0, 0.0)), ("max_penetration", 0.02),
+                                            ("time_stepping", "conservative"), ("iterations", 8)])
+def test_the_step_report_outlives_a_change_of_setting(setting, value):
+    """Changing a setting between steps leaves :attr:`last_step` telling how the last step was taken."""
+    w = mb.World()
+    w.add_body(mb.Sphere(R))
+    w.step(DT)
+    setattr(w, setting, value)
+    assert w.last_step == mb.StepReport(1, 0, 0, DT)
+    w.step(DT / 2)
+    assert w.last_step == mb.StepReport(1, 0, 0, DT / 2)

@@ -63,7 +63,7 @@ class Tunable:
 
     def __set__(self, obj, value):
         obj._tunables[self.name] = as_float(self.name, value, **self.rule)
-        obj._params_dt = None
+        obj._parameters_changed()
 
 
 #: the time-stepping modes, in the order World takes them
