@@ -88,7 +88,7 @@ def _list_impacts(ctx, mode, speed, stretch):
             continue
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        if _swept(mode, bi, sf, si, sweep, a, b, stretch) and closing_speed(bf, bi, cf, ci, c) > speed:
+        if closing_speed(bf, bi, cf, ci, c) > speed and _swept(mode, bi, sf, si, sweep, a, b, stretch):
             listed[m] = c
             m += 1
     return m
