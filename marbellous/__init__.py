@@ -22,21 +22,23 @@ __version__ = "0.1.0"
 _HOME = {
     "World": ".world", "Body": ".body", "Snapshot": ".state.snapshot", "Contact": ".reports", "RayHit": ".reports",
     "StepReport": ".reports", "Shape": ".shapes", "Sphere": ".shapes", "Box": ".shapes", "Capsule": ".shapes",
-    "Plane": ".shapes",
-    "HeightField": ".shapes", "TriangleMesh": ".shapes", "Spring": ".constraints", "Rod": ".constraints",
-    "Cable": ".constraints", "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
+    "Plane": ".shapes", "HeightField": ".shapes", "TriangleMesh": ".shapes",
+    "Spring": ".constraints", "Rod": ".constraints", "Cable": ".constraints", "Joint": ".constraints",
+    "BallJoint": ".constraints", "Hinge": ".constraints", "Slider": ".constraints", "FixedJoint": ".constraints",
+    "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "Shape", "Sphere", "Box", "Capsule", "Plane", "HeightField",
-           "TriangleMesh", "Spring", "Rod", "Cable", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport",
-           "show", "record", "render_image", "__version__"]
+           "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint", "Hinge", "Slider", "FixedJoint",
+           "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show", "record", "render_image",
+           "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
     from .app.viewer import show
     from .body import Body
-    from .constraints import Cable, Rod, Spring
+    from .constraints import BallJoint, Cable, FixedJoint, Hinge, Joint, Rod, Slider, Spring
     from .pipeline.profile import StepProfile
     from .query import ContactPoint, collide
     from .reports import Contact, RayHit, StepReport

@@ -217,6 +217,22 @@ def as_direction(name, value):
     return normalized(name, as_vector(name, value, 3), "vector")
 
 
+def as_limits(name, value, bounds, unit):
+    """``(lower, upper)`` from a pair of finite numbers with ``bounds[0] <= lower <= upper <= bounds[1]``
+    (rad or m, ``unit``); or raise naming ``name``."""
+    v = as_vector(name, value, 2, bound=max(abs(bounds[0]), abs(bounds[1])), unit=unit)
+    lower, upper = float(v[0]), float(v[1])
+    if not bounds[0] <= lower <= upper <= bounds[1]:
+        raise ValueError(f"{name} must be (lower, upper) with {bounds[0]:.6g} <= lower <= upper <= {bounds[1]:.6g}"
+                         f" {unit}, got {_short(value)}")
+    return lower, upper
+
+
+def as_motor_speed(value, unit):
+    """A joint motor's target speed (``unit`` per second: rad/s or m/s) within +-``MAX_SPEED``."""
+    return as_float("motor_speed", value, lo=-MAX_SPEED, hi=MAX_SPEED, unit=unit + "/s")
+
+
 def as_quat(name, value):
     """Return ``value`` (4 finite numbers, not all zero) as a unit (w, x, y, z) quaternion, normalised
     safely; or raise naming ``name``."""

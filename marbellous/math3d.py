@@ -37,11 +37,15 @@ def row9(table, i, col):
 
 
 @njit
+def cross(a, b):
+    """``a x b`` as a tuple."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
+@njit
 def cross3(a, b, out):
-    """``out = a x b`` (out must not alias a or b)."""
-    out[0] = a[1] * b[2] - a[2] * b[1]
-    out[1] = a[2] * b[0] - a[0] * b[2]
-    out[2] = a[0] * b[1] - a[1] * b[0]
+    """``out = a x b``."""
+    out[0], out[1], out[2] = cross(a, b)
 
 
 @njit
@@ -51,12 +55,24 @@ def norm3(a):
 
 
 @njit
+def quat_product(a, b):
+    """Hamilton product ``a * b`` of (w, x, y, z) quaternions, as a tuple."""
+    return (a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+            a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+            a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+            a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0])
+
+
+@njit
+def quat_conj(q):
+    """The conjugate ``(w, -x, -y, -z)``: the inverse rotation of a unit quaternion, as a tuple."""
+    return q[0], -q[1], -q[2], -q[3]
+
+
+@njit
 def quat_mul(a, b, out):
     """Hamilton product ``out = a * b`` of (w, x, y, z) quaternions (out must not alias a or b)."""
-    out[0] = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3]
-    out[1] = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2]
-    out[2] = a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1]
-    out[3] = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]
+    out[0], out[1], out[2], out[3] = quat_product(a, b)
 
 
 @njit
@@ -91,8 +107,8 @@ def quat_to_matrix(q, out):
 
 
 @njit
-def quat_rotate(q, v, out):
-    """``out = q v q*``: the vector ``v`` rotated by the unit quaternion ``q``.
+def rotated(q, v):
+    """``q v q*``: the vector ``v`` rotated by the unit quaternion ``q``, as a tuple.
 
     Uses ``v' = v + 2 w (u x v) + 2 u x (u x v)`` with ``u = (x, y, z)``.
     """
@@ -100,9 +116,15 @@ def quat_rotate(q, v, out):
     tx = 2.0 * (uy * v[2] - uz * v[1])
     ty = 2.0 * (uz * v[0] - ux * v[2])
     tz = 2.0 * (ux * v[1] - uy * v[0])
-    out[0] = v[0] + w * tx + (uy * tz - uz * ty)
-    out[1] = v[1] + w * ty + (uz * tx - ux * tz)
-    out[2] = v[2] + w * tz + (ux * ty - uy * tx)
+    return (v[0] + w * tx + (uy * tz - uz * ty),
+            v[1] + w * ty + (uz * tx - ux * tz),
+            v[2] + w * tz + (ux * ty - uy * tx))
+
+
+@njit
+def quat_rotate(q, v, out):
+    """``out = q v q*``: the vector ``v`` rotated by the unit quaternion ``q`` (:func:`rotated`)."""
+    out[0], out[1], out[2] = rotated(q, v)
 
 
 @njit

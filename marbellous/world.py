@@ -11,16 +11,17 @@ from numpy.typing import ArrayLike
 
 from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
 from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_FRICTION, MAX_HERTZ,
-                        MAX_INERTIA_RATIO, MAX_MASS,
+                        MAX_FORCE, MAX_INERTIA_RATIO, MAX_MASS,
                         MAX_SIZE, MAX_SPEED, MAX_STIFFNESS, MIN_DENSITY, MIN_DT, MIN_HERTZ, MIN_MASS, as_choice,
-                        as_direction, as_filter_bits, as_flag, as_float, as_int, as_quat, as_vec3)
+                        as_direction, as_filter_bits, as_flag, as_float, as_int, as_limits, as_motor_speed, as_quat,
+                        as_vec3)
 from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
-from .constraints import Cable, Constraint, Rod, Spring
+from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, Slider, Spring
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
 from .dynamics.rigid import inverse_inertia_np
-from .math3d import quat_to_matrix_np
+from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
 from .pipeline.raycast import raycast_world
@@ -364,7 +365,7 @@ class World:
 
     @property
     def constraints(self) -> list[Constraint]:
-        """The live springs, rods and cables, in creation order."""
+        """The live springs, rods, cables and joints, in creation order."""
         return list(self._living_constraints)
 
     # --- bodies -------------------------------------------------------------------------------------
@@ -493,7 +494,9 @@ class World:
         elif isinstance(obj, Constraint):
             if obj._world is not self:
                 raise ValueError("body_or_constraint does not belong to this world (or was removed)")
+            ends = self._state.ki[obj._index, L.K_BODY_A:L.K_BODY_B + 1].copy()
             self._state.free_constraint(obj._index)
+            self._mark_jointed(ends)
             self._constraint_at[obj._index] = None
             del self._living_constraints[obj]
             obj._world = None
@@ -572,6 +575,96 @@ class World:
         pb = as_vec3("anchor_b", anchor_b)
         length = as_float("max_length", max_length, positive=True, hi=2 * MAX_COORD, unit="m")
         return self._insert_constraint(Cable, L.KT_CABLE, a, b, pa, pb, length)
+
+    # --- joints -------------------------------------------------------------------------------------------
+    def add_ball_joint(self, a: Body, b: Body | None, *, anchor: ArrayLike,
+                       breaking_force: float | None = None) -> BallJoint:
+        """Join ``a`` and ``b`` (``b=None``: the world) at the world point ``anchor`` (m): it stays one
+        point of both, and they turn freely about it.  Past ``breaking_force`` (N) the joint breaks."""
+        return self._insert_joint(BallJoint, L.KT_BALL, a, b, as_vec3("anchor", anchor), None, breaking_force)
+
+    def add_hinge(self, a: Body, b: Body | None, *, anchor: ArrayLike, axis: ArrayLike,
+                  limits: tuple[float, float] | None = None, motor_speed: float | None = None,
+                  max_motor_torque: float = 0.0, breaking_force: float | None = None) -> Hinge:
+        """A hinge at the world point ``anchor`` (m) about the world direction ``axis`` (at creation; it
+        then turns with ``b``): ``a`` turns relative to ``b`` (None: the world) about the axis only.
+
+        ``limits=(lower, upper)`` bound :attr:`Hinge.angle` (rad, within [-pi, pi]); a motor drives
+        :attr:`Hinge.angular_speed` towards ``motor_speed`` (rad/s) with at most ``max_motor_torque``
+        (N m).  Past ``breaking_force`` (N) the hinge breaks."""
+        hinge = self._insert_joint(Hinge, L.KT_HINGE, a, b, as_vec3("anchor", anchor), as_direction("axis", axis),
+                                   breaking_force, limits, motor_speed, "max_motor_torque", max_motor_torque)
+        return hinge
+
+    def add_slider(self, a: Body, b: Body | None, *, anchor: ArrayLike, axis: ArrayLike,
+                   limits: tuple[float, float] | None = None, motor_speed: float | None = None,
+                   max_motor_force: float = 0.0, breaking_force: float | None = None) -> Slider:
+        """A slider along the world direction ``axis`` through the world point ``anchor`` (m): ``a`` moves
+        relative to ``b`` (None: the world) along the axis only, and does not turn relative to it.
+
+        ``limits=(lower, upper)`` bound :attr:`Slider.position` (m); a motor drives :attr:`Slider.speed`
+        towards ``motor_speed`` (m/s) with at most ``max_motor_force`` (N).  Past ``breaking_force`` (N) the
+        slider breaks."""
+        return self._insert_joint(Slider, L.KT_SLIDER, a, b, as_vec3("anchor", anchor), as_direction("axis", axis),
+                                  breaking_force, limits, motor_speed, "max_motor_force", max_motor_force)
+
+    def add_fixed_joint(self, a: Body, b: Body | None, *, breaking_force: float | None = None) -> FixedJoint:
+        """Weld ``a`` to ``b`` (None: the world) in their present relative pose.  Past ``breaking_force`` (N)
+        the weld breaks."""
+        ia = self._check_body(a, "a")
+        return self._insert_joint(FixedJoint, L.KT_FIXED, a, b, self._state.bf[ia, L.POS:L.POS + 3].copy(), None,
+                                  breaking_force)
+
+    def _insert_joint(self, cls, ctype, a, b, anchor, axis, breaking_force, limits=None, motor_speed=None,
+                      most_name="", most=0.0):
+        """Validate the rest of a joint's arguments, then write it: anchors and axis in each body's frame and
+        the bodies' relative orientation now."""
+        ia = self._check_body(a, "a")
+        ib = -1 if b is None else self._check_body(b, "b")
+        bf = self._state.bf
+        if limits is not None:
+            limits = as_limits("limits", limits, cls._LIMIT_RANGE, cls._UNIT)
+        if motor_speed is not None:
+            motor_speed = as_motor_speed(motor_speed, cls._UNIT)
+        most = as_float(most_name, most, nonnegative=True, hi=MAX_FORCE) if most_name else 0.0
+        ra = quat_to_matrix_np(bf[ia, L.QUAT:L.QUAT + 4])
+        rb = np.eye(3) if ib < 0 else quat_to_matrix_np(bf[ib, L.QUAT:L.QUAT + 4])
+        anchor_a = ra.T @ (anchor - bf[ia, L.POS:L.POS + 3])
+        anchor_b = anchor if ib < 0 else rb.T @ (anchor - bf[ib, L.POS:L.POS + 3])
+        handle = self._insert_constraint(cls, ctype, a, b, anchor_a, anchor_b, 0.0, breaking_force=breaking_force)
+        st = self._state
+        row, flags = st.kf[handle._index], st.ki[handle._index]
+        qa = bf[ia, L.QUAT:L.QUAT + 4]
+        qb = np.array([1.0, 0.0, 0.0, 0.0]) if ib < 0 else bf[ib, L.QUAT:L.QUAT + 4]
+        row[L.K_REF_QUAT:L.K_REF_QUAT + 4] = quat_product.py_func(quat_conj.py_func(qb), qa)
+        if axis is not None:
+            row[L.K_AXIS_A:L.K_AXIS_A + 3] = ra.T @ axis
+            row[L.K_AXIS_B:L.K_AXIS_B + 3] = rb.T @ axis
+        if limits is not None:
+            row[L.K_LOWER], row[L.K_UPPER] = limits
+            flags[L.K_FLAGS] |= L.KF_LIMITS
+        if motor_speed is not None:
+            row[L.K_MOTOR_SPEED] = motor_speed
+            flags[L.K_FLAGS] |= L.KF_MOTOR
+        row[L.K_MOTOR_MAX] = most
+        for i in (ia, ib):
+            if i >= 0:
+                st.bi[i, L.FLAGS] |= L.F_JOINTED
+        return handle
+
+    def _mark_jointed(self, rows):
+        """Set or clear ``F_JOINTED`` on body ``rows`` as they have a live joint or not."""
+        st = self._state
+        n = st.constraints.end
+        ki = st.ki[:n]
+        live = (ki[:, L.K_TYPE] >= L.KT_BALL) & ((ki[:, L.K_FLAGS] & L.KF_ALIVE) != 0)
+        joined = set(ki[live, L.K_BODY_A].tolist()) | set(ki[live, L.K_BODY_B].tolist())
+        for i in rows:
+            if i >= 0:
+                if i in joined:
+                    st.bi[i, L.FLAGS] |= L.F_JOINTED
+                else:
+                    st.bi[i, L.FLAGS] &= ~L.F_JOINTED
 
     def _joint_length(self, name, length, a, b, pa, pb):
         if length is not None:

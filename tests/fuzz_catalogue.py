@@ -147,6 +147,11 @@ KINDS = {
               ("huge", Lazy(lambda: mb.Box((1e200, 1e200, 1e200)), "Box((1e200, 1e200, 1e200))"))],
     "dynamic_shape": [("static_only", mb.Plane())],
     "body": [("str", "x"), ("number", 3), ("object", object())],
+    "angle_limits": _vector_types(2, none_ok=True) + _vector_values(2, 4.0) + [("reversed", (0.5, -0.5)),
+                                                                                ("huge", (-4.0, 0.0))],
+    "position_limits": _vector_types(2, none_ok=True) + _vector_values(2, 2e12) + [("reversed", (1.0, 0.0))],
+    "motor_speed": scalar_kind(lo=-1e9, hi=1e9, none_ok=True) + [("huge", -1e300)],
+    "motor_max": scalar_kind(nonneg=True, hi=1e20),
     "spacing": [("str", "11"), ("number", 1.0), ("none", None), ("shape", (1.0,)), ("shape", (1.0, 1.0, 1.0)),
                 ("zero", (0.0, 1.0)), ("negative", (1.0, -1.0)), ("nan", (NAN, 1.0)), ("inf", (1.0, INF)),
                 ("tiny", (1e-300, 1.0)), ("tiny", (SUB, 1.0)), ("huge", (1e300, 1.0)), ("huge", (BIG_INT, 1.0)),
@@ -178,16 +183,22 @@ KINDS = {
 
 # --- the world fixture --------------------------------------------------------------------------------
 def make_world():
-    """A small world after one step: a plane, a ball, a box, a static box and a spring between the ball
-    and the box (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``, ``ns.post``, ``ns.spring``)."""
+    """A small world after one step: a plane, a ball, a box, a static box, a spring between the ball and
+    the box, an arm on a hinge and a cart on a slider (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``,
+    ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``)."""
     w = mb.World()
     ground = w.add_static(mb.Plane())
     post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
     ball = w.add_body(mb.Sphere(0.3), position=(0, 1, 0), velocity=(0.5, 0, 0))
     box = w.add_body(mb.Box((0.2, 0.3, 0.4)), position=(1.5, 1, 0))
     spring = w.add_spring(ball, box, rest_length=1.0, stiffness=10.0)
+    arm = w.add_body(mb.Box((0.3, 0.05, 0.05)), position=(-2, 1, 0))
+    hinge = w.add_hinge(arm, None, anchor=(-2.3, 1, 0), axis=(0, 0, 1), limits=(-1.0, 1.0))
+    cart = w.add_body(mb.Box((0.1, 0.1, 0.1)), position=(-4, 1, 0))
+    slider = w.add_slider(cart, None, anchor=(-4, 1, 0), axis=(1, 0, 0), limits=(-1.0, 1.0))
     w.step(1 / 60)
-    return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring)
+    return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
+                           slider=slider)
 
 
 def _setter(obj_name, attr):
@@ -265,6 +276,31 @@ for _method, _args in (
             a, b = kw.pop("a"), kw.pop("b")
             return getattr(ns.w, _m)(a, b, **kw)
         _add(f"World.{_method}", _arg, "rod_length" if _method == "add_rod" and _arg == "length" else _kind, _con)
+
+_JOINTS = {"add_ball_joint": (dict(anchor=(0.7, 1.0, 0.0)), (("anchor", "vec3"), ("breaking_force", "breaking"))),
+           "add_hinge": (dict(anchor=(0.7, 1.0, 0.0), axis=(0.0, 0.0, 1.0)),
+                         (("anchor", "vec3"), ("axis", "direction"), ("limits", "angle_limits"),
+                          ("motor_speed", "motor_speed"), ("max_motor_torque", "motor_max"),
+                          ("breaking_force", "breaking"))),
+           "add_slider": (dict(anchor=(0.7, 1.0, 0.0), axis=(1.0, 0.0, 0.0)),
+                          (("anchor", "vec3"), ("axis", "direction"), ("limits", "position_limits"),
+                           ("motor_speed", "motor_speed"), ("max_motor_force", "motor_max"),
+                           ("breaking_force", "breaking"))),
+           "add_fixed_joint": ({}, (("breaking_force", "breaking"),))}
+for _method, (_defaults, _args) in _JOINTS.items():
+    for _arg, _kind in _args + (("a", "body"), ("b", "body")):
+        def _joint(ns, v, _m=_method, _a=_arg, _d=_defaults):
+            kw = dict(_d)
+            kw.update(a=ns.ball, b=ns.box)
+            kw[_a] = v
+            a, b = kw.pop("a"), kw.pop("b")
+            return getattr(ns.w, _m)(a, b, **kw)
+        _add(f"World.{_method}", _arg, _kind, _joint)
+_add("Hinge setter", "motor_speed", "motor_speed", _setter("hinge", "motor_speed"))
+_add("Hinge setter", "limits", "angle_limits", _setter("hinge", "limits"))
+_add("Hinge setter", "max_motor_torque", "motor_max", _setter("hinge", "max_motor_torque"))
+_add("Slider setter", "limits", "position_limits", _setter("slider", "limits"))
+_add("Slider setter", "max_motor_force", "motor_max", _setter("slider", "max_motor_force"))
 
 _add("World.step", "dt", "dt", lambda ns, v: ns.w.step(v))
 _add("World.advance", "frame_time", "frame_time", lambda ns, v: ns.w.advance(v))

@@ -1,6 +1,6 @@
 """The constraint-based scheme of the lecture: all contacts and joints of a sub-step as one LCP.
 
-Every contact point and every rod or cable adds rows to a constraint vector; row i has a Jacobian
+Every contact point, rod, cable and joint adds rows to a constraint vector; row i has a Jacobian
 ``J_i`` over the two bodies it touches (linear and angular parts), so that ``J_i v`` is the relative
 velocity it constrains:
 
@@ -9,6 +9,8 @@ velocity it constrains:
     rolling x, y, z     J v = (w_b - w_a) . e_k        (when rho > 0)        |lambda_k| <= rho lambda_n (box)
     rod                 J v = u . ((v_b + w_b x rb) - (v_a + w_a x ra))      lambda free
     cable               the same                                             lambda <= 0 (it only pulls)
+    ball, hinge,        the rows of ``joint_rows.py``: equalities free, limits lambda >= 0, a motor's
+    slider, fixed       |lambda| <= max torque (force) h, with J v -> its speed
 
 With the impulses ``lambda`` the velocities become ``v + M^-1 J^T lambda``, so the constrained
 velocities are ``w = A lambda + b`` with the assembled matrix ``A = J M^-1 J^T`` and
@@ -39,9 +41,11 @@ import numpy as np
 from .._numba.jit import njit
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                             C_LAMBDA_T1, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0,
-                            KT_CABLE, KT_SPRING, K_BODY_A, K_BODY_B, K_DAMPING, K_IMPULSE, K_LENGTH, K_STIFFNESS,
+                            JOINT_ROWS, KT_CABLE, KT_SPRING, K_BODY_A, K_BODY_B, K_DAMPING, K_IMPULSE, K_LENGTH,
+                            K_MOTOR_MAX, K_MOTOR_SPEED, K_ROW_IMPULSE, K_STIFFNESS, K_SUM_ANGULAR, K_SUM_LINEAR,
                             K_TYPE, OMEGA, SB_INV_I, SB_INV_MASS, VEL)
 from .contact_solver import contact_separation
+from .joint_rows import LIMIT, MOTOR, OFF, R_C, R_KIND, ROW_COLS, fill_rows, is_rigid_joint
 from .joints import is_active_joint, joint_axis, spring_softness
 from .lcp_solve import solve_bounded_lcp
 
@@ -51,6 +55,7 @@ ROW_T1 = 1
 ROW_T2 = 2
 ROW_ROLL = 3        # 3, 4, 5: rolling about the world x, y, z axes
 ROW_JOINT = 6
+ROW_RIGID_JOINT = 7  # 7 .. 7 + JOINT_ROWS - 1: the slots of a ball, hinge, slider or fixed joint's rows
 
 
 @njit
@@ -185,17 +190,18 @@ def assemble_matrix(rows, J, MJ, m, sb, nb):
 
 
 @njit
-def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, max_push, implicit,
+def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, rigid_soft, max_push, implicit,
               sweeps, omega, tolerance):
     """Stage "solve" (``use_bias``) or "relax" (not) of the LCP scheme over one sub-step of ``h`` s.
 
     Assembles the rows of every contact, rod and cable, solves the bounded LCP by projected Gauss-Seidel
     with over-relaxation ``omega`` (at most ``sweeps`` sweeps, stopping below ``tolerance`` m/s),
     applies the change of the impulses and stores them (C_LAMBDA_*, K_IMPULSE) for the next warm start.
-    ``joint_soft`` as in ``soft.py``; ``implicit`` flags the springs solved here.  Returns the number of
+    ``joint_soft`` (rods, cables) and ``rigid_soft`` (ball, hinge, slider and fixed joints) as in ``soft.py``;
+    ``implicit`` flags the springs solved here.  Returns the number of
     sweeps made.
     """
-    cap = 6 * nc + nk
+    cap = 6 * nc + JOINT_ROWS * nk
     rows = np.empty((cap, 2), dtype=np.int64)
     kind = np.empty(cap, dtype=np.int64)
     source = np.empty(cap, dtype=np.int64)
@@ -284,6 +290,43 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, max_p
         source[m] = c
         lam[m] = kf[c, K_IMPULSE]
         m += 1
+    # --- ball, hinge, slider and fixed joint rows (joint_rows.py) --------------------------------------------
+    joint = np.empty((JOINT_ROWS, ROW_COLS))
+    for c in range(nk):
+        if not is_rigid_joint(ki, c):
+            continue
+        fill_rows(bf, kf, ki, c, joint)
+        a = ki[c, K_BODY_A]
+        b = ki[c, K_BODY_B]
+        for r in range(JOINT_ROWS):
+            row_kind = joint[r, R_KIND]
+            if row_kind == OFF:
+                continue
+            for k in range(12):
+                J[m, k] = joint[r, k]
+            _inverse_mass_times(J, MJ, m, sb, a, b)
+            a_ii = _row_dot(J, m, MJ, m, 0, 0) + _row_dot(J, m, MJ, m, 1, 1)
+            err = joint[r, R_C]
+            if row_kind == MOTOR:
+                most = kf[c, K_MOTOR_MAX] * h
+                lo[m] = -most
+                hi[m] = most
+                bias[m] = -kf[c, K_MOTOR_SPEED]
+            elif row_kind == LIMIT and err > 0.0:
+                lo[m] = 0.0
+                bias[m] = err / h               # not at the limit yet: may close the gap exactly
+            else:
+                if row_kind == LIMIT:
+                    lo[m] = 0.0
+                if use_bias:
+                    bias[m] = min(max(rigid_soft[0] * err, -max_push), max_push)
+                    shift[m] = a_ii * rigid_soft[2] / rigid_soft[1]
+            rows[m, 0] = a
+            rows[m, 1] = b
+            kind[m] = ROW_RIGID_JOINT + r
+            source[m] = c
+            lam[m] = kf[c, K_ROW_IMPULSE + r]
+            m += 1
     # --- assemble and solve ---------------------------------------------------------------------------------
     ptr, col, val = assemble_matrix(rows, J, MJ, m, sb, nb)
     lam0 = lam[:m].copy()
@@ -303,6 +346,11 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, max_p
         r = kind[i]
         if r == ROW_JOINT:
             kf[c, K_IMPULSE] = lam[i]
+        elif r >= ROW_RIGID_JOINT:
+            kf[c, K_ROW_IMPULSE + r - ROW_RIGID_JOINT] = lam[i]
+            for k in range(3):
+                kf[c, K_SUM_LINEAR + k] += J[i, k] * (lam[i] - lam0[i])
+                kf[c, K_SUM_ANGULAR + k] += J[i, 3 + k] * (lam[i] - lam0[i])
         elif r == ROW_NORMAL:
             cf[c, C_LAMBDA_N] = lam[i]
             if lam[i] > 0.0 and cf[c, C_MAX_N] == 0.0 and (ci[c, C_FLAGS] & CP_MATCHED) == 0:

@@ -18,7 +18,8 @@ from .._numba.record import new_record_function, reader, viewer
 from .._numba.wide import LANES
 from ..dynamics.contact_bundles import MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
-from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, PB_COLS, SB_COLS, TIME_COLS
+from ..dynamics.joint_rows import ROW_COLS
+from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, JOINT_ROWS, PB_COLS, SB_COLS, TIME_COLS
 from .collide import pose_tables
 
 #: most threads of the contact passes (World.threads)
@@ -79,8 +80,10 @@ FIELDS = TABLE_FIELDS + (
     ("torques", _F2),         # total torque (N m)
     ("user_forces", _F2),     # penalty scheme: the user's force and torque, kept while springs are added
     ("joint_totals", _F1),    # impulse of each constraint summed over the sub-steps (N s)
-    ("soft", _F2),            # soft-constraint coefficients of contacts (row 0) and joints (row 1)
+    ("soft", _F2),            # soft-constraint coefficients of contacts (row 0), rods and cables (row 1) and the
+    #                           ball, hinge, slider and fixed joints (row 2)
     ("vecs", _F2),            # small vectors of the per-sub-step stages
+    ("joint_rows", _F2),      # the rows of one ball, hinge, slider or fixed joint (dynamics/joint_rows.py)
     ("parent", _I1),          # union-find forest of the islands
     ("least_rest", _F1),      # least rest time of each island (s)
     ("slab", _I1),            # slab of each body for the parallel contact passes (dynamics/contact_regions.py)
@@ -146,8 +149,9 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.torques = np.zeros((n_slots, 3))
     t.user_forces = np.zeros((n_slots, 6))
     t.joint_totals = np.zeros(kf.shape[0])
-    t.soft = np.zeros((2, 3))
+    t.soft = np.zeros((3, 3))
     t.vecs = np.zeros((SCRATCH_VECS, 4))
+    t.joint_rows = np.zeros((JOINT_ROWS, ROW_COLS))
     t.parent = np.zeros(n_slots, dtype=np.int64)
     t.least_rest = np.zeros(n_slots)
     t.slab = np.zeros(n_slots, dtype=np.int64)

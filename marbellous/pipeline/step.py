@@ -41,13 +41,16 @@ from ..dynamics.ccd import shape_reach
 from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
+from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, push_rigid_joints,
+                                   record_rigid_joint_forces, solve_rigid_joints, warm_start_rigid_joints)
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_SENSOR, GROUP, K_IMPULSE, LCP, MASK,
+from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP, K_IMPULSE,
+                            LCP, MASK,
                             OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY, PF_JOINT_HERTZ,
                             PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ, PF_RESTITUTION_SPEED,
                             PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_SWEEP,
@@ -128,12 +131,16 @@ def stage_broad_phase(ctx):
         # the filter columns copied to contiguous rows: the broad phase reads them per pair, and columns of
         # the body table would cost it a cache line per read
         filters = ctx.filters
+        jointed = False
         for i in range(nb):
             filters[0, i] = bi[i, FLAGS]
             filters[1, i] = bi[i, GROUP]
             filters[2, i] = bi[i, MASK]
+            jointed = jointed or (bi[i, FLAGS] & F_JOINTED) != 0
         n_pairs = find_pairs(ctx.params_i[PI_BROADPHASE], ctx.aabbs, filters[0], filters[1], filters[2],
                              nb, ctx.bp_f, ctx.bp_i, ctx.pairs)
+        if jointed and n_pairs <= ctx.pairs.shape[0]:
+            n_pairs = drop_joined_pairs(ctx.pairs, n_pairs, bi, ctx.ki, ctx.nk)
     ctx.n_pairs = n_pairs
     ctx.stats[STAT_PAIRS] = n_pairs
     lap(ctx, ST_BROAD_PHASE)
@@ -244,6 +251,7 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     joint_totals = ctx.joint_totals
     for c in range(nk):
         joint_totals[c] = 0.0
+    clear_joint_sums(ctx.kf, ctx.ki, nk)
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
@@ -293,6 +301,7 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     soft = ctx.soft
     soft_coefficients(params_f[PF_CONTACT_HERTZ], params_f[PF_CONTACT_ZETA], ctx.h, soft[0])
     soft_coefficients(params_f[PF_JOINT_HERTZ], params_f[PF_JOINT_ZETA], ctx.h, soft[1])
+    soft_coefficients(RIGID_JOINT_RATE / ctx.h, params_f[PF_JOINT_ZETA], ctx.h, soft[2])
     if nk > 0:
         clear_spring_forces(ctx.kf, ctx.ki, nk)
         classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
@@ -325,6 +334,7 @@ def stage_integrate_velocities(ctx, penalty):
 def _warm_start_joints(ctx):
     if ctx.nk > 0:
         warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
+        warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_rows)
 
 
 @njit
@@ -380,8 +390,10 @@ def _joint_pass(ctx, use_bias):
     change (m/s)."""
     if ctx.nk == 0:
         return 0.0
-    return solve_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h, use_bias, ctx.soft[1],
-                        ctx.params_f[PF_MAX_PUSH], ctx.implicit, ctx.vecs)
+    bf, kf, ki, nk, sb, h = ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h
+    max_push = ctx.params_f[PF_MAX_PUSH]
+    return max(solve_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[1], max_push, ctx.implicit, ctx.vecs),
+               solve_rigid_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[2], max_push, ctx.joint_rows))
 
 
 @njit_inline
@@ -396,29 +408,42 @@ def _supported_pass(ctx, pushing, softened):
 
 
 @njit_inline
-def _push_out(ctx):
-    """The contacts' position correction by split impulses (``contact_solver``): push passes on the
-    pseudo-velocities, from zero, until none changes by more than the tolerance or ``iterations`` passes
-    are done; then the heavy-on-light pushes, the static world's contacts last (no push into it), and
-    every body moved by its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs
-    the solver bodies of the poses just integrated.  A first pass that pushes nothing (no overlap deeper
-    than the velocity passes take, the usual case) leaves every pseudo-velocity zero, and so would the
+def _push_pass(ctx, contacts, first_pass):
+    """One push pass over the contacts (when ``contacts``) and the joints; returns the largest change."""
+    change = _contact_pass(ctx, True, first_pass, False) if contacts else 0.0
+    if ctx.nk > 0:
+        change = max(change, push_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies,
+                                               ctx.h, ctx.joint_rows))
+    return change
+
+
+@njit_inline
+def _push_out(ctx, contacts):
+    """The position correction by split impulses (``contact_solver``) of the contacts (when ``contacts``)
+    and the joints (``joint_rows.push_rigid_joints``): push passes on the pseudo-velocities, from zero,
+    until none changes by more than the tolerance or ``iterations`` passes are done; then the contacts'
+    heavy-on-light pushes, the static world's contacts last (no push into it), and every body moved by
+    its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs the solver bodies
+    of the poses just integrated.  A first pass that pushes nothing (no overlap deeper than the velocity
+    passes take, no joint apart, the usual case) leaves every pseudo-velocity zero, and so would the
     rest: then it is the only one."""
-    if ctx.nc == 0:
+    contacts = contacts and ctx.nc > 0
+    if not contacts and ctx.nk == 0:
         return
     clear_push(ctx.push_bodies, ctx.nb)
-    change = _contact_pass(ctx, True, True, False)
+    change = _push_pass(ctx, contacts, True)
     if change == 0.0:
         return
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
     while change >= tolerance and passes < ctx.params_i[PI_ITERATIONS]:
-        change = _contact_pass(ctx, True, False, False)
+        change = _push_pass(ctx, contacts, False)
         passes += 1
-    _supported_pass(ctx, True, False)
-    if ctx.n_static > 0:
-        push_static(ctx.cf, ctx.ci, ctx.static_contacts[:ctx.n_static], ctx.solver_bodies, ctx.push_bodies, ctx.h,
-                    ctx.soft[0, 0], ctx.params_f[PF_MAX_PUSH], _push_depth(ctx))
+    if contacts:
+        _supported_pass(ctx, True, False)
+        if ctx.n_static > 0:
+            push_static(ctx.cf, ctx.ci, ctx.static_contacts[:ctx.n_static], ctx.solver_bodies, ctx.push_bodies,
+                        ctx.h, ctx.soft[0, 0], ctx.params_f[PF_MAX_PUSH], _push_depth(ctx))
     apply_push(ctx.bf, ctx.bi, ctx.nb, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH])
 
 
@@ -447,7 +472,7 @@ def _lcp_pass(ctx, use_bias):
     position bias, or without it to relax); returns the projected Gauss-Seidel sweeps used."""
     params_f, params_i, soft = ctx.params_f, ctx.params_i, ctx.soft
     return solve_lcp(ctx.bf, ctx.cf, ctx.ci, ctx.nc, ctx.kf, ctx.ki, ctx.nk,
-                     ctx.solver_bodies, ctx.nb, ctx.h, use_bias, soft[1], params_f[PF_MAX_PUSH], ctx.implicit,
+                     ctx.solver_bodies, ctx.nb, ctx.h, use_bias, soft[1], soft[2], params_f[PF_MAX_PUSH], ctx.implicit,
                      params_i[PI_LCP_SWEEPS], params_f[PF_LCP_SOR], params_f[PF_TOLERANCE])
 
 
@@ -502,8 +527,7 @@ def stage_relax(ctx, contacts):
         _supported_pass(ctx, False, False)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
-    if contacts:
-        _push_out(ctx)
+    _push_out(ctx, contacts)
     lap(ctx, ST_RELAX)
 
 
@@ -514,7 +538,7 @@ def stage_relax_lcp(ctx):
     out by the split impulses of the sequential-impulse solver."""
     if ctx.nk > 0:
         _lcp_pass(ctx, False)
-    _push_out(ctx)
+    _push_out(ctx, True)
     lap(ctx, ST_RELAX)
 
 
@@ -561,6 +585,7 @@ def stage_store_impulses(ctx):
     if ctx.nk > 0:
         record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
                             ctx.joint_totals, ctx.implicit, ctx.vecs)
+        record_rigid_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT])
     lap(ctx, ST_STORE_IMPULSES)
 
 

@@ -57,6 +57,6 @@ def check_layers(layers):
 
 
 register(Drawable("bodies", body_solids, shown=True, help="every body's shapes"))
-register(Drawable("constraints", constraint_lines, shown=True, help="springs, rods and cables"))
+register(Drawable("constraints", constraint_lines, shown=True, help="springs, rods, cables and joints"))
 register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))
 register(Drawable("boxes", box_outlines, shown=False, help="broad-phase bounding boxes"))

@@ -1,12 +1,13 @@
-"""Debug overlays of a world, drawn over the scene: contact points and normals, broad-phase boxes, and
-springs, rods and cables as lines between their world anchors.
+"""Debug overlays of a world, drawn over the scene: contact points and normals, broad-phase boxes,
+springs, rods and cables as lines between their world anchors, and joints as arms from each body's centre
+to the joint (with the hinge's or slider's axis).
 
 Sizes that are lengths in the world (a contact normal's length) scale with the camera's distance, so
 they read the same at any zoom; dots and line widths are in pixels.
 """
 import numpy as np
 
-from ..constraints import Cable, Rod, Spring
+from ..constraints import Cable, Joint, Rod, Spring
 from . import palette
 from .draw_lists import Lines, Points
 from .transforms import quat_to_matrix
@@ -14,6 +15,8 @@ from .world_internals import broadphase_boxes
 
 #: Length of a drawn contact normal, in camera distances.
 NORMAL_LENGTH = 0.06
+#: Length of a drawn joint axis, in camera distances.
+AXIS_LENGTH = 0.05
 #: The twelve edges of a box as pairs of corner numbers (bit 0: x, bit 1: y, bit 2: z at the high side).
 BOX_EDGES = np.array([(a, a | bit) for bit in (1, 2, 4) for a in range(8) if not a & bit])
 
@@ -47,10 +50,22 @@ def box_outlines(frame):
 
 def constraint_lines(frame):
     """A line between the world anchors of every spring, rod and cable that is not broken, and a dot at
-    each anchor; colours by kind (:mod:`palette`; another kind is drawn like a rod)."""
+    each anchor; colours by kind (:mod:`palette`; another kind is drawn like a rod).  A joint that is not
+    broken: a line from each body's centre to the joint, a dot there, and the axis of a hinge or slider."""
     ends, colors = [], []
     for c in frame.world.constraints:
         if c.broken:
+            continue
+        if isinstance(c, Joint):
+            joint = c.anchor
+            for body in (c.body_a, c.body_b):
+                if body is not None:
+                    ends.append((body.position, joint))
+                    colors.append(palette.JOINT)
+            if hasattr(c, "axis"):
+                half = 0.5 * AXIS_LENGTH * frame.distance * c.axis
+                ends.append((joint - half, joint + half))
+                colors.append(palette.JOINT_AXIS)
             continue
         a = _world_point(c.body_a, c.anchor_a)
         b = c.anchor_b if c.body_b is None else _world_point(c.body_b, c.anchor_b)

@@ -28,6 +28,9 @@ BOX = (0.15, 0.90, 1.0)
 SPRING = (0.95, 0.25, 0.85)
 ROD = (0.96, 0.96, 0.96)
 CABLE = (0.62, 0.40, 0.20)
+#: joints: the arms from each body's centre to the joint, and the hinge's or slider's axis
+JOINT = (1.00, 0.80, 0.10)
+JOINT_AXIS = (0.20, 0.90, 1.00)
 
 
 def body_color(index, *, static, sleeping, sensor):

@@ -59,6 +59,7 @@ F_RESTART = 16     # Verlet: the previous position is unknown (new body or veloc
 F_ISOTROPIC = 32   # inertia tensor is a multiple of the identity (spheres, cubes): rotation needs no matrices
 F_CCD_ALWAYS = 64  # add_body(ccd=True): impacts taken in time order even when slow for its size (world ccd on)
 F_CCD_NEVER = 128  # add_body(ccd=False): never swept (no motion in its box, no time-of-impact ordering)
+F_JOINTED = 256    # has a ball, hinge, slider or fixed joint: pairs of bodies so joined do not collide
 
 # --- shapes, float table sf and int table si ------------------------------------------------
 S_PARAMS = 0       # N_SHAPE_PARAMS kernel parameters (see collision/shape_types.py)
@@ -73,7 +74,7 @@ S_OFF_F = 2        # offset of the shape's bulk geometry in geom_f
 S_OFF_I = 3        # offset of the shape's bulk geometry in geom_i
 SI_COLS = 4
 
-# --- constraints (springs, rods, cables), float table kf and int table ki ----------------------
+# --- constraints (springs, rods, cables, joints), float table kf and int table ki ----------------------
 K_ANCHOR_A = 0     # anchor on body a, a's local frame (m), 3
 K_ANCHOR_B = 3     # anchor on body b, b's local frame, or a world point when b is the world (m), 3
 K_LENGTH = 6       # rest length (spring), length (rod) or maximum length (cable) (m)
@@ -82,7 +83,21 @@ K_DAMPING = 8      # damping coefficient c (N s/m)
 K_BREAKING = 9     # breaking force (N); inf: unbreakable
 K_FORCE = 10       # force the constraint applied to body a in the last step (N), 3
 K_IMPULSE = 13     # accumulated impulse along the axis (rods, cables), warm start (N s)
-KF_COLS = 14
+# ball, hinge, slider and fixed joints (dynamics/joint_rows.py)
+K_REF_QUAT = 14    # a's orientation relative to b's at creation, conj(q_b) q_a (b the world: q_a), 4
+K_AXIS_A = 18      # the hinge's or slider's axis in a's frame (unit), 3
+K_AXIS_B = 21      # the same axis in b's frame, or in the world frame when b is the world (unit), 3
+K_LOWER = 24       # lower limit of the hinge's angle (rad) or the slider's position (m)
+K_UPPER = 25       # upper limit, likewise
+K_MOTOR_SPEED = 26  # the motor's target angular speed (rad/s) or speed (m/s)
+K_MOTOR_MAX = 27   # the motor's largest torque (N m) or force (N)
+K_ROW_IMPULSE = 28  # accumulated impulse of each of the joint's rows in the last sub-step, warm start, JOINT_ROWS
+K_SUM_LINEAR = 37  # linear impulse the joint gave a over the step so far (N s), 3
+K_SUM_ANGULAR = 40  # angular impulse it gave a about a's centre of mass over the step so far (N m s), 3
+K_TORQUE = 43      # torque the joint applied to a about the joint's anchor in the last step (N m), 3
+KF_COLS = 46
+#: rows of a joint: point or perpendicular (0-2), angular (3-5), lower limit (6), upper limit (7), motor (8)
+JOINT_ROWS = 9
 
 K_TYPE = 0         # constraint type, see C_* below
 K_BODY_A = 1       # body row of a
@@ -93,8 +108,14 @@ KI_COLS = 4
 KT_SPRING = 0
 KT_ROD = 1
 KT_CABLE = 2
+KT_BALL = 3        # the anchors coincide
+KT_HINGE = 4       # the anchors coincide; a turns relative to b about the axis only
+KT_SLIDER = 5      # a moves relative to b along the axis only, without turning
+KT_FIXED = 6       # a keeps its pose relative to b
 KF_ALIVE = 1
 KF_BROKEN = 2
+KF_LIMITS = 4      # the hinge's angle or the slider's position stays within [K_LOWER, K_UPPER]
+KF_MOTOR = 8       # a motor drives the hinge's angular speed or the slider's speed
 
 # --- world state ws (float64) -------------------------------------------------------------------
 W_TIME = 0         # simulated time (s)

@@ -19,7 +19,7 @@ from . import layout as L
 
 #: the flag bits a body row may carry
 _BODY_FLAGS = (L.F_ALIVE | L.F_STATIC | L.F_SENSOR | L.F_SLEEPING | L.F_RESTART | L.F_ISOTROPIC | L.F_CCD_ALWAYS
-               | L.F_CCD_NEVER)
+               | L.F_CCD_NEVER | L.F_JOINTED)
 #: body columns that never change after a body is added (mass properties)
 _IMMUTABLE_BODY_COLUMNS = np.r_[L.INV_MASS, L.INV_I:L.INV_I + 9, L.MASS, L.I_BODY:L.I_BODY + 9]
 _IMMUTABLE_BODY_INTS = np.array([L.SHAPE_START, L.SHAPE_COUNT])
@@ -167,7 +167,8 @@ def validate(state, snapshot):
             _refuse(f"holds body row {i} with other shapes than this world's")
     # --- constraints: known types, live bodies, finite values
     kflags = ki[:, L.K_FLAGS]
-    if np.any(((kflags & L.KF_ALIVE) != 0) != constraints) or np.any(kflags & ~(L.KF_ALIVE | L.KF_BROKEN)):
+    if np.any(((kflags & L.KF_ALIVE) != 0) != constraints) \
+            or np.any(kflags & ~(L.KF_ALIVE | L.KF_BROKEN | L.KF_LIMITS | L.KF_MOTOR)):
         _refuse("has constraint rows whose flags do not match its allocation")
     live_k = np.flatnonzero(constraints)
     for c in live_k:
@@ -175,7 +176,8 @@ def validate(state, snapshot):
             _refuse("holds a constraint that was removed since (or that this world never had)")
     if live_k.size:
         a, b = ki[live_k, L.K_BODY_A], ki[live_k, L.K_BODY_B]
-        if np.any(~np.isin(ki[live_k, L.K_TYPE], (L.KT_SPRING, L.KT_ROD, L.KT_CABLE))) \
+        if np.any(~np.isin(ki[live_k, L.K_TYPE], (L.KT_SPRING, L.KT_ROD, L.KT_CABLE, L.KT_BALL, L.KT_HINGE,
+                                                   L.KT_SLIDER, L.KT_FIXED))) \
                 or np.any((a < 0) | (a >= nb)) or np.any((b < -1) | (b >= nb)) or not np.all(bodies[a]) \
                 or not np.all(bodies[b[b >= 0]]) or np.any(a == b):
             _refuse("holds a constraint between bodies it does not have")
