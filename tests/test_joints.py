@@ -276,3 +276,65 @@ def test_bad_joint_arguments_are_refused_by_name_and_change_nothing(call, messag
         call(w, a)
     assert w.constraints == []
     assert not (w._state.bi[0, L.FLAGS] & L.F_JOINTED)
+
+
+def test_a_sleeping_joint_still_reports_the_force_that_holds_its_body():
+    w = mb.World()
+    lamp = w.add_body(mb.Sphere(0.2), mass=5.0)
+    cord = w.add_ball_joint(lamp, None, anchor=(0.0, 0.2, 0.0))
+    for _ in range(240):
+        w.step(DT)
+    assert lamp.is_sleeping
+    assert cord.force == pytest.approx((0.0, 5.0 * G, 0.0), rel=1e-3)
+
+
+def _energy(w):
+    """Kinetic (linear and rotational) plus gravitational energy of the moving bodies (J)."""
+    e = 0.0
+    for b in w.bodies:
+        if not b.is_static:
+            e += 0.5 * b.mass * float(b.velocity @ b.velocity) + G * b.mass * float(b.position[1])
+            e += 0.5 * float(b.angular_velocity @ b.inertia @ b.angular_velocity)
+    return e
+
+
+def _widest_gap(joints):
+    worst = 0.0
+    for j in joints:
+        b = j.body_b
+        kb = j.anchor_b if b is None else b.position + _rotation(b.orientation) @ j.anchor_b
+        worst = max(worst, float(np.linalg.norm(j.anchor - kb)))
+    return worst
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_a_ragdoll_falls_down_the_stairs_without_exploding(solver):
+    """Nothing in the fall can add energy (no motor, no restitution): the total never rises above its start
+    (beyond the soft contacts' and joints' stored energy, a few joules), no joint opens by a centimetre,
+    and it ends below the landing it started on."""
+    from marbellous.scenes import ragdoll, stairs
+    w, top = stairs(mb.World(solver=solver))
+    parts, joints = ragdoll(w, position=(0.0, top, -0.3), velocity=(0.0, 0.0, 1.5))
+    e0 = _energy(w)
+    for _ in range(300):
+        w.step(DT)
+        assert _energy(w) < e0 + 5.0
+        assert _widest_gap(joints) < 0.01
+    assert parts["torso"].position[2] > 0.0
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_a_bridge_of_thirty_hinged_planks_holds_a_marble(solver):
+    """A 5 kg marble dropped on the middle of a sagging bridge of thirty 1 kg planks stays on it, in its dip,
+    as the bridge swings; the energy never rises above its start and no hinge opens by a centimetre."""
+    from marbellous.scenes import plank_bridge
+    w, planks, hinges = plank_bridge(mb.World(solver=solver))
+    marble = w.add_body(mb.Sphere(0.25), mass=5.0, position=planks[15].position + (0.1, 0.8, 0.0))
+    e0 = _energy(w)
+    for _ in range(300):
+        w.step(DT)
+        assert _energy(w) < e0 + 1.0
+        assert _widest_gap(hinges) < 0.01
+        assert abs(marble.position[0]) < 0.6 and 0.0 < marble.position[2] < planks[-1].position[2]
+    lowest_plank = min(p.position[1] for p in planks)
+    assert lowest_plank + 0.2 < marble.position[1] < lowest_plank + 0.5       # on the bridge, in its dip

@@ -101,6 +101,18 @@ def test_constraints_are_lines_between_their_world_anchors(renderer, scene, name
     assert not near(patch(bare, 0.5 * (a + b), 1), color, 45).any()
 
 
+def test_a_joint_is_drawn_as_an_arm_from_its_body_and_its_axis(renderer, scene):
+    w, parts = scene
+    hinge, bar = parts["hinge"], parts["bar"]
+    img = renderer.render_to_array(w, VIEW)
+    anchor = hinge.anchor
+    for t in (0.5, 0.7, 0.9):           # (the axis crosses the arm near the anchor)
+        assert near(patch(img, anchor + t * (bar.position - anchor), 1), palette.JOINT, 45).any(), t
+    assert near(patch(img, anchor, 3), palette.JOINT_AXIS, 45).any()
+    bare = renderer.render_to_array(w, VIEW, layers=("bodies",))
+    assert not near(patch(bare, 0.5 * (anchor + bar.position), 1), palette.JOINT, 45).any()
+
+
 def test_contacts_overlay_marks_the_contact_points(renderer, scene):
     w, _ = scene
     contacts = w.contacts()

@@ -1,5 +1,6 @@
 """The viewer tests' world: a stack of boxes on a triangle-mesh floor, a ball hanging from a rod, a ball
-on a spring, and a sensor box (imported by the tests, and run by the window test's subprocess)."""
+on a spring, a bar on a hinge, and a sensor box (imported by the tests, and run by the window test's
+subprocess)."""
 import numpy as np
 
 import marbellous as mb
@@ -7,6 +8,8 @@ import marbellous as mb
 #: Where the rod and the spring hang from (m).
 ROD_ANCHOR = np.array([1.8, 3.2, -1.0])
 SPRING_ANCHOR = np.array([1.5, 2.6, 1.5])
+#: Where the bar's hinge is (m); the bar reaches 1 m along +x from it, held up by the hinge's limits.
+HINGE_ANCHOR = np.array([-0.6, 3.0, -1.0])
 #: A fixed camera that sees all of it: (eye, target) (m).
 CAMERA = (np.array([5.0, 4.5, 8.0]), np.array([0.0, 1.0, 0.0]))
 
@@ -23,7 +26,7 @@ def floor_mesh(half=4.0, cells=8):
 
 def build():
     """``(world, parts)``: the world and a dict of its parts (``stack``, ``floor``, ``bob``, ``rod``,
-    ``ball``, ``spring``, ``sensor``)."""
+    ``ball``, ``spring``, ``bar``, ``hinge``, ``sensor``)."""
     w = mb.World()
     floor = w.add_static(floor_mesh())
     stack = [w.add_body(mb.Box((0.4, 0.3, 0.4)), position=(-1.5, 0.3 + 0.6 * k, 0.0)) for k in range(3)]
@@ -31,5 +34,8 @@ def build():
     rod = w.add_rod(bob, None, anchor_b=ROD_ANCHOR)
     ball = w.add_body(mb.Sphere(0.2), position=(1.5, 0.2, 1.5))
     spring = w.add_spring(ball, None, rest_length=2.0, stiffness=30.0, damping=2.0, anchor_b=SPRING_ANCHOR)
+    bar = w.add_body(mb.Box((0.5, 0.05, 0.05)), position=HINGE_ANCHOR + (0.5, 0.0, 0.0))
+    hinge = w.add_hinge(bar, None, anchor=HINGE_ANCHOR, axis=(0.0, 0.0, 1.0), limits=(-0.05, 0.05))
     sensor = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(-0.5, 0.5, 2.5), sensor=True)
-    return w, dict(stack=stack, floor=floor, bob=bob, rod=rod, ball=ball, spring=spring, sensor=sensor)
+    return w, dict(stack=stack, floor=floor, bob=bob, rod=rod, ball=ball, spring=spring, bar=bar, hinge=hinge,
+                   sensor=sensor)

@@ -47,10 +47,13 @@ from ..state.layout import (FLAGS, F_JOINTED, JOINT_ROWS, KF_ALIVE, KF_BROKEN, K
                             K_TORQUE, K_TYPE, K_UPPER, OMEGA, PB_V, PB_W, POS, QUAT, SB_INV_I, SB_INV_MASS, SB_ISO,
                             SB_V, SB_W, VEL)
 from .contact_basis import contact_basis
+from .forces import is_moving
 
 #: the joints' stiffness as a fraction of the sub-step rate: ``hertz = RIGID_JOINT_RATE / h``, the stiffest
 #: soft constraint the sub-step resolves (rods and cables use ``joint_hertz``, capped there too)
 RIGID_JOINT_RATE = 0.5
+#: ``det K`` below this fraction of the product of its diagonal: the block's rows are treated as dependent
+SINGULAR = 1e-6
 # columns of a row in the rows scratch: the Jacobian (l_a, k_a, l_b, k_b), C and the row's kind
 R_LA, R_KA, R_LB, R_KB, R_C, R_KIND = 0, 3, 6, 9, 12, 13
 ROW_COLS = 14
@@ -263,19 +266,21 @@ def apply_row(sb, kf, c, a, b, rows, r, lam):
 
 
 @njit
-def warm_start_rigid_joints(bf, kf, ki, nk, sb, rows):
-    """Apply each joint row's impulse of the last sub-step along its current Jacobian (a row the joint no
-    longer uses forgets its impulse)."""
+def warm_start_rigid_joints(bf, kf, ki, nk, sb, rows, scale):
+    """Apply each joint row's impulse of the last sub-step, times ``scale`` (this sub-step's length over the
+    last one's: the same force), along its current Jacobian (a row the joint no longer uses forgets its
+    impulse)."""
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
         fill_rows(bf, kf, ki, c, rows)
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in range(JOINT_ROWS):
-            lam = kf[c, K_ROW_IMPULSE + r]
+            lam = kf[c, K_ROW_IMPULSE + r] * scale
             if rows[r, R_KIND] == OFF:
-                kf[c, K_ROW_IMPULSE + r] = 0.0
-            elif lam != 0.0:
+                lam = 0.0
+            kf[c, K_ROW_IMPULSE + r] = lam
+            if lam != 0.0:
                 apply_row(sb, kf, c, a, b, rows, r, lam)
 
 
@@ -300,7 +305,9 @@ def _block_rhs(sb, a, b, rows, r0, n, i, use_bias, soft, max_push):
 @njit
 def _block_solution(sb, a, b, rows, r0, n, rhs):
     """``(x, K_ii)``: ``x = K^-1 rhs`` for the block of rows ``r0 .. r0 + n - 1`` (n = 2 or 3) by Cramer's
-    rule on the symmetric positive (semi)definite ``K``, and its diagonal; x = 0 if ``K`` is singular."""
+    rule on the symmetric positive (semi)definite ``K``, and its diagonal.  When ``det K`` is below
+    ``SINGULAR`` times the product of the diagonal (Hadamard's bound, reached by orthogonal rows), the rows
+    are solved each alone (``x_i = rhs_i / K_ii``; 0 for a row no body can move)."""
     k00, k11, k22 = (_block_entry(sb, a, b, rows, r0, n, 0, 0), _block_entry(sb, a, b, rows, r0, n, 1, 1),
                      _block_entry(sb, a, b, rows, r0, n, 2, 2))
     k01 = k10 = _block_entry(sb, a, b, rows, r0, n, 0, 1)
@@ -308,8 +315,12 @@ def _block_solution(sb, a, b, rows, r0, n, rhs):
     k12 = k21 = _block_entry(sb, a, b, rows, r0, n, 1, 2)
     c00, c01, c02 = k11 * k22 - k12 * k21, k12 * k20 - k10 * k22, k10 * k21 - k11 * k20
     det = k00 * c00 + k01 * c01 + k02 * c02
-    if not abs(det) > 1e-300:
-        return (0.0, 0.0, 0.0), (k00, k11, k22)
+    if not det > SINGULAR * k00 * k11 * k22:
+        # (nearly) dependent rows, e.g. a hinge turned a quarter turn off its axis: each row alone, and a
+        # row whose Jacobian has (nearly) vanished (K_ii below SINGULAR of the block's largest) not at all
+        big = SINGULAR * max(k00, k11, k22 if n == 3 else 0.0)
+        return ((rhs[0] / k00 if k00 > big else 0.0, rhs[1] / k11 if k11 > big else 0.0,
+                 rhs[2] / k22 if k22 > big and n == 3 else 0.0), (k00, k11, k22))
     inv = 1.0 / det
     x = (inv * (c00 * rhs[0] + (k02 * k21 - k01 * k22) * rhs[1] + (k01 * k12 - k02 * k11) * rhs[2]),
          inv * (c01 * rhs[0] + (k00 * k22 - k02 * k20) * rhs[1] + (k02 * k10 - k00 * k12) * rhs[2]),
@@ -386,22 +397,24 @@ def solve_rigid_joints(bf, kf, ki, nk, sb, h, use_bias, soft, max_push, rows):
 
 
 @njit
-def _push_rhs(pb, a, b, rows, r0, n, i, h):
-    """``-(J v_p + C / h)`` of the block's row ``i`` on the pseudo-velocities (0 past ``n``)."""
+def _push_rhs(pb, a, b, rows, r0, n, i, h, max_push):
+    """``-(J v_p + C / h)`` of the block's row ``i`` on the pseudo-velocities (0 past ``n``), with ``C / h``
+    no faster than ``max_push`` (m/s, or rad/s)."""
     if i >= n:
         return 0.0
-    return -(_rate(pb, PB_V, PB_W, a, b, rows, r0 + i) + rows[r0 + i, R_C] / h)
+    closing = min(max(rows[r0 + i, R_C] / h, -max_push), max_push)
+    return -(_rate(pb, PB_V, PB_W, a, b, rows, r0 + i) + closing)
 
 
 @njit
-def push_rigid_joints(bf, kf, ki, nk, sb, pb, h, rows):
+def push_rigid_joints(bf, kf, ki, nk, sb, pb, h, max_push, rows):
     """One pass of the joints' position correction on the pseudo-velocities ``pb`` of the contacts' split
     impulses (``contact_solver.push_contacts``), at the poses just integrated: each block of equality rows
-    gets the pseudo-velocity that closes its error ``C`` in the sub-step of ``h`` s (``J v_p = -C / h``),
-    and a limit past its bound one that brings it back (``J v_p >= -C / h``).  ``apply_push`` then moves
-    the bodies (no faster than ``max_push``) and the velocities never see it, so a joint holds its
-    anchors together however soft its velocity rows are, without adding energy.  Returns the largest
-    pseudo-velocity change (m/s or rad/s)."""
+    gets the pseudo-velocity that closes its error ``C`` in the sub-step of ``h`` s (``J v_p = -C / h``, no
+    faster than ``max_push``), and a limit past its bound one that brings it back (``J v_p >= -C / h``).
+    ``apply_push`` then moves the bodies (no faster than ``max_push``) and the velocities never see it, so
+    a joint holds its anchors together however soft its velocity rows are, without adding energy.
+    Returns the largest pseudo-velocity change (m/s or rad/s)."""
     largest = 0.0
     for c in range(nk):
         if not is_rigid_joint(ki, c):
@@ -412,15 +425,16 @@ def push_rigid_joints(bf, kf, ki, nk, sb, pb, h, rows):
             if rows[r, R_KIND] == LIMIT and rows[r, R_C] < 0.0:
                 k = coupling(sb, a, b, rows, r, r)
                 if k > 0.0:
-                    d = max(-(_rate(pb, PB_V, PB_W, a, b, rows, r) + rows[r, R_C] / h) / k, 0.0)
+                    d = max(-(_rate(pb, PB_V, PB_W, a, b, rows, r) + max(rows[r, R_C] / h, -max_push)) / k, 0.0)
                     _kick_both(sb, pb, PB_V, PB_W, a, b, rows, r, d)
                     largest = max(largest, d * k)
         for r0 in (ANGULAR, LINEAR):
             if rows[r0, R_KIND] == OFF:
                 continue
             n = 3 if rows[r0 + 2, R_KIND] != OFF else 2
-            rhs = (_push_rhs(pb, a, b, rows, r0, n, 0, h), _push_rhs(pb, a, b, rows, r0, n, 1, h),
-                   _push_rhs(pb, a, b, rows, r0, n, 2, h))
+            rhs = (_push_rhs(pb, a, b, rows, r0, n, 0, h, max_push),
+                   _push_rhs(pb, a, b, rows, r0, n, 1, h, max_push),
+                   _push_rhs(pb, a, b, rows, r0, n, 2, h, max_push))
             x, diagonal = _block_solution(sb, a, b, rows, r0, n, rhs)
             for i in range(n):
                 _kick_both(sb, pb, PB_V, PB_W, a, b, rows, r0 + i, x[i])
@@ -438,11 +452,16 @@ def clear_joint_sums(kf, ki, nk):
 
 
 @njit
-def record_rigid_joint_forces(bf, kf, ki, nk, dt):
+def record_rigid_joint_forces(bf, bi, kf, ki, nk, dt):
     """Each joint's force on a over the step, ``F = sum(impulses) / dt`` (N), and its torque about the anchor,
-    ``T = (L - r_a x P) / dt`` (N m), with ``P`` and ``L`` the linear and angular impulses a received."""
+    ``T = (L - r_a x P) / dt`` (N m), with ``P`` and ``L`` the linear and angular impulses a received.  A
+    joint whose bodies sleep (or are static) keeps the force and torque it had when they fell asleep: it
+    still holds them."""
     for c in range(nk):
         if not is_rigid_joint(ki, c):
+            continue
+        b = ki[c, K_BODY_B]
+        if not is_moving(bi, ki[c, K_BODY_A]) and (b < 0 or not is_moving(bi, b)):
             continue
         _, _, ra, _, _, _ = joint_frames(bf, kf, ki, c)
         p = row3(kf, c, K_SUM_LINEAR)

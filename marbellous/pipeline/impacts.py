@@ -42,6 +42,7 @@ from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
+                            FLAGS, F_JOINTED,
                             C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
                             PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
                             POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, TOI_ALL,
@@ -72,7 +73,7 @@ def _swept(mode, bi, sf, si, sweep, a, b, stretch):
     """Whether a contact of bodies ``a`` and ``b`` takes part in time-of-impact ordering in ``mode``
     (``stretch``: the step's length over the interval's, ``dynamics/ccd.is_fast``)."""
     if mode == TOI_ALL:
-        return True
+        return ((bi[a, FLAGS] | bi[b, FLAGS]) & F_JOINTED) == 0      # (dynamics/ccd.is_fast)
     return mode == TOI_FAST and (is_fast(bi, sf, si, sweep, a, stretch) or is_fast(bi, sf, si, sweep, b, stretch))
 
 
