@@ -124,6 +124,21 @@ class Joint(Constraint):
         a = ki[L.K_BODY_A]
         return bf[a, L.POS:L.POS + 3] + quat_to_matrix_np(bf[a, L.QUAT:L.QUAT + 4]) @ kf[L.K_ANCHOR_A:L.K_ANCHOR_A + 3]
 
+    @property
+    def separation(self) -> float:
+        """How far the joint is from holding (m): the distance between its anchors on ``body_a`` and
+        ``body_b`` (or the world point), for a slider the distance of ``body_a``'s anchor from its line."""
+        kf, ki = self._rows()
+        b = ki[L.K_BODY_B]
+        other = kf[L.K_ANCHOR_B:L.K_ANCHOR_B + 3]
+        if b >= 0:
+            bf = self._world._state.bf
+            other = bf[b, L.POS:L.POS + 3] + quat_to_matrix_np(bf[b, L.QUAT:L.QUAT + 4]) @ other
+        d = self.anchor - other
+        if isinstance(self, Slider):
+            d = d - (d @ self.axis) * self.axis
+        return float(np.linalg.norm(d))
+
     def __repr__(self):
         return f"<{type(self).__name__} #{self._index}{' broken' if self.broken else ''}>"
 

@@ -20,8 +20,7 @@ import math
 from .._numba.jit import njit
 from ..collision import shape_types as st
 from ..collision.toi.motion import rotation_reach
-from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, F_JOINTED, FLAGS, OMEGA,
-                            POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
+from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
                             S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
 from .forces import is_moving
 
@@ -61,11 +60,9 @@ def is_fast(bi, sf, si, sweep, i, stretch):
     """True if body row ``i`` is swept by time of impact in this interval: moving, and ``ccd=True`` or fast
     for its size over the whole step: ``sweep[i]`` (m, the interval's, from the bounding-box stage) times
     ``stretch``, the step's length over the interval's (a body swept when the step began stays swept in
-    the short intervals it is cut into).  A body held by a joint is never swept: an impact resolved at its
-    time treats both bodies as free, and the joint's pull comes only from the solver (resolved free, a 1 kg
-    plank of a hinged bridge took a falling 5 kg ball's momentum alone, and the joints threw the ball up)."""
+    the short intervals it is cut into)."""
     f = bi[i, FLAGS]
-    if not is_moving(bi, i) or (f & (F_CCD_NEVER | F_JOINTED)) != 0:
+    if not is_moving(bi, i) or (f & F_CCD_NEVER) != 0:
         return False
     if (f & F_CCD_ALWAYS) != 0:
         return True

@@ -172,6 +172,15 @@ def _warm_start_contact(cf, ci, c, sb):
     set_velocity(sb, b, ub)
 
 
+@njit
+def scale_contact_impulses(cf, nc, scale):
+    """Multiply the impulses every contact starts its next sub-step from (normal, friction, rolling) by
+    ``scale``."""
+    for c in range(nc):
+        for k in range(C_LAMBDA_N, C_LAMBDA_R + 3):
+            cf[c, k] *= scale
+
+
 @njit_inline
 def warm_start_contacts(cf, ci, nc, sb):
     """Stage "warm start": apply the impulses accumulated last sub-step (or matched from last step)."""

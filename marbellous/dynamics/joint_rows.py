@@ -41,8 +41,8 @@ import math
 from .._numba.jit import njit
 from ..math3d import cross, quat_conj, quat_product, rotated, row3, row4
 from ..state.layout import (FLAGS, F_JOINTED, JOINT_ROWS, KF_ALIVE, KF_BROKEN, KF_LIMITS, KF_MOTOR, KT_BALL,
-                            KT_HINGE, KT_SLIDER,
-                            K_ANCHOR_A, K_ANCHOR_B, K_AXIS_A, K_AXIS_B, K_BODY_A, K_BODY_B, K_FLAGS, K_FORCE, K_LOWER,
+                            KT_HINGE, KT_SLIDER, K_ANCHOR_A, K_ANCHOR_B, K_AXIS_A, K_AXIS_B, K_BODY_A, K_BODY_B,
+                            K_FLAGS, K_FORCE, K_IMPULSE, K_LOWER,
                             K_MOTOR_MAX, K_MOTOR_SPEED, K_REF_QUAT, K_ROW_IMPULSE, K_SUM_ANGULAR, K_SUM_LINEAR,
                             K_TORQUE, K_TYPE, K_UPPER, OMEGA, PB_V, PB_W, POS, QUAT, SB_INV_I, SB_INV_MASS, SB_ISO,
                             SB_V, SB_W, VEL)
@@ -266,22 +266,31 @@ def apply_row(sb, kf, c, a, b, rows, r, lam):
 
 
 @njit
-def warm_start_rigid_joints(bf, kf, ki, nk, sb, rows, scale):
-    """Apply each joint row's impulse of the last sub-step, times ``scale`` (this sub-step's length over the
-    last one's: the same force), along its current Jacobian (a row the joint no longer uses forgets its
-    impulse)."""
+def warm_start_rigid_joints(bf, kf, ki, nk, sb, rows):
+    """Apply each joint row's impulse of the last sub-step along its current Jacobian (a row the joint no
+    longer uses forgets its impulse)."""
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
         fill_rows(bf, kf, ki, c, rows)
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in range(JOINT_ROWS):
-            lam = kf[c, K_ROW_IMPULSE + r] * scale
+            lam = kf[c, K_ROW_IMPULSE + r]
             if rows[r, R_KIND] == OFF:
-                lam = 0.0
-            kf[c, K_ROW_IMPULSE + r] = lam
-            if lam != 0.0:
+                kf[c, K_ROW_IMPULSE + r] = 0.0
+            elif lam != 0.0:
                 apply_row(sb, kf, c, a, b, rows, r, lam)
+
+
+@njit
+def scale_joint_impulses(kf, ki, nk, scale):
+    """Multiply the impulses every joint, rod, cable and spring starts its next sub-step from by ``scale``."""
+    for c in range(nk):
+        if ki[c, K_TYPE] >= KT_BALL:
+            for r in range(JOINT_ROWS):
+                kf[c, K_ROW_IMPULSE + r] *= scale
+        else:
+            kf[c, K_IMPULSE] *= scale
 
 
 @njit

@@ -134,15 +134,13 @@ def _apply(sb, a, ra, b, rb, px, py, pz):
 
 
 @njit
-def warm_start_joints(bf, kf, ki, nk, sb, implicit, vecs, scale):
-    """Apply each rod's, cable's and implicit spring's impulse of the last sub-step, times ``scale`` (this
-    sub-step's length over the last one's: the same force), along its current axis to the solver bodies
-    ``sb`` (``vecs``: scratch of at least (5, 3))."""
+def warm_start_joints(bf, kf, ki, nk, sb, implicit, vecs):
+    """Apply each rod's, cable's and implicit spring's impulse of the last sub-step along its current axis to
+    the solver bodies ``sb`` (``vecs``: scratch of at least (5, 3))."""
     ra, rb, pa, pb, u = _scratch(vecs)
     for c in range(nk):
         if not is_active_joint(ki, c, implicit) or kf[c, K_IMPULSE] == 0.0:
             continue
-        kf[c, K_IMPULSE] *= scale
         if joint_axis(bf, kf, ki, c, ra, rb, pa, pb, u) < 1e-12:
             continue
         lam = kf[c, K_IMPULSE]

@@ -35,6 +35,7 @@ from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bun
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_push, apply_restitution,
                                        clear_push, has_turning_contacts, heavy_on_light, list_static_contacts,
                                        prepare_contacts, push_contacts, push_static, refresh_turning_masses,
+                                       scale_contact_impulses,
                                        solve_contacts, solve_supported, store_friction_state, warm_start_contacts,
                                        warm_start_listed)
 from ..dynamics.ccd import shape_reach
@@ -42,7 +43,8 @@ from ..dynamics.forces import is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, push_rigid_joints,
-                                   record_rigid_joint_forces, solve_rigid_joints, warm_start_rigid_joints)
+                                   record_rigid_joint_forces, scale_joint_impulses, solve_rigid_joints,
+                                   warm_start_rigid_joints)
 from ..dynamics.lcp import solve_lcp
 from ..dynamics.penalty import add_penalty_forces, restore_user_forces
 from ..dynamics.sleep import update_sleep, wake_touched_islands
@@ -53,7 +55,7 @@ from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE,
                             LCP, MASK,
                             OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY, PF_JOINT_HERTZ,
                             PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ, PF_RESTITUTION_SPEED,
-                            PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_SWEEP,
+                            PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_STEP_DT, PF_SWEEP,
                             PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS,
                             PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0,
                             SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS,
@@ -231,6 +233,19 @@ def turning_substeps(bf, bi, sf, si, nb, dt, substeps, most):
     return min(most, int(np.ceil(dt * np.sqrt(fastest) / MAX_TURN)))
 
 
+@njit_inline
+def _rescale_warm_start(ctx):
+    """The impulses the contacts and joints start from (the last sub-step's) scaled to this step's sub-step
+    length, when it differs: the same forces are impulses in proportion to it.  (The intervals of a step
+    cut at a time of impact are shorter; unscaled, a marble resting on a hinged bridge was kicked up by
+    its last sub-step's contact impulse applied again in an interval a tenth as long.)"""
+    prev_h = ctx.ws[W_PREV_DT]
+    if prev_h > 0.0 and prev_h != ctx.h:
+        scale = ctx.h / prev_h
+        scale_contact_impulses(ctx.cf, ctx.nc, scale)
+        scale_joint_impulses(ctx.kf, ctx.ki, ctx.nk, scale)
+
+
 @njit
 def stage_prepare(ctx, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
@@ -247,6 +262,7 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     ctx.substeps = turning_substeps(bf, bi, ctx.sf, ctx.si, nb, dt, ctx.params_i[PI_SUBSTEPS],
                                     ctx.params_i[PI_TURN_SUBSTEPS])
     ctx.h = dt / ctx.substeps
+    _rescale_warm_start(ctx)
     ctx.iterations = 0
     joint_totals = ctx.joint_totals
     for c in range(nk):
@@ -301,7 +317,11 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     soft = ctx.soft
     soft_coefficients(params_f[PF_CONTACT_HERTZ], params_f[PF_CONTACT_ZETA], ctx.h, soft[0])
     soft_coefficients(params_f[PF_JOINT_HERTZ], params_f[PF_JOINT_ZETA], ctx.h, soft[1])
-    soft_coefficients(RIGID_JOINT_RATE / ctx.h, params_f[PF_JOINT_ZETA], ctx.h, soft[2])
+    # (the joints' frequency is the whole step's sub-step rate's: an interval cut short at a time of impact
+    # keeps it, as the other soft constraints keep theirs; at the interval's own rate, a hinged chain's bias
+    # velocities in a 40 us interval were metres per second, and the relax pass left part of them)
+    soft_coefficients(RIGID_JOINT_RATE * ctx.params_i[PI_SUBSTEPS] / params_f[PF_STEP_DT], params_f[PF_JOINT_ZETA],
+                      ctx.h, soft[2])
     if nk > 0:
         clear_spring_forces(ctx.kf, ctx.ki, nk)
         classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
@@ -332,13 +352,9 @@ def stage_integrate_velocities(ctx, penalty):
 
 @njit_inline
 def _warm_start_joints(ctx):
-    """The joints' impulses of the last sub-step again, scaled to this sub-step's length (the intervals of a
-    step cut at times of impact are shorter: the same force is a smaller impulse)."""
     if ctx.nk > 0:
-        prev_h = ctx.ws[W_PREV_DT]
-        scale = ctx.h / prev_h if prev_h > 0.0 else 1.0
-        warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs, scale)
-        warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_rows, scale)
+        warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
+        warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_rows)
 
 
 @njit

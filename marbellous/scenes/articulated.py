@@ -66,17 +66,18 @@ def stairs(world=None, *, steps=10, rise=0.2, depth=0.35, width=3.0):
     return w, top
 
 
-def plank_bridge(world=None, *, planks=30, plank_depth=0.2, gap=0.01, width=1.2, mass=1.0, sag=0.25):
+def plank_bridge(world=None, *, planks=30, plank_depth=0.2, gap=0.01, width=1.2, mass=1.0, sag=0.25,
+                 origin=(0.0, 0.0, 0.0)):
     """A rope bridge of ``planks`` planks along +z, hinged to each other at their shared edges about x and the
     end planks to the world, hung from two points 3 m above the ground plane.  It is built already sagging:
     plank ``k`` is tilted down by ``sag (1 - 2 k / (planks - 1))`` rad, so the middle hangs lowest.
 
-    Returns ``(world, planks, hinges)``; the bridge starts at z = 0.
+    Returns ``(world, planks, hinges)``; the bridge starts at ``origin`` + (0, 3, 0) (m).
     """
     w = World() if world is None else world
     w.add_static(Plane(), friction=0.6)
     pitch = plank_depth + gap
-    edge = np.array([0.0, 3.0, 0.0])
+    edge = np.asarray(origin, dtype=float) + (0.0, 3.0, 0.0)
     edges = [edge]
     for k in range(planks):
         tilt = sag * (1.0 - 2.0 * k / (planks - 1))
