@@ -4,8 +4,8 @@ The scene: ``chains`` chains of ``links`` boxes (0.2 kg, 8 cm long, 2 cm apart a
 neighbours never touch), each hanging from the world by a ball joint and joined to the next at the middle
 of the gap, let go at 0.5 rad from the vertical so that they swing; 60 Hz, gravity 9.81.
 - Marbellous: ``add_ball_joint`` (sequential impulses, its defaults: 4 sub-steps, 4 iterations);
-- PyBullet: maximal-coordinate bodies joined by ``JOINT_POINT2POINT`` constraints (10 solver iterations,
-  its default; the joined pairs' collisions switched off as Marbellous does);
+- PyBullet: single-link multibodies (its default) joined by ``JOINT_POINT2POINT`` constraints (10 solver
+  iterations, its default; the joined pairs' collisions switched off as Marbellous does);
 - MuJoCo: each chain one kinematic tree of ball joints (PGS, 10 iterations), the reduced-coordinate way:
   its joints cannot open at all, so its "widest gap" is 0 by construction.
 Reported per engine: ms per step (the ``step()`` calls only, best of ``--repeats``) and the widest gap
@@ -116,15 +116,16 @@ def run_pybullet(chains, links, steps):
         for k in range(links):
             qp = quat_to_peer(q)
             bid = p.createMultiBody(MASS, shape, basePosition=list(to_peer(centres[k])),
-                                    baseOrientation=[qp[1], qp[2], qp[3], qp[0]], useMaximalCoordinates=True, **kw)
+                                    baseOrientation=[qp[1], qp[2], qp[3], qp[0]], **kw)
             p.changeDynamics(bid, -1, linearDamping=0.0, angularDamping=0.0, **kw)
             ids.append(bid)
         worlds += [to_peer(world_anchors[0])]
     n_world = 0
     for parent, pa, child, ca in anchors:
         if parent < 0:
-            c = p.createConstraint(-1, -1, ids[child], -1, p.JOINT_POINT2POINT, [0, 0, 0],
-                                   list(worlds[n_world]), list(ca), **kw)
+            # (to the world: the body is the constraint's parent and the world point its child frame)
+            c = p.createConstraint(ids[child], -1, -1, -1, p.JOINT_POINT2POINT, [0, 0, 0], list(ca),
+                                   list(worlds[n_world]), **kw)
             n_world += 1
         else:
             c = p.createConstraint(ids[parent], -1, ids[child], -1, p.JOINT_POINT2POINT, [0, 0, 0], list(pa),

@@ -285,3 +285,24 @@ def test_bad_world_options(kwargs, name):
 def test_bad_shapes(make, name):
     with pytest.raises((ValueError, TypeError), match=name):
         make()
+
+
+def test_a_sleeping_body_still_reports_the_contacts_that_hold_it():
+    """A 3 kg ball resting on the ground falls asleep; its contacts stay in ``contacts()``, carrying its
+    weight: the normal impulses over a step sum to m g dt (29.43 N over 1/60 s)."""
+    w = mb.World()
+    ground = w.add_static(mb.Plane())
+    ball = w.add_body(mb.Sphere(0.2), mass=3.0, position=(0.0, 0.2, 0.0))
+    dt = 1.0 / 60.0
+    for _ in range(240):
+        w.step(dt)
+    assert ball.is_sleeping
+    for _ in range(3):                                    # it stays reported, step after step
+        w.step(dt)
+        contacts = w.contacts()
+        assert contacts and all({c.body_a, c.body_b} == {ground, ball} for c in contacts)
+        assert sum(c.normal_impulse for c in contacts) / dt == pytest.approx(3.0 * 9.81, rel=1e-3)
+    ball.apply_impulse((1.0, 0.0, 0.0))                  # woken, solved again: no duplicate rows
+    w.step(dt)
+    assert not ball.is_sleeping
+    assert len(w.contacts()) == len(contacts)

@@ -7,8 +7,9 @@ friction (re-projected onto the new tangents) and rolling impulses and the slidi
 """
 from .._numba.jit import njit, njit_inline
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
-                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CP_MATCHED,
-                            CP_SLIDING)
+                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CF_COLS,
+                            CI_COLS, CP_MATCHED, CP_RESTING, CP_SENSOR, CP_SLIDING, F_ALIVE, F_SLEEPING, FLAGS)
+from .forces import is_moving
 from .contact_basis import contact_basis
 
 
@@ -22,7 +23,10 @@ def _pair_key_less(ci_x, x, ci_y, y):
 
 @njit_inline
 def match_contacts(cf, ci, nc, pcf, pci, npc):
-    """Stage "match": copy last step's impulses into this step's contacts with the same features."""
+    """Stage "match": copy last step's impulses into this step's contacts with the same features (the
+    cache's resting contacts, at its end, are not matched: they were not solved)."""
+    while npc > 0 and (pci[npc - 1, C_FLAGS] & CP_RESTING) != 0:
+        npc -= 1
     start = 0
     for c in range(nc):
         ci[c, C_FLAGS] &= ~(CP_MATCHED | CP_SLIDING)
@@ -56,3 +60,30 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
                 ci[c, C_FLAGS] |= CP_MATCHED | (pci[q, C_FLAGS] & CP_SLIDING)
                 break
             q += 1
+
+
+@njit
+def keep_resting_contacts(cf, ci, nc, pcf, pci, npc, bi, write):
+    """Copy (when ``write``; else only count) the cache's contacts of resting pairs (neither body moves, one
+    sleeps) after this step's ``nc`` contacts, flagged ``CP_RESTING``: the narrow phase skips such pairs,
+    and these rows keep reporting them (``World.contacts``), with the impulses that held them when they
+    were last solved, for as long as they rest.  Returns how many there are (rows past the table's
+    capacity are counted, not written)."""
+    cap = cf.shape[0]
+    k = nc
+    for r in range(npc):
+        a = pci[r, C_BODY_A]
+        b = pci[r, C_BODY_B]
+        if is_moving(bi, a) or is_moving(bi, b) or (pci[r, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        fa, fb = bi[a, FLAGS], bi[b, FLAGS]
+        if (fa & F_ALIVE) == 0 or (fb & F_ALIVE) == 0 or ((fa | fb) & F_SLEEPING) == 0:
+            continue
+        if write and k < cap:
+            for j in range(CF_COLS):
+                cf[k, j] = pcf[r, j]
+            for j in range(CI_COLS):
+                ci[k, j] = pci[r, j]
+            ci[k, C_FLAGS] |= CP_RESTING
+        k += 1
+    return k - nc

@@ -62,6 +62,7 @@ FIELDS = TABLE_FIELDS + (
     ("substeps", types.int64),      # sub-steps of the step (the parameter's, or more: stage prepare)
     ("n_pairs", types.int64),       # candidate pairs the broad phase found
     ("nc", types.int64),      # contact points the narrow phase found
+    ("n_resting", types.int64),     # resting pairs' contacts kept from the cache, after the nc rows
     ("constrained", types.boolean),  # the step has contacts or constraints (else the solver rests)
     ("bundled", types.boolean),      # contacts solved in coloured bundles (chosen once, by prepare)
     ("regions", types.int64),       # regions of the contact passes (1 unless threads)
@@ -139,6 +140,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.params_f, t.params_i, t.stats = params_f, params_i, stats
     t.nb, t.nk = nb, nk
     t.h, t.substeps, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 1, 0, 0, False, False
+    t.n_resting = 0
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
     t.turning, t.n_supported, t.n_static = False, 0, 0
     n_slots = bf.shape[0]

@@ -30,7 +30,7 @@ from ..collision.shape_types import COVERAGES
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
-from ..dynamics.contact_cache import match_contacts
+from ..dynamics.contact_cache import keep_resting_contacts, match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_push, apply_restitution,
                                        clear_push, has_turning_contacts, heavy_on_light, list_static_contacts,
@@ -172,6 +172,7 @@ def collide(ctx, coverage):
     """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with,
     by the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns OK, or which buffer is too small
     (nothing but scratch changed), or the time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
+    ctx.n_resting = 0
     stage_aabbs(ctx)
     stage_broad_phase(ctx)
     if ctx.n_pairs > ctx.pairs.shape[0]:
@@ -181,8 +182,17 @@ def collide(ctx, coverage):
     stage_narrow_phase(ctx, coverage)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
+    # the resting pairs' contacts kept from the cache go after the step's own (counted first: the
+    # time-of-impact stage may change velocities, so a table too small must be found before it)
+    npc = ctx.stats[STAT_CACHED]
+    resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bi, False)
+    if ctx.nc + resting > ctx.cf.shape[0]:
+        ctx.stats[STAT_CONTACTS] = ctx.nc + resting
+        return GROW_CONTACTS
     status = stage_time_of_impact(ctx, coverage)
     lap(ctx, ST_TIME_OF_IMPACT)
+    if status == OK and resting > 0:
+        ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bi, True)
     return status
 
 
@@ -653,7 +663,7 @@ def finish_step(ctx):
         stats[STAT_SUM_PAIRS] += ctx.n_pairs
         stats[STAT_SUM_CONTACTS] += ctx.nc
         stats[STAT_SUM_ITERATIONS] += ctx.iterations
-    stats[STAT_CACHED] = ctx.nc
+    stats[STAT_CACHED] = ctx.nc + ctx.n_resting
     stats[STAT_CACHE_SIDE] = 1 - stats[STAT_CACHE_SIDE]
     return OK
 

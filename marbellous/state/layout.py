@@ -159,6 +159,7 @@ CI_COLS = 6
 CP_SLIDING = 1     # friction saturated (dynamic coefficient applies)
 CP_SENSOR = 2      # a sensor takes part: reported, not solved
 CP_MATCHED = 4     # warm-started from last step's contact with the same features
+CP_RESTING = 8     # a resting pair's contact kept from the cache (both bodies asleep or static): reported, not solved
 
 # --- step parameters, float params_f (tunables travel as arguments, never as globals) ---------------
 PF_DT = 0
