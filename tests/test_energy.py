@@ -155,9 +155,16 @@ def penalty_holds(shape, spin, gap):
     return v / omega < thinnest(shape)
 
 
+#: the penalty scheme holds bodies thicker than its springs' overlap (``penalty_holds``): centimetres at these
+#: speeds, so its shapes start at 3 cm and its drops at most 0.5 m (drawn from 1 mm and 2 m, most examples
+#: were bodies it makes no promise for, and hypothesis gave up on the filter)
+penalty_shapes = shapes_from(-1.5)
+penalty_gaps = st.floats(0.0, 0.5)
+
+
 @seed(0)
 @settings(max_examples=40, database=None)
-@given(shape=shapes, orientation=quaternions, spin=spins, gap=gaps, floor=floors)
+@given(shape=penalty_shapes, orientation=quaternions, spin=spins, gap=penalty_gaps, floor=floors)
 def test_penalty_springs_never_gain_energy_where_they_can_hold(shape, orientation, spin, gap, floor):
     assume(penalty_holds(shape, spin, gap))
     for integrator in INTEGRATORS:
