@@ -6,8 +6,11 @@ of the gap, let go at 0.5 rad from the vertical so that they swing; 60 Hz, gravi
 - Marbellous: ``add_ball_joint`` (sequential impulses, its defaults: 4 sub-steps, 4 iterations);
 - PyBullet: single-link multibodies (its default) joined by ``JOINT_POINT2POINT`` constraints (10 solver
   iterations, its default; the joined pairs' collisions switched off as Marbellous does);
-- MuJoCo: each chain one kinematic tree of ball joints (PGS, 10 iterations), the reduced-coordinate way:
-  its joints cannot open at all, so its "widest gap" is 0 by construction.
+- MuJoCo: each chain one kinematic tree of ball joints (PGS, 10 iterations, its ``implicitfast``
+  integrator: with its default Euler the chains went unstable at 1.17 s, NaN accelerations, and MuJoCo
+  reset them; with ``implicitfast`` too, at the same time), the reduced-coordinate way: its joints cannot
+  open at all, so its "widest gap" is 0 by construction; a run that MuJoCo flags unstable is reported as
+  failed, not timed.
 Reported per engine: ms per step (the ``step()`` calls only, best of ``--repeats``) and the widest gap
 (m) between a joint's two anchors over the run, computed from the bodies' poses.
 
@@ -181,7 +184,8 @@ def run_mujoco(chains, links, steps):
             xml = (body + f'<joint type="ball" pos="0 {PITCH / 2:.17g} 0"/>'
                    f'<geom type="box" size="{_f(HALF)}" mass="{MASS}"/>' + xml + '</body>')
         parts.append(xml)
-    model_xml = (f'<mujoco><option timestep="{DT:.17g}" gravity="0 0 -9.81" solver="PGS" iterations="10"/>'
+    model_xml = (f'<mujoco><option timestep="{DT:.17g}" gravity="0 0 -9.81" solver="PGS" iterations="10" '
+                 f'integrator="implicitfast"/>'
                  f'<worldbody>{"".join(parts)}</worldbody></mujoco>')
     model = mujoco.MjModel.from_xml_string(model_xml)
     data = mujoco.MjData(model)
@@ -191,6 +195,8 @@ def run_mujoco(chains, links, steps):
         t = time.perf_counter()
         mujoco.mj_step(model, data)
         seconds += time.perf_counter() - t
+    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+        raise RuntimeError("MuJoCo flagged the chains unstable (NaN or huge accelerations) and reset them")
     return 1e3 * seconds / steps, 0.0
 
 
@@ -214,12 +220,18 @@ def main():
             best = min((run(chains, links, steps) for _ in range(args.repeats)), key=lambda r: r[0])
         except ImportError:
             continue
+        except RuntimeError as e:
+            results[name] = {"failed": str(e)}
+            continue
         results[name] = {"ms_per_step": best[0], "widest_gap_m": best[1]}
     base = results["marbellous"]["ms_per_step"]
     print(f"{chains} chains x {links} ball-jointed links, {steps} steps at 60 Hz")
     print(f"{'engine':12s} {'ms/step':>9s} {'x marbellous':>13s} {'widest gap (m)':>15s}")
     for name, r in results.items():
-        print(f"{name:12s} {r['ms_per_step']:9.3f} {r['ms_per_step'] / base:13.2f} {r['widest_gap_m']:15.2e}")
+        if "failed" in r:
+            print(f"{name:12s} {r['failed']}")
+        else:
+            print(f"{name:12s} {r['ms_per_step']:9.3f} {r['ms_per_step'] / base:13.2f} {r['widest_gap_m']:15.2e}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"chains": chains, "links": links, "steps": steps, "results": results}, f, indent=1)
