@@ -260,6 +260,18 @@ for _arg, _kind in (("shape", "shape"), ("position", "vec3"), ("orientation", "q
                     ("restitution", "restitution"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits")):
     _add("World.add_static", _arg, _kind, _static(_arg))
 
+def _between(method, defaults, arg):
+    """A call of ``ns.w.<method>(ball, box, **defaults)`` (a constraint between two bodies) with ``arg``
+    (one of its keywords, or ``a`` / ``b``) replaced."""
+    def call(ns, v):
+        kw = dict(defaults)
+        kw.update(a=ns.ball, b=ns.box)
+        kw[arg] = v
+        a, b = kw.pop("a"), kw.pop("b")
+        return getattr(ns.w, method)(a, b, **kw)
+    return call
+
+
 for _method, _args in (
         ("add_spring", (("rest_length", "length0"), ("stiffness", "stiffness"), ("damping", "stiffness"),
                         ("anchor_a", "vec3"), ("anchor_b", "vec3"), ("breaking_force", "breaking"), ("a", "body"),
@@ -269,13 +281,8 @@ for _method, _args in (
     _defaults = {"add_spring": dict(rest_length=1.0, stiffness=5.0), "add_rod": dict(length=1.0),
                  "add_cable": dict(max_length=2.0)}[_method]
     for _arg, _kind in _args:
-        def _con(ns, v, _m=_method, _a=_arg, _d=_defaults):
-            kw = dict(_d)
-            kw.update(a=ns.ball, b=ns.box)
-            kw[_a] = v
-            a, b = kw.pop("a"), kw.pop("b")
-            return getattr(ns.w, _m)(a, b, **kw)
-        _add(f"World.{_method}", _arg, "rod_length" if _method == "add_rod" and _arg == "length" else _kind, _con)
+        _add(f"World.{_method}", _arg, "rod_length" if _method == "add_rod" and _arg == "length" else _kind,
+             _between(_method, _defaults, _arg))
 
 _JOINTS = {"add_ball_joint": (dict(anchor=(0.7, 1.0, 0.0)), (("anchor", "vec3"), ("breaking_force", "breaking"))),
            "add_hinge": (dict(anchor=(0.7, 1.0, 0.0), axis=(0.0, 0.0, 1.0)),
@@ -289,13 +296,7 @@ _JOINTS = {"add_ball_joint": (dict(anchor=(0.7, 1.0, 0.0)), (("anchor", "vec3"),
            "add_fixed_joint": ({}, (("breaking_force", "breaking"),))}
 for _method, (_defaults, _args) in _JOINTS.items():
     for _arg, _kind in _args + (("a", "body"), ("b", "body")):
-        def _joint(ns, v, _m=_method, _a=_arg, _d=_defaults):
-            kw = dict(_d)
-            kw.update(a=ns.ball, b=ns.box)
-            kw[_a] = v
-            a, b = kw.pop("a"), kw.pop("b")
-            return getattr(ns.w, _m)(a, b, **kw)
-        _add(f"World.{_method}", _arg, _kind, _joint)
+        _add(f"World.{_method}", _arg, _kind, _between(_method, _defaults, _arg))
 _add("Hinge setter", "motor_speed", "motor_speed", _setter("hinge", "motor_speed"))
 _add("Hinge setter", "limits", "angle_limits", _setter("hinge", "limits"))
 _add("Hinge setter", "max_motor_torque", "motor_max", _setter("hinge", "max_motor_torque"))
