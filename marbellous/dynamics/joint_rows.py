@@ -49,8 +49,9 @@ from ..state.layout import (FLAGS, F_JOINTED, JOINT_ROWS, KF_ALIVE, KF_BROKEN, K
 from .contact_basis import contact_basis
 from .forces import is_moving
 
-#: the joints' stiffness as a fraction of the sub-step rate: ``hertz = RIGID_JOINT_RATE / h``, the stiffest
-#: soft constraint the sub-step resolves (rods and cables use ``joint_hertz``, capped there too)
+#: the joints' stiffness as a fraction of the step's sub-step rate: ``hertz = RIGID_JOINT_RATE substeps / dt``
+#: (120 Hz at 60 Hz with 4 sub-steps), the stiffest soft constraint the sub-steps resolve; an interval of
+#: the step cut short at a time of impact keeps it (rods and cables use ``joint_hertz``, capped there too)
 RIGID_JOINT_RATE = 0.5
 #: ``det K`` below this fraction of the product of its diagonal: the block's rows are treated as dependent
 SINGULAR = 1e-6
