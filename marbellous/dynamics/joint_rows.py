@@ -30,11 +30,12 @@ value from passing the limit in the sub-step (bias ``C / h``, rigid), so a joint
 limit stops there and does not bounce from a spring.  A motor's row has the rate's J and drives ``J v`` to
 the motor speed with ``|lambda| <= max torque (force) h``.
 
-Equality rows are soft constraints (``soft.py``, the joints' stiffness and damping, as for rods): bias
-``bias_rate C``, no faster than ``max_push`` (m/s, or rad/s for the orientation and hinge-axis rows).  The
-three point rows, the two across rows and the orientation or hinge-axis rows are each solved as one block
-(``lambda = -mass_scale K^-1 (J v + bias) - impulse_scale lambda_0`` with ``K = J M^-1 J^T``), so that a
-chain of joints converges like a chain of single rows would not.
+Equality rows are soft constraints (``soft.py``, at ``RIGID_JOINT_RATE`` of the step's sub-step rate,
+damped by ``joint_damping_ratio``): bias ``bias_rate C``, no faster than ``max_push`` (m/s, or rad/s for the
+orientation and hinge-axis rows); what their softness leaves of the error, the pushes take out of the poses
+(:func:`push_rigid_joints`).  The three point rows, the two across rows and the orientation or hinge-axis
+rows are each solved as one block (``lambda = -mass_scale K^-1 (J v + bias) - impulse_scale lambda_0`` with
+``K = J M^-1 J^T``), so that a chain of joints converges like a chain of single rows would not.
 """
 import math
 
