@@ -68,6 +68,8 @@ MAX_HERTZ = 1e6
 #: Largest stiffness (N/m) or damping (N s/m) of a spring, and largest friction coefficient.
 MAX_STIFFNESS = 1e15
 MAX_FRICTION = 1e3
+#: Largest linear or angular damping rate (1/s).
+MAX_DAMPING = 1e6
 #: Smallest normal float64: nonzero magnitudes below it are subnormal.
 TINY = float(np.finfo(np.float64).tiny)
 

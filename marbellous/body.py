@@ -13,11 +13,33 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._validate import MAX_FORCE, MAX_SPEED, as_filter_bits, as_quat, as_vec3
+from .material import validated
 from .math3d import quat_to_matrix_np
 from .state import layout as L
 
 _as_speed = functools.partial(as_vec3, bound=MAX_SPEED, unit="m/s")
 _as_angular_speed = functools.partial(as_vec3, bound=MAX_SPEED, unit="rad/s")
+
+
+class _Material:
+    """A material property of a body (``marbellous.material``), read and written at any time: a write is
+    validated as ``add_body`` validates it, and wakes the body and the sleepers touching it."""
+
+    def __init__(self, column):
+        self.column = column
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, body, owner=None):
+        if body is None:
+            return self
+        return float(body._row()[self.column])
+
+    def __set__(self, body, value):
+        v = validated(self.name, value)
+        body._row()[self.column] = v
+        body._wake_touching()
 
 
 class Body:
@@ -163,13 +185,35 @@ class Body:
         self._set_filter(L.MASK, as_filter_bits("mask", value))
 
     def _set_filter(self, col, bits):
-        """Store filter bits; the body and the sleepers that may rest on it wake, since what holds them up
-        may no longer collide with them (the next step's broad phase applies the filter)."""
+        """Store filter bits (the next step's broad phase applies them)."""
+        self._state().bi[self._index, col] = bits
+        self._wake_touching()
+
+    def _wake_touching(self):
+        """Wake the body and the sleepers that may rest on it: what holds them up has changed."""
         st = self._state()
-        st.bi[self._index, col] = bits
         self._world._wake_neighbours(self._index)
         if not self.is_static:
             st.wake(self._index)
+
+    # --- material ---------------------------------------------------------------------------------------
+    friction = _Material(L.FRICTION)
+    """Dynamic (sliding) Coulomb friction coefficient; contacts use the geometric mean of the two bodies'
+    values."""
+    static_friction = _Material(L.STATIC_FRICTION)
+    """Static (sticking) Coulomb friction coefficient (geometric mean, as ``friction``)."""
+    restitution = _Material(L.RESTITUTION)
+    """Coefficient of restitution in [0, 1]; contacts use the larger of the two bodies' values."""
+    rolling_friction = _Material(L.ROLLING)
+    """Rolling resistance as a lever arm (m): the torque against rolling (across the contact normal) is at
+    most this times the normal force; contacts use the larger of the two bodies' values."""
+    torsional_friction = _Material(L.TORSION)
+    """Torsional friction as a lever arm (m): the torque against spinning about the contact normal is at
+    most this times the normal force; contacts use the larger of the two bodies' values."""
+    linear_damping = _Material(L.LINEAR_DAMPING)
+    """Linear damping rate (1/s): ``dv/dt = -c v`` besides the forces."""
+    angular_damping = _Material(L.ANGULAR_DAMPING)
+    """Angular damping rate (1/s): ``domega/dt = -c omega`` besides the torques."""
 
     # --- forces ------------------------------------------------------------------------------------
     def apply_force(self, force: ArrayLike, point: ArrayLike | None = None) -> None:

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._numba.clock import AVAILABLE as CLOCK_AVAILABLE
-from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_FRICTION, MAX_HERTZ,
+from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_HERTZ,
                         MAX_FORCE, MAX_INERTIA_RATIO, MAX_MASS,
                         MAX_SIZE, MAX_SPEED, MAX_STIFFNESS, MIN_DENSITY, MIN_DT, MIN_HERTZ, MIN_MASS, as_choice,
                         as_direction, as_filter_bits, as_flag, as_float, as_int, as_limits, as_motor_speed, as_quat,
@@ -21,6 +21,7 @@ from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, S
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
 from .dynamics.rigid import inverse_inertia_np
+from .material import material_values
 from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
@@ -72,15 +73,6 @@ def _parse_shapes(shape):
         else:
             raise TypeError(f"{name} must be a Shape or a (shape, position[, orientation]) tuple, got {item!r}")
     return parts
-
-
-def _material(friction, static_friction, restitution, rolling_friction):
-    mu = as_float("friction", friction, nonnegative=True, hi=MAX_FRICTION)
-    mu_s = mu if static_friction is None else as_float("static_friction", static_friction, nonnegative=True,
-                                                        hi=MAX_FRICTION)
-    e = as_float("restitution", restitution, lo=0.0, hi=1.0)
-    roll = as_float("rolling_friction", rolling_friction, nonnegative=True, hi=MAX_SIZE, unit="m")
-    return mu, mu_s, e, roll
 
 
 _check_flag = as_flag
@@ -373,7 +365,8 @@ class World:
                  orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
                  angular_velocity: ArrayLike = (0.0, 0.0, 0.0), mass: float | None = None,
                  density: float | None = None, friction: float = 0.5, static_friction: float | None = None,
-                 restitution: float = 0.0, rolling_friction: float = 0.0, sensor: bool = False,
+                 restitution: float = 0.0, rolling_friction: float = 0.0, torsional_friction: float = 0.0,
+                 linear_damping: float = 0.0, angular_damping: float = 0.0, sensor: bool = False,
                  group: int = 1, mask: int = -1, ccd: bool | None = None) -> Body:
         """Add a dynamic rigid body and return its :class:`Body`.
 
@@ -382,7 +375,11 @@ class World:
         (kg/m^3, default 1000), not both.  ``friction`` is the sliding (dynamic) Coulomb coefficient,
         ``static_friction`` the sticking one (None: same), ``restitution`` in [0, 1],
         ``rolling_friction`` (m) the lever arm of the rolling resistance: the resisting torque is at most
-        ``rolling_friction * normal force`` (0.01 = 1 cm).  ``group`` and ``mask`` filter collisions: two
+        ``rolling_friction * normal force`` (0.01 = 1 cm), and ``torsional_friction`` (m) likewise resists
+        spinning about the contact normal; each combines by maximum with the other body's.
+        ``linear_damping`` and ``angular_damping`` (1/s) slow the body as ``dv/dt = -c v`` (``0.5``: a
+        velocity falls to ``1/e`` in 2 s); all of these can be changed later through the :class:`Body`.
+        ``group`` and ``mask`` filter collisions: two
         bodies collide only if ``a.group & b.mask`` and ``b.group & a.mask`` are both nonzero (64-bit
         integers; the defaults, 1 and -1 (all bits), let everything collide).  Bounds (``marbellous._validate``):
         position within +-1e12 m, velocities within +-1e9 m/s (rad/s), mass 1e-30 .. 1e30 kg,
@@ -408,7 +405,8 @@ class World:
             mass = as_float("mass", mass, lo=MIN_MASS, hi=MAX_MASS, unit="kg")
         rho = DEFAULT_DENSITY if density is None else as_float("density", density, lo=MIN_DENSITY,
                                                                  hi=MAX_DENSITY, unit="kg/m^3")
-        material = _material(friction, static_friction, restitution, rolling_friction)
+        material = material_values(friction, static_friction, restitution, rolling_friction, torsional_friction,
+                                   linear_damping, angular_damping)
         sensor = _check_flag("sensor", sensor)
         ccd = None if ccd is None else _check_flag("ccd", ccd)
         group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
@@ -437,16 +435,16 @@ class World:
     def add_static(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
                    orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), friction: float = 0.5,
                    static_friction: float | None = None, restitution: float = 0.0, rolling_friction: float = 0.0,
-                   sensor: bool = False, group: int = 1, mask: int = -1) -> Body:
+                   torsional_friction: float = 0.0, sensor: bool = False, group: int = 1, mask: int = -1) -> Body:
         """Add a static (immovable) body: any shape, including Plane, HeightField and TriangleMesh.
 
-        ``friction``, ``static_friction``, ``restitution``, ``rolling_friction`` (m), ``group`` and ``mask``
-        as for :meth:`add_body`.
+        ``friction``, ``static_friction``, ``restitution``, ``rolling_friction`` (m), ``torsional_friction``
+        (m), ``group`` and ``mask`` as for :meth:`add_body`.
         """
         parts = _parse_shapes(shape)
         pos = as_vec3("position", position)
         quat = as_quat("orientation", orientation)
-        material = _material(friction, static_friction, restitution, rolling_friction)
+        material = material_values(friction, static_friction, restitution, rolling_friction, torsional_friction)
         flags = L.F_STATIC | (L.F_SENSOR if _check_flag("sensor", sensor) else 0)
         group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
         zero = np.zeros(3)

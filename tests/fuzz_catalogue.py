@@ -102,6 +102,7 @@ KINDS = {
     "friction": scalar_kind(nonneg=True, hi=1e3),
     "static_friction": scalar_kind(nonneg=True, hi=1e3, none_ok=True),
     "rolling": scalar_kind(nonneg=True, hi=1e6),
+    "damping": scalar_kind(nonneg=True, hi=1e6),
     "restitution": scalar_kind(lo=0.0, hi=1.0) + [("huge", 1.5), ("negative", -0.1)],
     "stiffness": scalar_kind(nonneg=True, hi=1e15),
     "breaking": scalar_kind(positive=True, none_ok=True),
@@ -252,12 +253,14 @@ _body = _kw("w.add_body", fixed=["shape"], shape=_SPHERE, position=(3, 2, 0))
 for _arg, _kind in (("shape", "shape"), ("shape", "dynamic_shape"), ("position", "vec3"), ("orientation", "quat"),
                     ("velocity", "speed3"), ("angular_velocity", "speed3"), ("mass", "mass"), ("density", "density"),
                     ("friction", "friction"), ("static_friction", "static_friction"), ("restitution", "restitution"),
-                    ("rolling_friction", "rolling"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits"),
+                    ("rolling_friction", "rolling"), ("torsional_friction", "rolling"), ("linear_damping", "damping"),
+                    ("angular_damping", "damping"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits"),
                     ("ccd", "flag_or_none")):
     _add("World.add_body", _arg, _kind, _body(_arg))
 _static = _kw("w.add_static", fixed=["shape"], shape=mb.Box((1, 1, 1)), position=(-3, 0, 0))
 for _arg, _kind in (("shape", "shape"), ("position", "vec3"), ("orientation", "quat"), ("friction", "friction"),
-                    ("restitution", "restitution"), ("sensor", "flag"), ("group", "bits"), ("mask", "bits")):
+                    ("restitution", "restitution"), ("torsional_friction", "rolling"), ("sensor", "flag"),
+                    ("group", "bits"), ("mask", "bits")):
     _add("World.add_static", _arg, _kind, _static(_arg))
 
 def _between(method, defaults, arg):
@@ -314,8 +317,12 @@ _add("World.raycast", "mask", "bits", lambda ns, v: ns.w.raycast((0, 5, 0), (0, 
 _add("World.remove", "body_or_constraint", "body", lambda ns, v: ns.w.remove(v))
 
 for _arg, _kind in (("position", "vec3"), ("orientation", "quat"), ("velocity", "speed3"),
-                    ("angular_velocity", "speed3"), ("group", "bits"), ("mask", "bits")):
+                    ("angular_velocity", "speed3"), ("group", "bits"), ("mask", "bits"), ("friction", "friction"),
+                    ("static_friction", "friction"), ("restitution", "restitution"), ("rolling_friction", "rolling"),
+                    ("torsional_friction", "rolling"), ("linear_damping", "damping"), ("angular_damping", "damping")):
     _add("Body setter", _arg, _kind, _setter("ball", _arg))
+for _arg, _kind in (("friction", "friction"), ("restitution", "restitution"), ("torsional_friction", "rolling")):
+    _add("Body setter (static)", _arg, _kind, _setter("ground", _arg))
 _add("Body.apply_force", "force", "force3", lambda ns, v: ns.ball.apply_force(v))
 _add("Body.apply_force", "point", "point3", lambda ns, v: ns.ball.apply_force((1, 0, 0), point=v))
 _add("Body.apply_torque", "torque", "force3", lambda ns, v: ns.ball.apply_torque(v))

@@ -30,12 +30,12 @@ from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w, where_gt
 from ..state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A,
                             C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2,
-                            C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
-                            SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A, WB_INV_I_B, WB_INV_MASS_A,
-                            WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_T1, WB_LAMBDA_T2, WB_MASS_N, WB_MASS_T1, WB_MASS_T2,
-                            WB_LAMBDA_P, WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB, WB_SEPARATION, WB_SUM_N,
-                            WB_SUM_T, WB_T1, WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A,
-                            WI_WRITE_B)
+                            C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2,
+                            C_TORSION, C_VN0, SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A, WB_INV_I_B,
+                            WB_INV_MASS_A, WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_T1, WB_LAMBDA_T2, WB_MASS_N,
+                            WB_MASS_T1, WB_MASS_T2, WB_LAMBDA_P, WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB,
+                            WB_SEPARATION, WB_SUM_N, WB_SUM_T, WB_T1, WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B,
+                            WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
 from .solver_bodies import effective_mass_along, lighter
@@ -81,7 +81,7 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         colour = MAX_COLOURS                         # the overflow, unless a colour is free
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             colour = -1                              # sensors are reported, not solved
-        elif cf[c, C_ROLL] <= 0.0:
+        elif cf[c, C_ROLL] <= 0.0 and cf[c, C_TORSION] <= 0.0:
             a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
             move_a, move_b = sb[a, SB_ISO] != 0.0, sb[b, SB_ISO] != 0.0
             taken = (used[a] if move_a else 0) | (used[b] if move_b else 0)

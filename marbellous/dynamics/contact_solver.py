@@ -11,7 +11,9 @@ For each contact point (normal n from a to b, offsets ra, rb from the centres of
     friction (Coulomb)    (lambda_t1, lambda_t2) += -(dv.t1 / K_t1, dv.t2 / K_t2),
                           clamped to the disc |lambda_t| <= mu lambda_n, mu = mu_s while the contact
                           sticks and mu_d once it slides
-    rolling resistance    lambda_r += -(I_a^-1 + I_b^-1)^-1 (w_b - w_a), |lambda_r| <= rho lambda_n
+    rolling, torsion      lambda_r += -(I_a^-1 + I_b^-1)^-1 (w_b - w_a), then split along n:
+                          |lambda_r - (lambda_r.n) n| <= rho lambda_n (rolling), |lambda_r.n| <= tau lambda_n
+                          (torsional friction, against spinning about the normal)
     restitution           after the solve, dv.n := -e dv.n(before) for contacts that were closing
 
 Impulses accumulate per contact and are warm-started from the last step (matched by feature).
@@ -43,9 +45,9 @@ from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, quat_step, row3, row4
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS,
                             C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
-                            C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2, C_VN0,
-                            DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT, RESTITUTION, ROLLING,
-                            SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION)
+                            C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2,
+                            C_TORSION, C_VN0, DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT,
+                            RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION, TORSION)
 from .contact_basis import contact_basis
 from .forces import is_moving
 from .solver_bodies import (effective_mass_along, lighter, motion, push, relative_velocity_at, set_velocity, twist,
@@ -79,11 +81,12 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
             cf[c, C_MASS_N] = effective_mass_along(sb, a, ra, b, rb, n)
             cf[c, C_MASS_T1] = effective_mass_along(sb, a, ra, b, rb, t1)
             cf[c, C_MASS_T2] = effective_mass_along(sb, a, ra, b, rb, t2)
-        # Materials: friction by geometric mean, restitution and rolling friction by maximum.
+        # Materials: friction by geometric mean, restitution, rolling and torsional friction by maximum.
         cf[c, C_MU_D] = math.sqrt(bf[a, FRICTION] * bf[b, FRICTION])
         cf[c, C_MU_S] = math.sqrt(bf[a, STATIC_FRICTION] * bf[b, STATIC_FRICTION])
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_ROLL] = max(bf[a, ROLLING], bf[b, ROLLING])
+        cf[c, C_TORSION] = max(bf[a, TORSION], bf[b, TORSION])
         dv = relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb)
         cf[c, C_VN0] = dot3(dv, n)
         vt1 = dot3(dv, t1)
@@ -307,10 +310,9 @@ def solve_contacts(cf, ci, order, first, last, sb, h, soft):
             pz = d1 * t1[2] + d2 * t2[2]
             ua = push(sb, a, ua, ra, px, py, pz, -1.0)
             ub = push(sb, b, ub, rb, px, py, pz, 1.0)
-        # --- rolling resistance: an angular impulse bounded by rho * lambda_n -------------------------
-        rho = cf[c, C_ROLL]
-        if rho > 0.0:
-            ua, ub = _solve_rolling(cf, c, sb, a, b, ua, ub, rho * new)
+        # --- rolling and torsional friction: an angular impulse bounded by rho and tau times lambda_n ----
+        if cf[c, C_ROLL] > 0.0 or cf[c, C_TORSION] > 0.0:
+            ua, ub = _solve_rolling(cf, c, sb, a, b, ua, ub, cf[c, C_ROLL] * new, cf[c, C_TORSION] * new)
         if sb[a, SB_ISO] != 0.0:
             set_velocity(sb, a, ua)
         if sb[b, SB_ISO] != 0.0:
@@ -614,10 +616,12 @@ def solve_supported(cf, ci, supported, sb, pb, h, pushing, rate, max_push, depth
 
 
 @njit
-def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
-    """Drive the relative angular velocity ``w_b - w_a`` to zero with ``|lambda_r| <= bound``:
+def _solve_rolling(cf, c, sb, a, b, ua, ub, rolling_bound, torsion_bound):
+    """Drive the relative angular velocity ``w_b - w_a`` to zero with the impulse's part across the normal
+    ``n`` at most ``rolling_bound`` and its part along ``n`` at most ``torsion_bound`` (N m s):
 
-        K = I_a^-1 + I_b^-1,   lambda_r := clamp(lambda_r - K^-1 (w_b - w_a)),   K^-1 = adj(K) / det K
+        K = I_a^-1 + I_b^-1,   lambda_r := lambda_r - K^-1 (w_b - w_a),   K^-1 = adj(K) / det K,
+        lambda_r := clamp(lambda_r - (lambda_r.n) n, rolling_bound) + clamp(lambda_r.n, torsion_bound) n
 
     Returns the bodies' updated ``(v, omega)``.
     """
@@ -640,13 +644,18 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, bound):
     x1 = (c1 * w0 + c4 * w1 + c7 * w2) / det
     x2 = (c2 * w0 + c5 * w1 + c8 * w2) / det
     o0, o1, o2 = cf[c, C_LAMBDA_R], cf[c, C_LAMBDA_R + 1], cf[c, C_LAMBDA_R + 2]
-    n0, n1, n2 = o0 - x0, o1 - x1, o2 - x2
-    length = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-    if length > bound:
-        scale = bound / length if length > 0.0 else 0.0
-        n0 *= scale
-        n1 *= scale
-        n2 *= scale
+    nx, ny, nz = cf[c, C_NORMAL], cf[c, C_NORMAL + 1], cf[c, C_NORMAL + 2]
+    r0, r1, r2 = o0 - x0, o1 - x1, o2 - x2
+    spin = r0 * nx + r1 * ny + r2 * nz
+    r0, r1, r2 = r0 - spin * nx, r1 - spin * ny, r2 - spin * nz
+    length = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    if length > rolling_bound:
+        scale = rolling_bound / length if length > 0.0 else 0.0
+        r0 *= scale
+        r1 *= scale
+        r2 *= scale
+    spin = min(max(spin, -torsion_bound), torsion_bound)
+    n0, n1, n2 = r0 + spin * nx, r1 + spin * ny, r2 + spin * nz
     cf[c, C_LAMBDA_R] = n0
     cf[c, C_LAMBDA_R + 1] = n1
     cf[c, C_LAMBDA_R + 2] = n2

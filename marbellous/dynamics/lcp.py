@@ -40,10 +40,10 @@ import numpy as np
 
 from .._numba.jit import njit
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
-                            C_LAMBDA_T1, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_VN0,
-                            JOINT_ROWS, KT_CABLE, KT_SPRING, K_BODY_A, K_BODY_B, K_DAMPING, K_IMPULSE, K_LENGTH,
-                            K_MOTOR_MAX, K_MOTOR_SPEED, K_ROW_IMPULSE, K_STIFFNESS, K_SUM_ANGULAR, K_SUM_LINEAR,
-                            K_TYPE, OMEGA, SB_INV_I, SB_INV_MASS, VEL)
+                            C_LAMBDA_T1, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_T1, C_T2, C_TORSION,
+                            C_VN0, JOINT_ROWS, KT_CABLE, KT_SPRING, K_BODY_A, K_BODY_B, K_DAMPING, K_IMPULSE, K_LENGTH,
+                            K_MOTOR_MAX, K_MOTOR_SPEED, K_ROW_IMPULSE, K_STIFFNESS, K_SUM_ANGULAR, K_SUM_LINEAR, K_TYPE,
+                            OMEGA, SB_INV_I, SB_INV_MASS, VEL)
 from .contact_solver import contact_separation
 from .joint_rows import LIMIT, MOTOR, OFF, R_C, R_KIND, ROW_COLS, fill_rows, is_rigid_joint
 from .joints import is_active_joint, joint_axis, spring_softness
@@ -53,7 +53,7 @@ from .lcp_solve import solve_bounded_lcp
 ROW_NORMAL = 0
 ROW_T1 = 1
 ROW_T2 = 2
-ROW_ROLL = 3        # 3, 4, 5: rolling about the world x, y, z axes
+ROW_ROLL = 3        # 3, 4, 5: rolling about the contact's t1 and t2, torsion about its normal
 ROW_JOINT = 6
 ROW_RIGID_JOINT = 7  # 7 .. 7 + JOINT_ROWS - 1: the slots of a ball, hinge, slider or fixed joint's rows
 
@@ -72,12 +72,13 @@ def _linear_row(J, MJ, i, sb, a, ra, b, rb, d):
 
 
 @njit
-def _angular_row(J, MJ, i, sb, a, b, axis):
-    """Jacobian of the relative angular velocity ``(w_b - w_a)`` about the world ``axis`` (0, 1, 2)."""
-    for k in range(12):
+def _angular_row(J, MJ, i, sb, a, b, d):
+    """Jacobian of the relative angular velocity ``(w_b - w_a) . d`` about the unit vector ``d``."""
+    for k in range(3):
         J[i, k] = 0.0
-    J[i, 3 + axis] = -1.0
-    J[i, 9 + axis] = 1.0
+        J[i, 6 + k] = 0.0
+        J[i, 3 + k] = -d[k]
+        J[i, 9 + k] = d[k]
     _inverse_mass_times(J, MJ, i, sb, a, b)
 
 
@@ -247,13 +248,18 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, rigid
             kind[m] = ROW_T1 + t
             lam[m] = cf[c, C_LAMBDA_T1 + t]
             m += 1
-        if cf[c, C_ROLL] > 0.0:
-            for axis in range(3):
-                _angular_row(J, MJ, m, sb, a, b, axis)
+        # Rolling about t1 and t2 (bound rho lambda_n), torsion about n (bound tau lambda_n); the impulses are
+        # kept as one world vector, lambda_r = sum of lambda_d d.
+        for axis in range(3):
+            col = C_T1 if axis == 0 else (C_T2 if axis == 1 else C_NORMAL)
+            bound = cf[c, C_TORSION] if axis == 2 else cf[c, C_ROLL]
+            if bound > 0.0:
+                d = cf[c, col:col + 3]
+                _angular_row(J, MJ, m, sb, a, b, d)
                 link[m] = n_row
-                mu[m] = cf[c, C_ROLL]
+                mu[m] = bound
                 kind[m] = ROW_ROLL + axis
-                lam[m] = cf[c, C_LAMBDA_R + axis]
+                lam[m] = cf[c, C_LAMBDA_R] * d[0] + cf[c, C_LAMBDA_R + 1] * d[1] + cf[c, C_LAMBDA_R + 2] * d[2]
                 m += 1
         for i in range(n_row, m):
             rows[i, 0] = a
@@ -340,6 +346,9 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, rigid
     used = solve_bounded_lcp(ptr, col, val, shift, b_vec, lo, hi, link, mu, partner, lam, m, sweeps, omega,
                              tolerance)
     # --- apply and store ------------------------------------------------------------------------------------
+    for c in range(nc):
+        for k in range(3):
+            cf[c, C_LAMBDA_R + k] = 0.0
     for i in range(m):
         _apply_row(bf, MJ, i, rows[i, 0], rows[i, 1], lam[i] - lam0[i])
         c = source[i]
@@ -360,5 +369,6 @@ def solve_lcp(bf, cf, ci, nc, kf, ki, nk, sb, nb, h, use_bias, joint_soft, rigid
         elif r == ROW_T1 or r == ROW_T2:
             cf[c, C_LAMBDA_T1 + r - ROW_T1] = lam[i]
         else:
-            cf[c, C_LAMBDA_R + r - ROW_ROLL] = lam[i]
+            for k in range(3):
+                cf[c, C_LAMBDA_R + k] += lam[i] * J[i, 9 + k]
     return used

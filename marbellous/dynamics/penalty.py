@@ -39,8 +39,10 @@ dashpot ask for less than ``mu_d F_n`` again.  "Sliding" is read off the stored 
 the dynamic cone, or on the static one while the contact moves faster than ``slide_speed``), not off
 the speed alone: a spring that builds up its force lets a landing contact slip for a moment.
 
-Rolling resistance is a torque ``-I_r dw / h`` on the relative angular velocity ``dw = w_b - w_a``,
-bounded by ``rho F_n`` (``I_r = 1 / (d . (I_a^-1 + I_b^-1) d)``, ``d = dw / |dw|``).
+Rolling resistance is a torque ``-I_r dw_t / h`` on the relative angular velocity across the normal,
+``dw_t = dw - (dw.n) n`` with ``dw = w_b - w_a``, bounded by ``rho F_n`` (``I_r = 1 / (d . (I_a^-1 +
+I_b^-1) d)``, ``d = dw_t / |dw_t|``); torsional friction is the same on the spin ``(dw.n) n``, bounded by
+``tau F_n``.
 
 The forces are added to the bodies' force and torque accumulators before the integrator runs, so
 every integrator sees them; the impulses ``F h`` are stored in the contact rows as the other
@@ -54,7 +56,8 @@ from .._numba.jit import njit
 from ..math3d import row3
 from ..state.layout import (CP_SENSOR, CP_SLIDING, C_BODY_A, C_BODY_B, C_E, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R,
                             C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL,
-                            C_RA, C_RB, C_ROLL, C_T1, C_T2, FORCE, OMEGA, SB_INV_I, SB_INV_MASS, SB_ISO, TORQUE)
+                            C_RA, C_RB, C_ROLL, C_T1, C_T2, C_TORSION, FORCE, OMEGA, SB_INV_I, SB_INV_MASS, SB_ISO,
+                            TORQUE)
 from .contact_solver import contact_separation
 from .rigid import relative_velocity
 
@@ -123,6 +126,8 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, res
     T = bf[:, TORQUE:TORQUE + 3]
     dv = np.empty(3)
     f = np.empty(3)
+    dw_roll = np.empty(3)    # relative angular velocity across the normal (rad/s)
+    dw_spin = np.empty(3)    # and along it
     coupling = _dashpot_coupling(cf, ci, nc, sb, nb)
     for c in range(nc):
         for k in range(3):
@@ -185,8 +190,16 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, res
         cf[c, C_LAMBDA_T1] = s1 * h
         cf[c, C_LAMBDA_T2] = s2 * h
         cf[c, C_MAX_N] = max(cf[c, C_MAX_N], fn * h)
-        if cf[c, C_ROLL] > 0.0:
-            _rolling_torque(bf, cf, c, sb, a, b, cf[c, C_ROLL] * fn, h, T)
+        if cf[c, C_ROLL] > 0.0 or cf[c, C_TORSION] > 0.0:
+            spin = 0.0
+            for k in range(3):
+                dw_roll[k] = bf[b, OMEGA + k] - bf[a, OMEGA + k]
+                spin += dw_roll[k] * n[k]
+            for k in range(3):
+                dw_spin[k] = spin * n[k]
+                dw_roll[k] -= dw_spin[k]
+            _rolling_torque(cf, c, sb, a, b, dw_roll, cf[c, C_ROLL] * fn, h, T)
+            _rolling_torque(cf, c, sb, a, b, dw_spin, cf[c, C_TORSION] * fn, h, T)
 
 
 @njit
@@ -270,13 +283,11 @@ def _push(F, T, body, r, f, sign):
 
 
 @njit
-def _rolling_torque(bf, cf, c, sb, a, b, bound, h, T):
-    """Torque opposing the relative spin ``w_b - w_a``, the one that stops it in ``h``, at most ``bound``."""
-    dw = np.empty(3)
-    for k in range(3):
-        dw[k] = bf[b, OMEGA + k] - bf[a, OMEGA + k]
+def _rolling_torque(cf, c, sb, a, b, dw, bound, h, T):
+    """Torque opposing the relative angular velocity ``dw`` (a part of ``w_b - w_a``), the one that stops it
+    in ``h``, at most ``bound`` (N m); its impulse is added to the contact's ``lambda_r``."""
     speed = math.sqrt(dw[0] * dw[0] + dw[1] * dw[1] + dw[2] * dw[2])
-    if speed == 0.0:
+    if speed == 0.0 or bound <= 0.0:
         return
     inv_i = 0.0
     for r in range(3):
@@ -290,7 +301,7 @@ def _rolling_torque(bf, cf, c, sb, a, b, bound, h, T):
         t = -tau * dw[k] / speed
         T[b, k] += t
         T[a, k] -= t
-        cf[c, C_LAMBDA_R + k] = t * h
+        cf[c, C_LAMBDA_R + k] += t * h
 
 
 @njit

@@ -39,7 +39,12 @@ Q_PRED = 55        # orientation the integrator predicts without constraints, 4
 SLEEP_TIME = 59    # seconds the body has been nearly at rest
 POS0 = 60          # position at the start of the step (m), 3: the solver updates separations from it
 DTHETA = 63        # rotation vector accumulated since the start of the step (rad), 3
-BF_COLS = 66
+TORSION = 66       # torsional friction (m): resisting torque about the contact normal <= torsion * normal force
+LINEAR_DAMPING = 67   # linear damping (1/s): dv/dt = -c v
+ANGULAR_DAMPING = 68  # angular damping (1/s): domega/dt = -c omega
+BF_COLS = 69
+#: The material columns, in the order ``World._material`` validates them.
+MATERIAL = (FRICTION, STATIC_FRICTION, RESTITUTION, ROLLING, TORSION, LINEAR_DAMPING, ANGULAR_DAMPING)
 
 
 # --- bodies, int table bi -----------------------------------------------------------------
@@ -136,7 +141,7 @@ C_MASS_T2 = 21     # effective mass along t2 (kg)
 C_LAMBDA_N = 22    # accumulated normal impulse (N s)
 C_LAMBDA_T1 = 23   # accumulated friction impulse along t1 (N s)
 C_LAMBDA_T2 = 24   # accumulated friction impulse along t2 (N s)
-C_LAMBDA_R = 25    # accumulated rolling-resistance angular impulse (N m s), 3
+C_LAMBDA_R = 25    # accumulated rolling and torsional angular impulse, world vector (N m s), 3
 C_MU_D = 28        # combined dynamic friction coefficient
 C_MU_S = 29        # combined static friction coefficient
 C_E = 30           # combined restitution
@@ -146,7 +151,8 @@ C_MAX_N = 33       # largest normal impulse in the step (N s), for restitution
 C_ADJ_SEP = 34     # separation at detection, for updating it from the bodies' motion (m)
 C_SUM_N = 35       # normal impulse applied over the whole step (N s)
 C_SUM_T = 36       # friction impulse applied over the whole step, world vector (N s), 3
-CF_COLS = 39
+C_TORSION = 39     # combined torsional friction (m)
+CF_COLS = 40
 
 C_BODY_A = 0
 C_BODY_B = 1

@@ -201,7 +201,7 @@ class WorldState:
 
         ``parts``: (shape, local position, local orientation) in the body's frame (centre of mass);
         ``mass`` (kg, inf for static), ``inertia``/``inverse_inertia`` (3x3 body frame, None for static);
-        ``material``: (friction, static friction, restitution, rolling friction); ``flags``: F_* bits
+        ``material``: the values of the columns ``layout.MATERIAL``; ``flags``: F_* bits
         besides F_ALIVE; ``static_box``: the world AABB of a static body (None for dynamic ones);
         ``group``/``mask``: the collision filter's bits."""
         self.invalidate()
@@ -220,7 +220,7 @@ class WorldState:
         bf[L.VEL:L.VEL + 3] = vel
         bf[L.OMEGA:L.OMEGA + 3] = omega
         bf[L.MASS] = mass
-        bf[L.FRICTION], bf[L.STATIC_FRICTION], bf[L.RESTITUTION], bf[L.ROLLING] = material
+        bf[list(L.MATERIAL)] = material
         if inertia is not None:
             bf[L.INV_MASS] = 1.0 / mass
             bf[L.I_BODY:L.I_BODY + 9] = inertia.ravel()
