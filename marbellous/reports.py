@@ -1,5 +1,5 @@
-"""What a world reports: the contacts of the last step (``Contact``), ray hits (``RayHit``) and how the last
-step was taken (``StepReport``)."""
+"""What a world reports: the contacts of the last step (``Contact``), what began and ended touching in it
+(``ContactEvent``), ray hits (``RayHit``) and how the last step was taken (``StepReport``)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,6 +33,24 @@ class Contact:
     depth: float
     normal_impulse: float
     tangent_impulse: np.ndarray
+
+
+@dataclass(frozen=True)
+class ContactEvent:
+    """Two bodies began (``kind == "begin"``) or stopped (``"end"``) touching during the last step.
+
+    One event per pair of bodies (however many contact points they share).  ``point`` (m) and ``normal``
+    (from ``body_a`` to ``body_b``) are those of the pair's deepest contact point (for an end: the last one
+    it had); ``approach_speed`` (m/s, >= 0) is how fast the bodies closed along the normal as they met
+    (0 for an end).
+    """
+
+    kind: str
+    body_a: Body
+    body_b: Body
+    point: np.ndarray
+    normal: np.ndarray
+    approach_speed: float
 
 
 @dataclass(frozen=True)

@@ -23,11 +23,12 @@ from .dynamics.mass_properties import compound_mass_properties, conditioned_iner
 from .dynamics.rigid import inverse_inertia_np
 from .material import material_values
 from .math3d import quat_conj, quat_product, quat_to_matrix_np
+from .pipeline.contact_events import approach_table, contact_events
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
 from .pipeline.raycast import raycast_world
 from .pipeline.time_stepping import StepLoop
-from .reports import Contact, RayHit, StepReport
+from .reports import Contact, ContactEvent, RayHit, StepReport
 from .shapes.bounds import static_body_box
 from .shapes.primitives import Shape
 from .state import layout as L
@@ -126,7 +127,7 @@ class World:
     __slots__ = ("_tunables", "_params_dt", "_gravity", "_solver", "_integrator", "_broadphase", "_iterations",
                  "_substeps", "_substeps_auto", "_threads", "_ccd", "_sleeping", "_state", "_body_at",
                  "_constraint_at", "_living", "_living_constraints", "_accumulator", "_time_stepping", "_retroactive",
-                 "_max_halvings", "_last", "__weakref__")
+                 "_max_halvings", "_last", "_stepped", "_gone", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -136,6 +137,8 @@ class World:
         self._last = None       # the last step's StepLoop if it took several intervals, or its StepReport if a
         #                         setting changed since (None: one interval, of _params_dt)
         self._max_halvings = 10
+        self._stepped = False   # a step was taken since the world was made or restored (contact_events)
+        self._gone = []         # rows of bodies removed since the last step (contact_events leaves them out)
         broadphase = as_choice("broadphase", broadphase, BROADPHASES)
         self._state = WorldState(BROADPHASE_CODES[broadphase])
         self._broadphase = broadphase
@@ -485,6 +488,7 @@ class World:
                 if c.body_a is obj or c.body_b is obj:
                     self.remove(c)
             self._wake_neighbours(i)
+            self._gone.append(i)
             self._state.free_body(i)
             self._body_at[i] = None
             del self._living[obj]
@@ -691,6 +695,9 @@ class World:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
         status = -1 if self._retroactive else self._state.step()
+        self._stepped = True
+        if self._gone:
+            self._gone = []
         if status != 0:
             self._step_in_intervals(dt, status)
         elif self._last is not None:
@@ -759,6 +766,29 @@ class World:
                                f[L.C_SUM_T:L.C_SUM_T + 3].copy()))
         return out
 
+    def contact_events(self) -> list[ContactEvent]:
+        """What began and ended touching during the last step: one :class:`ContactEvent` per pair of bodies
+        (not per contact point), begins first, each kind in the order of the bodies' creation slots.
+
+        A pair touches when its shapes overlap or the solver pushed on them; a speculative contact that
+        stays open (a near miss) is no begin.  Resting pairs, asleep or not, make no events; sensors make
+        them as they start and stop overlapping.  Empty before the first step and after :meth:`restore`.
+        """
+        if not self._stepped:
+            return []
+        st = self._state
+        n = st.n_cached
+        after = (st.cache_f[:n], st.cache_i[:n])
+        loop = self._last if isinstance(self._last, StepLoop) else None
+        if loop is None:
+            m = int(st.stats[L.STAT_PREVIOUS])
+            before = (st.contact_table_f(False)[:m], st.contact_table_i(False)[:m])
+            approach = approach_table(*after)
+        else:
+            before = loop.start_contacts
+            approach = loop.approach_speeds()
+        return contact_events(before, after, approach, self._body_at, self._gone)
+
     def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf, *,
                 mask: int = -1) -> RayHit | None:
         """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
@@ -806,6 +836,7 @@ class World:
                     del living[handle]
             del at[slots.end:]
         self._accumulator = float(snapshot.accumulator)
+        self._stepped = False
 
     def state_hash(self) -> str:
         """A hash of the whole state, bit for bit (hex string): equal hashes mean identical worlds."""

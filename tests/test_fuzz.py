@@ -350,7 +350,8 @@ def valid_bodies(draw):
     kw = dict(position=draw(_valid_vec(1e12)), velocity=draw(_valid_vec(1e9)), angular_velocity=draw(_valid_vec(1e9)),
               orientation=draw(st.lists(st.floats(-1e300, 1e300), min_size=4, max_size=4).filter(any)),
               friction=draw(st.floats(0, 1e3)), restitution=draw(st.floats(0, 1)),
-              rolling_friction=draw(st.floats(0, 1e6)))
+              rolling_friction=draw(st.floats(0, 1e6)), torsional_friction=draw(st.floats(0, 1e6)),
+              linear_damping=draw(st.floats(0, 1e6)), angular_damping=draw(st.floats(0, 1e6)))
     if draw(st.booleans()):
         kw["mass"] = draw(st.floats(1e-30, 1e30))
     else:
@@ -376,6 +377,8 @@ def test_valid_input_never_makes_nan(bodies, dt, gravity, force, substeps, solve
         made[0].apply_impulse(force, point=made[0].position)
     for _ in range(5):
         w.step(dt)
+        for event in w.contact_events():
+            assert np.all(np.isfinite(event.point)) and math.isfinite(event.approach_speed)
     bf = w.snapshot().tables["bf"]
     rows = [b._index for b in made]
     assert np.all(np.isfinite(bf[rows])), "NaN or inf in the bodies' state"

@@ -13,7 +13,8 @@ bodies (``solver_bodies``) over the listed contacts:
 
 For a single contact the normal impulse is exact: the bodies leave at ``-e`` times their approach speed
 (e = 1 keeps the kinetic energy).  The solved velocities are written back to the body table; each
-contact's total impulse goes to ``impact_f`` (``IMP_N``, ``IMP_T``) for the step's contact report.  The
+contact's total impulse goes to ``impact_f`` (``IMP_N``, ``IMP_T``) for the step's contact report, and its
+approach speed ``max(0, -v_n-)`` to ``IMP_APPROACH`` (the step's contact events).  The
 contact table's solver columns serve as scratch: the step's match and prepare stages write them all again.
 """
 import math
@@ -21,8 +22,8 @@ import math
 from .._numba.jit import njit
 from ..math3d import dot3, row3
 from ..state.layout import (C_BODY_A, C_BODY_B, C_E, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1,
-                            C_MASS_T2, C_MU_D, C_NORMAL, C_POINT, C_RA, C_RB, C_T1, C_T2, C_VN0, FRICTION, IMP_N,
-                            IMP_T, OMEGA, POS, RESTITUTION, VEL)
+                            C_MASS_T2, C_MU_D, C_NORMAL, C_POINT, C_RA, C_RB, C_T1, C_T2, C_VN0, FRICTION, IMP_APPROACH,
+                            IMP_N, IMP_T, OMEGA, POS, RESTITUTION, VEL)
 from .contact_basis import contact_basis
 from .forces import is_moving
 from .solver_bodies import (effective_mass_along, prepare_solver_bodies, push, relative_velocity_at, set_velocity,
@@ -79,6 +80,7 @@ def resolve_impacts(bf, bi, nb, cf, ci, listed, m, sb, impact_f, tolerance):
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_MU_D] = math.sqrt(bf[a, FRICTION] * bf[b, FRICTION])
         cf[c, C_VN0] = dot3(relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb), n)
+        impact_f[c, IMP_APPROACH] = max(impact_f[c, IMP_APPROACH], -cf[c, C_VN0])
         cf[c, C_LAMBDA_N] = 0.0
         cf[c, C_LAMBDA_T1] = 0.0
         cf[c, C_LAMBDA_T2] = 0.0

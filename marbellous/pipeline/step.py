@@ -52,15 +52,15 @@ from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
 from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP, K_IMPULSE,
-                            LCP, MASK,
-                            OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY, PF_JOINT_HERTZ,
-                            PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ, PF_RESTITUTION_SPEED,
-                            PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE, PF_STEP_DT, PF_SWEEP,
-                            PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR, PI_ITERATIONS, PI_LCP_SWEEPS,
-                            PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0,
-                            SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS,
-                            STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
-                            STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
+                            LCP, MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
+                            PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
+                            PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE,
+                            PF_STEP_DT, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR,
+                            PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS,
+                            PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED,
+                            STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS,
+                            STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE,
+                            W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .impacts import stage_time_of_impact
@@ -663,6 +663,7 @@ def finish_step(ctx):
         stats[STAT_SUM_PAIRS] += ctx.n_pairs
         stats[STAT_SUM_CONTACTS] += ctx.nc
         stats[STAT_SUM_ITERATIONS] += ctx.iterations
+    stats[STAT_PREVIOUS] = stats[STAT_CACHED]
     stats[STAT_CACHED] = ctx.nc + ctx.n_resting
     stats[STAT_CACHE_SIDE] = 1 - stats[STAT_CACHE_SIDE]
     return OK

@@ -27,6 +27,7 @@ import math
 import numpy as np
 
 from ..state import layout as L
+from .contact_events import approach_table
 from .impacts import DETECTED, SPLIT
 
 #: the columns of a contact that identify it from interval to interval
@@ -56,6 +57,10 @@ class StepLoop:
         self._impacts = []         # impacts resolved by attempts that stopped with SPLIT: keys and impulses
         self._resolved = False     # some completed interval began by resolving impacts
         self.rewritten = False     # the parameters were written for an interval shorter than the step
+        n = state.n_cached         # the contacts the step begins with, and each interval's approach speeds
+        self.start_contacts = (state.cache_f[:n].copy(), state.cache_i[:n].copy())
+        self._approach = []
+        self._impact_approach = []
 
     # --- intervals ------------------------------------------------------------------------------------------
     def run_span(self, span, first_status=None):
@@ -181,11 +186,14 @@ class StepLoop:
         sums = np.empty((n, 4))
         sums[:, 0] = cf[:, L.C_SUM_N]
         sums[:, 1:] = cf[:, L.C_SUM_T:L.C_SUM_T + 3]
+        approach = approach_table(cf, ci)
         if st.time_f[L.T_RESOLVED] > 0:
-            sums += st.impact_f[:n]
+            sums += st.impact_f[:n, :L.IMP_SUMS]
+            np.maximum(approach[:, 2], st.impact_f[:n, L.IMP_APPROACH], out=approach[:, 2])
             self._resolved = True
         self._keys.append(ci[:, _KEY_COLUMNS].copy())
         self._sums.append(sums)
+        self._approach.append(approach)
 
     def _note_impacts(self, cached):
         """Keep the impulses of impacts an attempt resolved before it stopped with SPLIT (its contacts are in
@@ -194,7 +202,15 @@ class StepLoop:
         if st.time_f[L.T_RESOLVED] > 0:
             n = int(st.stats[L.STAT_CONTACTS])
             ci = st.contact_table_i(cached)[:n]
-            self._impacts.append((ci[:, _KEY_COLUMNS].copy(), st.impact_f[:n].copy()))
+            self._impacts.append((ci[:, _KEY_COLUMNS].copy(), st.impact_f[:n, :L.IMP_SUMS].copy()))
+            approach = approach_table(st.contact_table_f(cached)[:n], ci)
+            approach[:, 2] = st.impact_f[:n, L.IMP_APPROACH]
+            self._impact_approach.append(approach)
+
+    def approach_speeds(self):
+        """Every completed interval's contacts, and the impacts resolved before an attempt split, as rows
+        ``(body a, body b, approach speed (m/s))``."""
+        return np.concatenate([np.zeros((0, 3))] + self._approach + self._impact_approach)
 
     def _marks(self):
         return (len(self._keys), len(self._impacts), self.steps, self.toi_events, self.smallest_dt,
@@ -205,7 +221,9 @@ class StepLoop:
         nk, ni, self.steps, self.toi_events, self.smallest_dt, self._resolved = marks
         del self._keys[nk:]
         del self._sums[nk:]
+        del self._approach[nk:]
         del self._impacts[ni:]
+        del self._impact_approach[ni:]
 
     def _save(self):
         """The mutable rows of the state (bodies, constraints, clock, contact cache): a light snapshot."""

@@ -224,7 +224,8 @@ STAT_PROFILED_STEPS = 5  # steps profiled
 STAT_SUM_PAIRS = 6      # candidate pairs, summed over the profiled steps
 STAT_SUM_CONTACTS = 7   # contact points, summed
 STAT_SUM_ITERATIONS = 8  # velocity iterations, summed
-STAT_CYCLES = 9         # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
+STAT_PREVIOUS = 9       # rows of the table that was the cache before the last step (the contacts it began with)
+STAT_CYCLES = 10        # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
 
 # --- time stepping, float time_f: what the step's time-of-impact stage reports to the stepping loop ------
 T_LIMIT = 0             # the interval the step asks for when it stopped with SPLIT (s)
@@ -235,7 +236,9 @@ TIME_COLS = 4
 # --- impacts resolved at an interval's start, float impact_f, one row per contact of the interval ------
 IMP_N = 0               # normal impulse (N s)
 IMP_T = 1               # friction impulse, world vector (N s), 3
-IMPACT_COLS = 4
+IMP_SUMS = 4            # the columns above: the impulses
+IMP_APPROACH = 4        # fastest approach along the normal before a resolution (m/s, >= 0), for contact events
+IMPACT_COLS = 5
 
 # --- solver bodies, float sb: the solver's compact view of a body (dynamics/solver_bodies.py) --------
 SB_INV_MASS = 0         # 1/m (1/kg); 0 for a body that cannot move
