@@ -26,7 +26,7 @@ from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .pipeline.contact_events import approach_table, contact_events
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
-from .pipeline.raycast import raycast_world
+from .pipeline.raycast import query_box_world, raycast_world
 from .pipeline.time_stepping import StepLoop
 from .reports import Contact, ContactEvent, RayHit, StepReport
 from .shapes.bounds import static_body_box
@@ -811,6 +811,22 @@ class World:
         if not found:
             return None
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))
+
+    def query_box(self, lower: ArrayLike, upper: ArrayLike) -> list[Body]:
+        """The bodies whose bounding boxes (at their poses now) overlap the box from corner ``lower`` to
+        corner ``upper`` (m, world axes), in creation-slot order; an unbounded shape's box (a plane) overlaps
+        every box.  ``lower <= upper`` in each coordinate, within +-1e12 m."""
+        lo = as_vec3("lower", lower)
+        hi = as_vec3("upper", upper)
+        if not np.all(lo <= hi):
+            raise ValueError(f"lower must be <= upper in every coordinate, got lower={lo.tolist()}, "
+                             f"upper={hi.tolist()}")
+        st = self._state
+        nb = st.bodies.end
+        out = np.zeros(max(nb, 1), dtype=np.int64)
+        count = query_box_world(st.bf, st.bi, st.sf, st.si, st.aabbs, st.bp_f, st.bp_i, st.broadphase_code, nb,
+                                lo, hi, out)
+        return [self._body_at[int(i)] for i in out[:count]]
 
     # --- state -------------------------------------------------------------------------------------------
     def snapshot(self) -> Snapshot:

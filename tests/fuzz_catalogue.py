@@ -314,6 +314,8 @@ _add("World.raycast", "origin", "vec3", lambda ns, v: ns.w.raycast(v, (0, -1, 0)
 _add("World.raycast", "direction", "direction", lambda ns, v: ns.w.raycast((0, 5, 0), v))
 _add("World.raycast", "max_distance", "max_distance", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), v))
 _add("World.raycast", "mask", "bits", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), mask=v))
+_add("World.query_box", "lower", "vec3", lambda ns, v: ns.w.query_box(v, (1e12, 1e12, 1e12)))
+_add("World.query_box", "upper", "vec3", lambda ns, v: ns.w.query_box((-1e12, -1e12, -1e12), v))
 _add("World.remove", "body_or_constraint", "body", lambda ns, v: ns.w.remove(v))
 
 for _arg, _kind in (("position", "vec3"), ("orientation", "quat"), ("velocity", "speed3"),

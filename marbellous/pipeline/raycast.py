@@ -1,15 +1,34 @@
-"""The world's ray cast: broad-phase candidates in order of entry distance, then exact shape tests.
+"""The world's queries on the broad phase: the ray cast and the box query.
 
-Candidates come from the broad phase's ray query over the bodies' boxes, sorted by where the ray enters
-each box; the search stops once a box is entered beyond the nearest exact hit found so far.
+Both first bring the bodies' boxes and the broad phase up to the bodies' poses now (a pose set by hand
+since the last step counts).  Ray candidates come from the broad phase's ray query over the bodies'
+boxes, sorted by where the ray enters each box; the search stops once a box is entered beyond the
+nearest exact hit found so far.
 """
 import numpy as np
 
 from .._numba.jit import njit
-from ..collision.broadphase import query_ray, update
+from ..collision.broadphase import query_aabb, query_ray, update
 from ..collision.ray.raycast import raycast_shape
 from ..state.layout import FLAGS, GROUP, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
 from .collide import pose_tables, shape_pose, update_aabbs
+
+
+@njit
+def _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb):
+    """The bodies' boxes (no sweep) and the broad phase at the bodies' current poses."""
+    sweep = np.empty(nb)
+    pos_t, rot_t, _, q = pose_tables(sf.shape[0])
+    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0, pos_t, rot_t, q)
+    update(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i)
+
+
+@njit
+def query_box_world(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb, lower, upper, out):
+    """The bodies whose boxes overlap ``[lower, upper]`` (m), ascending rows, into ``out`` (at least ``nb``
+    ints); returns their count."""
+    _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
+    return query_aabb(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, lower, upper, out)
 
 
 @njit
@@ -20,10 +39,7 @@ def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb,
 
     ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
     """
-    sweep = np.empty(nb)
-    pos_t, rot_t, _, q = pose_tables(sf.shape[0])
-    update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0, pos_t, rot_t, q)
-    update(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i)
+    _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
     count = query_ray(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, origin, direction, max_distance, candidates)
     best = max_distance
     found = False
