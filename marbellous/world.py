@@ -787,7 +787,9 @@ class World:
         else:
             before = loop.start_contacts
             approach = loop.approach_speeds()
-        return contact_events(before, after, approach, self._body_at, self._gone)
+        at = self._body_at
+        return [ContactEvent(kind, at[a], at[b], point, normal, speed)
+                for kind, a, b, point, normal, speed in contact_events(before, after, approach, self._gone)]
 
     def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf, *,
                 mask: int = -1) -> RayHit | None:

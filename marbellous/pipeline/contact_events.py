@@ -11,7 +11,6 @@ keeps), so a step that nobody asks about costs nothing.
 """
 import numpy as np
 
-from ..reports import ContactEvent
 from ..state import layout as L
 
 
@@ -38,7 +37,7 @@ def _touching(cf, ci, gone):
     return lo * (1 << 32) + hi, lo, hi, rows
 
 
-def _events(kind, keys, lo, hi, rows, cf, ci, body_at, speed_of):
+def _events(kind, keys, lo, hi, rows, cf, ci, speed_of):
     """One event per pair in ``keys`` (sorted): point and normal of the pair's deepest contact, the normal
     turned to point from the lower body row to the upper."""
     out = []
@@ -53,16 +52,16 @@ def _events(kind, keys, lo, hi, rows, cf, ci, body_at, speed_of):
         normal = cf[r, L.C_NORMAL:L.C_NORMAL + 3].copy()
         if ci[r, L.C_BODY_A] != a:
             normal = -normal
-        out.append(ContactEvent(kind, body_at[a], body_at[b], cf[r, L.C_POINT:L.C_POINT + 3].copy(), normal,
-                                speed_of(key)))
+        out.append((kind, a, b, cf[r, L.C_POINT:L.C_POINT + 3].copy(), normal, speed_of(key)))
     return out
 
 
-def contact_events(before, after, approach, body_at, gone):
-    """The begin and end events between the contact tables ``before`` and ``after`` (each ``(cf, ci)``),
-    begins first, each kind ordered by body rows.  ``approach``: rows ``(body a, body b, speed)`` from
-    which a begin's approach speed is the largest of its pair's (:func:`approach_table`); ``body_at``: the
-    ``Body`` of each row; ``gone``: rows of bodies removed since the step."""
+def contact_events(before, after, approach, gone):
+    """The begin and end events between the contact tables ``before`` and ``after`` (each ``(cf, ci)``), as
+    tuples ``(kind, body row a, body row b, point, normal, approach speed)``, begins first, each kind
+    ordered by body rows.  ``approach``: rows ``(body a, body b, speed)`` from which a begin's approach
+    speed is the largest of its pair's (:func:`approach_table`); ``gone``: rows of bodies removed since the
+    step."""
     k0, lo0, hi0, r0 = _touching(*before, gone)
     k1, lo1, hi1, r1 = _touching(*after, gone)
     began = np.setdiff1d(k1, k0)
@@ -74,5 +73,5 @@ def contact_events(before, after, approach, body_at, gone):
         for key, v in zip(keys.tolist(), approach[:, 2].tolist()):
             if v > speed.get(key, 0.0):
                 speed[key] = v
-    return (_events("begin", began, lo1, hi1, r1, *after, body_at, lambda key: speed.get(key, 0.0))
-            + _events("end", ended, lo0, hi0, r0, *before, body_at, lambda key: 0.0))
+    return (_events("begin", began, lo1, hi1, r1, *after, lambda key: speed.get(key, 0.0))
+            + _events("end", ended, lo0, hi0, r0, *before, lambda key: 0.0))
