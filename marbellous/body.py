@@ -8,13 +8,14 @@ on, and any use of the handle raises instead of touching whatever body takes the
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import MAX_FORCE, MAX_SPEED, as_filter_bits, as_quat, as_vec3
+from ._validate import MAX_DT, MAX_FORCE, MAX_SPEED, MIN_DT, as_filter_bits, as_float, as_quat, as_vec3
 from .material import validated
-from .math3d import quat_to_matrix_np
+from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .state import layout as L
 
 _as_speed = functools.partial(as_vec3, bound=MAX_SPEED, unit="m/s")
@@ -43,7 +44,8 @@ class _Material:
 
 
 class Body:
-    """A rigid body in a :class:`marbellous.World` (created by ``add_body`` or ``add_static``).
+    """A rigid body in a :class:`marbellous.World` (created by ``add_body``, ``add_static`` or
+    ``add_kinematic``).
 
     Setters validate as ``add_body`` does: positions within +-1e12 m, velocities within +-1e9 m/s
     (rad/s), forces, torques and impulses within +-1e20 N (N m, N s) per component.  A handle has no
@@ -80,9 +82,16 @@ class Body:
         if self.is_static:
             raise ValueError(f"{name} of a static body cannot be changed")
         row[col:col + n] = v
+        if self.is_kinematic:
+            self._wake_touching()           # what rested on it may no longer be held, or be in its way
+            return
         st = self._world._state
         st.bi[self._index, L.FLAGS] |= L.F_RESTART
         st.wake(self._index)
+
+    def _immovable(self):
+        """True for static and kinematic bodies: no force, torque or impulse moves them."""
+        return bool(self._state().bi[self._index, L.FLAGS] & (L.F_STATIC | L.F_KINEMATIC))
 
     # --- state -----------------------------------------------------------------------------------
     @property
@@ -123,7 +132,7 @@ class Body:
 
     @property
     def mass(self) -> float:
-        """Mass (kg); ``inf`` for a static body."""
+        """Mass (kg); ``inf`` for a static or kinematic body."""
         return float(self._row()[L.MASS])
 
     @property
@@ -132,7 +141,7 @@ class Body:
         simulated, whose principal moments are within a factor 1e4 of each other (a needle's smallest moment
         is raised to that, ``dynamics.mass_properties.conditioned_inertia``)."""
         row = self._row()
-        if self.is_static:
+        if self._immovable():
             return np.diag([np.inf, np.inf, np.inf])
         r = quat_to_matrix_np(row[L.QUAT:L.QUAT + 4])
         return r @ row[L.I_BODY:L.I_BODY + 9].reshape(3, 3) @ r.T
@@ -141,6 +150,38 @@ class Body:
     def is_static(self) -> bool:
         """True for bodies made with ``add_static`` (they never move)."""
         return bool(self._state().bi[self._index, L.FLAGS] & L.F_STATIC)
+
+    @property
+    def is_kinematic(self) -> bool:
+        """True for bodies made with ``add_kinematic`` (moved by their velocities only)."""
+        return bool(self._state().bi[self._index, L.FLAGS] & L.F_KINEMATIC)
+
+    def move_to(self, position: ArrayLike, orientation: ArrayLike, dt: float) -> None:
+        """Kinematic bodies: set the velocities that carry the body from its pose now to ``position`` (m)
+        and ``orientation`` (w, x, y, z) in ``dt`` seconds (the next step's length):
+
+            v = (x_target - x) / dt,    omega = axis * angle / dt  of the rotation  q_target q^-1
+
+        (the shorter way round).  The pose is reached at the end of a step of ``dt``; the velocities stay
+        until changed, so call it every step to follow a path.
+        """
+        row = self._row()
+        p = as_vec3("position", position)
+        q = as_quat("orientation", orientation)
+        dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
+        if not self.is_kinematic:
+            raise ValueError("move_to is for kinematic bodies (add_kinematic); set a dynamic body's velocity")
+        turn = quat_product(tuple(q), quat_conj(tuple(row[L.QUAT:L.QUAT + 4])))
+        if turn[0] < 0.0:
+            turn = tuple(-c for c in turn)
+        sin_half = math.sqrt(turn[1] ** 2 + turn[2] ** 2 + turn[3] ** 2)
+        angle = 2.0 * math.atan2(sin_half, turn[0])
+        omega = np.zeros(3) if sin_half == 0.0 else np.array(turn[1:]) * (angle / (sin_half * dt))
+        v = _as_speed("position", (p - row[L.POS:L.POS + 3]) / dt)
+        omega = _as_angular_speed("orientation", omega)
+        row[L.VEL:L.VEL + 3] = v
+        row[L.OMEGA:L.OMEGA + 3] = omega
+        self._wake_touching()
 
     @property
     def is_sleeping(self) -> bool:
@@ -224,7 +265,7 @@ class Body:
         row = self._row()
         f = as_vec3("force", force, bound=MAX_FORCE, unit="N")
         p = None if point is None else as_vec3("point", point)
-        if self.is_static:
+        if self._immovable():
             return
         row[L.FORCE:L.FORCE + 3] += f
         if p is not None:
@@ -235,7 +276,7 @@ class Body:
         """Add a world-space ``torque`` (N m) for the next step."""
         row = self._row()
         t = as_vec3("torque", torque, bound=MAX_FORCE, unit="N m")
-        if self.is_static:
+        if self._immovable():
             return
         row[L.TORQUE:L.TORQUE + 3] += t
         self._world._state.wake(self._index)
@@ -248,7 +289,7 @@ class Body:
         row = self._row()
         j = as_vec3("impulse", impulse, bound=MAX_FORCE, unit="N s")
         p = None if point is None else as_vec3("point", point)
-        if self.is_static:
+        if self._immovable():
             return
         row[L.VEL:L.VEL + 3] += j * row[L.INV_MASS]
         if p is not None:
@@ -260,7 +301,7 @@ class Body:
 
     def __repr__(self):
         try:
-            kind = "static" if self.is_static else "dynamic"
+            kind = "static" if self.is_static else ("kinematic" if self.is_kinematic else "dynamic")
         except ValueError:
             return "<Body removed>"
         x, y, z = (float(v) for v in self.position)

@@ -455,6 +455,36 @@ class World:
                                       static_body_box(parts, pos, quat), group, mask)
         return self._new_body_handle(row, parts)
 
+    def add_kinematic(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
+                      orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
+                      angular_velocity: ArrayLike = (0.0, 0.0, 0.0), friction: float = 0.5,
+                      static_friction: float | None = None, restitution: float = 0.0, rolling_friction: float = 0.0,
+                      torsional_friction: float = 0.0, sensor: bool = False, group: int = 1,
+                      mask: int = -1) -> Body:
+        """Add a kinematic body: one that moves by its velocities only (a moving platform, a door, a
+        paddle), as if of infinite mass.  It pushes and carries dynamic bodies (by its contacts' friction)
+        and is never pushed; gravity and forces do not act on it, and it never sleeps.
+
+        Set its ``velocity`` and ``angular_velocity`` (m/s, rad/s) or call :meth:`Body.move_to` each step;
+        assigning its ``position`` or ``orientation`` teleports it (no velocity: what it lands on is not
+        thrown).  ``shape``: a shape or compound of shapes that dynamic bodies may have (not a plane, height
+        field or mesh); the materials, ``sensor``, ``group`` and ``mask`` as for :meth:`add_body`.
+        """
+        parts = _parse_shapes(shape)
+        for s, _, _ in parts:
+            if s.is_static_only:
+                raise ValueError(f"shape {type(s).__name__} is static only: use add_static")
+        pos = as_vec3("position", position)
+        quat = as_quat("orientation", orientation)
+        vel = as_vec3("velocity", velocity, bound=MAX_SPEED, unit="m/s")
+        omega = as_vec3("angular_velocity", angular_velocity, bound=MAX_SPEED, unit="rad/s")
+        material = material_values(friction, static_friction, restitution, rolling_friction, torsional_friction)
+        flags = L.F_KINEMATIC | (L.F_SENSOR if _check_flag("sensor", sensor) else 0)
+        group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
+        row = self._state.insert_body(parts, pos, quat, vel, omega, math.inf, None, None, material, flags, None,
+                                      group, mask)
+        return self._new_body_handle(row, parts)
+
     def _new_body_handle(self, row, parts):
         body = Body(self, row, int(self._state.bodies.revision[row]),
                     [(s, p.copy(), q.copy()) for s, p, q in parts])
@@ -527,7 +557,8 @@ class World:
         if ia == ib:
             raise ValueError("a and b must be different bodies")
         st = self._state
-        if st.bi[ia, L.FLAGS] & L.F_STATIC and (ib < 0 or st.bi[ib, L.FLAGS] & L.F_STATIC):
+        fixed = L.F_STATIC | L.F_KINEMATIC
+        if st.bi[ia, L.FLAGS] & fixed and (ib < 0 or st.bi[ib, L.FLAGS] & fixed):
             raise ValueError("a constraint needs at least one dynamic body")
         brk = math.inf if breaking_force is None else as_float("breaking_force", breaking_force, positive=True,
                                                                  unit="N")

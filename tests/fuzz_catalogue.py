@@ -186,7 +186,7 @@ KINDS = {
 def make_world():
     """A small world after one step: a plane, a ball, a box, a static box, a spring between the ball and
     the box, an arm on a hinge and a cart on a slider (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``,
-    ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``)."""
+    ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``, ``ns.platform``, a kinematic box)."""
     w = mb.World()
     ground = w.add_static(mb.Plane())
     post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
@@ -197,9 +197,10 @@ def make_world():
     hinge = w.add_hinge(arm, None, anchor=(-2.3, 1, 0), axis=(0, 0, 1), limits=(-1.0, 1.0))
     cart = w.add_body(mb.Box((0.1, 0.1, 0.1)), position=(-4, 1, 0))
     slider = w.add_slider(cart, None, anchor=(-4, 1, 0), axis=(1, 0, 0), limits=(-1.0, 1.0))
+    platform = w.add_kinematic(mb.Box((0.5, 0.1, 0.5)), position=(0, 2, 3), velocity=(0.1, 0, 0))
     w.step(1 / 60)
     return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
-                           slider=slider)
+                           slider=slider, platform=platform)
 
 
 def _setter(obj_name, attr):
@@ -310,6 +311,15 @@ _add("World.step", "dt", "dt", lambda ns, v: ns.w.step(v))
 _add("World.advance", "frame_time", "frame_time", lambda ns, v: ns.w.advance(v))
 _add("World.advance", "dt", "dt", lambda ns, v: ns.w.advance(0.02, dt=v))
 _add("World.advance", "max_steps", "max_steps", lambda ns, v: ns.w.advance(0.02, max_steps=v))
+_kinematic = _kw("w.add_kinematic", fixed=["shape"], shape=mb.Box((0.5, 0.1, 0.5)), position=(0, 3, 3))
+for _arg, _kind in (("shape", "shape"), ("shape", "dynamic_shape"), ("position", "vec3"), ("orientation", "quat"),
+                    ("velocity", "speed3"), ("angular_velocity", "speed3"), ("friction", "friction"),
+                    ("restitution", "restitution"), ("torsional_friction", "rolling"), ("sensor", "flag"),
+                    ("group", "bits"), ("mask", "bits")):
+    _add("World.add_kinematic", _arg, _kind, _kinematic(_arg))
+_add("Body.move_to", "position", "vec3", lambda ns, v: ns.platform.move_to(v, (1, 0, 0, 0), 1 / 60))
+_add("Body.move_to", "orientation", "quat", lambda ns, v: ns.platform.move_to((0, 2, 3), v, 1 / 60))
+_add("Body.move_to", "dt", "dt", lambda ns, v: ns.platform.move_to((0, 2, 3), (1, 0, 0, 0), v))
 _add("World.raycast", "origin", "vec3", lambda ns, v: ns.w.raycast(v, (0, -1, 0)))
 _add("World.raycast", "direction", "direction", lambda ns, v: ns.w.raycast((0, 5, 0), v))
 _add("World.raycast", "max_distance", "max_distance", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), v))

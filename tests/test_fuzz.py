@@ -362,10 +362,11 @@ def valid_bodies(draw):
 @settings(max_examples=60, database=None)
 @given(bodies=st.lists(valid_bodies(), min_size=1, max_size=3), dt=st.floats(1e-6, 1.0),
        gravity=_valid_vec(1e6), force=_valid_vec(1e20), substeps=st.integers(1, 8),
-       solver=st.sampled_from(["sequential_impulse", "penalty", "lcp"]))
-def test_valid_input_never_makes_nan(bodies, dt, gravity, force, substeps, solver):
+       solver=st.sampled_from(["sequential_impulse", "penalty", "lcp"]), drive=_valid_vec(1e9))
+def test_valid_input_never_makes_nan(bodies, dt, gravity, force, substeps, solver, drive):
     w = mb.World(gravity=gravity, substeps=substeps, solver=solver)
     w.add_static(mb.Plane())
+    w.add_kinematic(mb.Box((1.0, 0.2, 1.0)), position=(0.0, 1.0, 0.0), velocity=drive, angular_velocity=drive)
     made = []
     for shape, kw in bodies:
         try:

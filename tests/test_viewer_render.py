@@ -146,6 +146,19 @@ def test_sleeping_bodies_turn_blue(renderer, scene):
     assert np.all(px[:, 2] > px[:, 0] + 30)
 
 
+def test_a_kinematic_platform_is_drawn_violet_where_it_has_moved(renderer):
+    """A kinematic body is drawn in its own colour (violet: red and blue over green), at its pose now."""
+    w = mb.World()
+    w.add_static(mb.Plane())
+    platform = w.add_kinematic(mb.Box((1.0, 0.1, 1.0)), position=(-1.0, 1.0, 0.0), velocity=(1.0, 0.0, 0.0))
+    for _ in range(60):
+        w.step(1 / 60)
+    view = OrbitCamera.looking((3.0, 5.0, 6.0), (0.0, 1.0, 0.0)).view()
+    px = patch(renderer.render_to_array(w, view), platform.position + (0.0, 0.1, 0.0), view=view)
+    assert platform.position[0] == pytest.approx(0.0, abs=1e-12)
+    assert np.all(px[:, 2] > px[:, 1] + 25) and np.all(px[:, 0] > px[:, 1] + 10)
+
+
 def test_a_registered_drawable_is_drawn_in_its_layer(renderer, scene):
     w, parts = scene
     spot = np.array([0.0, 2.5, 0.0])
@@ -202,3 +215,4 @@ def test_meshes_are_uploaded_once_and_only_poses_change():
     assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
     assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
     r.ctx.release()
+

@@ -7,8 +7,10 @@ def stats_line(world, *, contacts, step_seconds=None, paused=False):
     out), the simulated time and whether the simulation is ``paused``."""
     bodies = world.bodies
     static = sum(b.is_static for b in bodies)
+    kinematic = sum(b.is_kinematic for b in bodies)
     asleep = sum(not b.is_static and b.is_sleeping for b in bodies)
-    parts = [f"bodies {len(bodies)} ({static} static, {asleep} asleep)", f"contacts {contacts}"]
+    kinds = f"{static} static, {kinematic} kinematic" if kinematic else f"{static} static"
+    parts = [f"bodies {len(bodies)} ({kinds}, {asleep} asleep)", f"contacts {contacts}"]
     if step_seconds is not None:
         parts.append(f"step {step_seconds * 1e3:.2f} ms")
     parts.append(f"t {world.time:.2f} s")

@@ -61,7 +61,7 @@ def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False
     window = _open_window(pyglet, size)
     ctx = moderngl.create_context()
     renderer = WorldRenderer(ctx, size)
-    dynamic = next((b for b in world.bodies if not b.is_static), None)
+    dynamic = next((b for b in world.bodies if not (b.is_static or b.is_kinematic)), None)
     last_print = [time.monotonic()]
     drawn = [False]
 

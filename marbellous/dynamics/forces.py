@@ -7,7 +7,7 @@ The integrators call this at each of their stages with the state of that stage, 
 method really sees the springs at its intermediate states.
 """
 from .._numba.jit import njit, njit_inline
-from ..state.layout import F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, TORQUE
+from ..state.layout import F_ALIVE, F_KINEMATIC, F_SLEEPING, F_STATIC, FLAGS, FORCE, MASS, OMEGA, TORQUE, VEL
 from .springs import add_spring_forces
 
 
@@ -15,7 +15,25 @@ from .springs import add_spring_forces
 def is_moving(bi, i):
     """True if body row ``i`` is alive, dynamic and awake (it is integrated this step)."""
     f = bi[i, FLAGS]
-    return (f & F_ALIVE) != 0 and (f & F_STATIC) == 0 and (f & F_SLEEPING) == 0
+    return (f & F_ALIVE) != 0 and (f & (F_STATIC | F_KINEMATIC | F_SLEEPING)) == 0
+
+
+@njit
+def is_dynamic(bi, i):
+    """True if body row ``i`` is alive and dynamic, awake or asleep (neither static nor kinematic)."""
+    f = bi[i, FLAGS]
+    return (f & F_ALIVE) != 0 and (f & (F_STATIC | F_KINEMATIC)) == 0
+
+
+@njit
+def is_driven(bf, bi, i):
+    """True if body row ``i`` is a kinematic body in motion (a nonzero velocity or angular velocity)."""
+    if (bi[i, FLAGS] & (F_ALIVE | F_KINEMATIC)) != (F_ALIVE | F_KINEMATIC):
+        return False
+    for k in range(3):
+        if bf[i, VEL + k] != 0.0 or bf[i, OMEGA + k] != 0.0:
+            return True
+    return False
 
 
 @njit_inline

@@ -39,7 +39,7 @@ from .._numba.jit import njit, njit_inline
 from ..math3d import quat_normalize, quat_step, row3, row4, tensor_vec
 from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, LINEAR_DAMPING, OMEGA, POS,
                             PREV_POS, QUAT, V_FREE, VEL, W_FREE, X_PRED)
-from .forces import accumulate_forces, add_applied_forces, is_moving
+from .forces import accumulate_forces, add_applied_forces, is_driven, is_moving
 from .rigid import inertia_world, inverse_inertia_world
 from .springs import add_spring_forces
 
@@ -400,9 +400,14 @@ def integrate_positions(method, bf, bi, nb, h):
 
     The solver's velocity change ``dv = v - v_free`` is added to the integrator's own prediction for
     explicit Euler and RK4; semi-implicit Euler and Verlet move with the final velocity directly.
+    Kinematic bodies move by their own velocities, ``x += v h``, ``q := exp(omega h / 2) q``.
     """
     for i in range(nb):
         if not is_moving(bi, i):
+            if is_driven(bf, bi, i):
+                for k in range(3):
+                    bf[i, POS + k] += bf[i, VEL + k] * h
+                _setrow4(bf, i, QUAT, quat_step(row4(bf, i, QUAT), row3(bf, i, OMEGA), h))
             continue
         if method == EXPLICIT_EULER or method == RK4:
             for k in range(3):

@@ -2,14 +2,16 @@
 
 A body rests while ``|v| < linear_tol`` and ``|omega| < angular_tol``; an island whose bodies have all
 rested for ``time_to_sleep`` seconds falls asleep (velocities zeroed, no integration, no solving).  A
-sleeping island wakes when an awake body touches it, a force or impulse is applied, or its state is set.
+sleeping island wakes when an awake body or a kinematic body in motion touches it, a force or impulse is
+applied, or its state is set.  Static and kinematic bodies belong to no island; a body touching a
+kinematic body in motion never rests.
 Islands are found with union-find (path halving, union by index) over contacts and constraints.
 """
 
 from .._numba.jit import njit, njit_inline
-from ..state.layout import (C_BODY_A, C_BODY_B, C_FLAGS, CP_SENSOR, F_ALIVE, F_SLEEPING, F_STATIC, FLAGS, ISLAND,
-                            K_BODY_A, K_BODY_B, K_FLAGS, KF_ALIVE, KF_BROKEN, OMEGA, SLEEP_TIME, VEL)
-from .forces import is_moving
+from ..state.layout import (C_BODY_A, C_BODY_B, C_FLAGS, CP_SENSOR, F_SLEEPING, FLAGS, ISLAND, K_BODY_A, K_BODY_B,
+                            K_FLAGS, KF_ALIVE, KF_BROKEN, OMEGA, SLEEP_TIME, VEL)
+from .forces import is_driven, is_dynamic, is_moving
 
 
 @njit
@@ -30,12 +32,6 @@ def _union(parent, i, j):
         parent[ri] = rj
 
 
-@njit
-def _is_dynamic(bi, i):
-    f = bi[i, FLAGS]
-    return (f & F_ALIVE) != 0 and (f & F_STATIC) == 0
-
-
 @njit_inline
 def wake_touched_islands(bi, bf, ci, nc, nb):
     """Stage "wake": an awake body touching a sleeping one wakes that body's whole island."""
@@ -45,7 +41,7 @@ def wake_touched_islands(bi, bf, ci, nc, nb):
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
         for sleeper, other in ((a, b), (b, a)):
-            if (bi[sleeper, FLAGS] & F_SLEEPING) != 0 and is_moving(bi, other):
+            if (bi[sleeper, FLAGS] & F_SLEEPING) != 0 and (is_moving(bi, other) or is_driven(bf, bi, other)):
                 island = bi[sleeper, ISLAND]
                 for i in range(nb):
                     if (bi[i, FLAGS] & F_SLEEPING) != 0 and (i == sleeper or bi[i, ISLAND] == island):
@@ -72,13 +68,17 @@ def update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, linear_tol, angular_tol, ti
     for c in range(nc):
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
-        if (ci[c, C_FLAGS] & CP_SENSOR) == 0 and _is_dynamic(bi, a) and _is_dynamic(bi, b):
+        if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
+            continue
+        if is_dynamic(bi, a) and is_dynamic(bi, b):
             _union(parent, a, b)
+        elif is_driven(bf, bi, a) or is_driven(bf, bi, b):
+            bf[b if is_driven(bf, bi, a) else a, SLEEP_TIME] = 0.0     # carried: it does not rest
     for c in range(nk):
         a = ki[c, K_BODY_A]
         b = ki[c, K_BODY_B]
         if (ki[c, K_FLAGS] & KF_ALIVE) != 0 and (ki[c, K_FLAGS] & KF_BROKEN) == 0 and b >= 0 \
-                and _is_dynamic(bi, a) and _is_dynamic(bi, b):
+                and is_dynamic(bi, a) and is_dynamic(bi, b):
             _union(parent, a, b)
     # Island rest time = the least rest time of its awake members, kept at the island's root.
     for i in range(nb):
@@ -89,7 +89,7 @@ def update_sleep(bf, bi, nb, cf, ci, nc, ki, nk, dt, linear_tol, angular_tol, ti
             if bf[i, SLEEP_TIME] < least[r]:
                 least[r] = bf[i, SLEEP_TIME]
     for i in range(nb):
-        if not _is_dynamic(bi, i):
+        if not is_dynamic(bi, i):
             bi[i, ISLAND] = -1
             continue
         if not is_moving(bi, i):

@@ -30,7 +30,7 @@ from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, N_SHAPE_PARAMS
-from ..dynamics.forces import is_moving
+from ..dynamics.forces import is_driven, is_dynamic, is_moving
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                             F_CCD_NEVER, F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
@@ -111,8 +111,8 @@ def _row_matrix(rot_t, s):
 
 @njit_inline
 def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
-    """Fattened AABB and sweep distance (m) of every moving body (none for ``ccd=False`` bodies, F_CCD_NEVER);
-    static bodies keep theirs.
+    """Fattened AABB and sweep distance (m) of every moving body, kinematic ones included (no sweep for
+    ``ccd=False`` bodies, F_CCD_NEVER); static bodies keep theirs.
     ``pos_t, rot_t, q`` are the scratch of :func:`pose_tables` (each shape posed into its rows)."""
     for i in range(nb):
         if (bi[i, FLAGS] & F_ALIVE) == 0 or (bi[i, FLAGS] & F_STATIC) != 0:
@@ -138,10 +138,11 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative,
                     aabbs[i, k] = lo[k]
                 if s == s0 or hi[k] > aabbs[i, 3 + k]:
                     aabbs[i, 3 + k] = hi[k]
-        if is_moving(bi, i) and (bi[i, FLAGS] & F_CCD_NEVER) == 0:
+        falls = is_moving(bi, i)
+        if (falls or is_driven(bf, bi, i)) and (bi[i, FLAGS] & F_CCD_NEVER) == 0:
             v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
             w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
-            sweep[i] = (v + w * reach) * dt + gravity_mag * dt * dt
+            sweep[i] = (v + w * reach) * dt + (gravity_mag * dt * dt if falls else 0.0)
         else:
             sweep[i] = 0.0
         grow = speculative + sweep[i]
@@ -207,8 +208,10 @@ def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, swee
         fb = bi[b, FLAGS]
         sensor = ((fa | fb) & F_SENSOR) != 0
         if not (is_moving(bi, a) or is_moving(bi, b)):
-            # Resting or static pairs have nothing to solve; a sensor still reports a sleeping body.
-            if not sensor or ((fa & F_STATIC) != 0 and (fb & F_STATIC) != 0):
+            # Resting, static and kinematic pairs have nothing to solve; a sleeping body still meets a sensor
+            # (reported) and a kinematic body in motion (which wakes it).
+            if not ((is_dynamic(bi, a) or is_dynamic(bi, b))
+                    and (sensor or is_driven(bf, bi, a) or is_driven(bf, bi, b))):
                 continue
         # Sensors report overlaps only; solid pairs also report gaps they may close within the step.
         prediction = 0.0 if sensor else speculative + sweep[a] + sweep[b]

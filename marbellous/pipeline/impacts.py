@@ -42,7 +42,7 @@ from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
-                            FLAGS, F_JOINTED,
+                            FLAGS, F_JOINTED, F_KINEMATIC,
                             C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
                             PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
                             POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, TOI_ALL,
@@ -75,8 +75,8 @@ def _swept(mode, bi, sf, si, sweep, a, b, stretch):
     held by a joint: an impact resolved at its time treats both bodies as free, and the joint's pull comes
     only from the solver (resolved free, a 1 kg plank of a hinged bridge took a falling 5 kg ball's
     momentum alone, and the joints then threw the ball metres up); the solver takes such a pair by its
-    speculative contacts."""
-    if ((bi[a, FLAGS] | bi[b, FLAGS]) & F_JOINTED) != 0:
+    speculative contacts.  Nor with a kinematic body: its motion is given, not found by a sweep."""
+    if ((bi[a, FLAGS] | bi[b, FLAGS]) & (F_JOINTED | F_KINEMATIC)) != 0:
         return False
     if mode == TOI_ALL:
         return True

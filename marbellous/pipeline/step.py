@@ -39,7 +39,7 @@ from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, ap
                                        solve_contacts, solve_supported, store_friction_state, warm_start_contacts,
                                        warm_start_listed)
 from ..dynamics.ccd import shape_reach
-from ..dynamics.forces import is_moving
+from ..dynamics.forces import is_driven, is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, push_rigid_joints,
@@ -96,8 +96,9 @@ def lap(ctx, stage):
 
 # --- collide -------------------------------------------------------------------------------------------------
 @njit_inline
-def _needs_pairs(bi, nb):
-    """True if some body is awake and dynamic, or is a sensor, and another body lives: otherwise every pair
+def _needs_pairs(bf, bi, nb):
+    """True if some body is awake and dynamic, a kinematic body in motion, or a sensor, and another body
+    lives: otherwise every pair
     is resting or static, or there is no pair at all, so the narrow phase would have nothing to test and
     the broad phase is skipped too (a sleeping world, or a lone body, costs next to nothing)."""
     alive = 0
@@ -105,7 +106,8 @@ def _needs_pairs(bi, nb):
     for i in range(nb):
         f = bi[i, FLAGS]
         alive += (f & F_ALIVE) != 0
-        active = active or is_moving(bi, i) or ((f & F_ALIVE) != 0 and (f & F_SENSOR) != 0)
+        active = (active or is_moving(bi, i) or ((f & F_ALIVE) != 0 and (f & F_SENSOR) != 0)
+                  or is_driven(bf, bi, i))
         if active and alive > 1:
             return True
     return False
@@ -129,7 +131,7 @@ def stage_broad_phase(ctx):
     """Stage "broad phase": candidate pairs into ``pairs`` (their number in ``ctx.n_pairs``)."""
     bi, nb = ctx.bi, ctx.nb
     n_pairs = 0
-    if _needs_pairs(bi, nb):
+    if _needs_pairs(ctx.bf, bi, nb):
         # the filter columns copied to contiguous rows: the broad phase reads them per pair, and columns of
         # the body table would cost it a cache line per read
         filters = ctx.filters

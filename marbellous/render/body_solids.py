@@ -34,15 +34,17 @@ def body_solids(frame):
         positions[i] = b.position
         quats[i] = b.orientation
         static = b.is_static
+        kinematic = b.is_kinematic
         sensor = b.is_sensor
-        color = palette.body_color(i, static=static, sleeping=not static and b.is_sleeping, sensor=sensor)
+        color = palette.body_color(i, static=static, sleeping=not static and b.is_sleeping, sensor=sensor,
+                                   kinematic=kinematic)
         alpha = palette.SENSOR_ALPHA if sensor else 1.0
         for shape, local_pos, local_quat in b.shapes:
             if isinstance(shape, Plane):
                 planes.append((i, shape, local_pos, local_quat, color, alpha))
                 continue
             mesh = shape_mesh(shape)
-            pattern = GRID if static else (OCTANTS if mesh.round else PLAIN)
+            pattern = GRID if static or kinematic else (OCTANTS if mesh.round else PLAIN)
             key = (mesh.key, alpha)
             meshes[key] = mesh
             batches[key].append((i, local_pos, local_quat, mesh.scale, color, pattern))

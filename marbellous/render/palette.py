@@ -1,9 +1,9 @@
 """The colours of a drawn world: what each kind and state of body, and each debug layer, looks like.
 
 Colours are linear RGB in [0, 1].  A body's colour says what it is at a glance: stone grey for static
-bodies, warm hues (orange, coral, amber, gold, in turn by body) for moving dynamic bodies, slate blue
-for sleeping ones and translucent green for sensors.  The debug layers use colours no body has:
-yellow contacts, cyan bounding boxes, magenta springs, white rods and brown cables.
+bodies, violet for kinematic ones, warm hues (orange, coral, amber, gold, in turn by body) for moving
+dynamic bodies, slate blue for sleeping ones and translucent green for sensors.  The debug layers use
+colours no body has: yellow contacts, cyan bounding boxes, magenta springs, white rods and brown cables.
 """
 import numpy as np
 
@@ -11,6 +11,8 @@ import numpy as np
 BACKGROUND = (0.16, 0.18, 0.22)
 #: Static bodies: stone grey (drawn with a grid that shows the scale).
 STATIC = (0.62, 0.62, 0.60)
+#: Kinematic bodies (moved by their velocities): violet, drawn with the static bodies' grid.
+KINEMATIC = (0.58, 0.36, 0.78)
 #: Moving dynamic bodies, by body index in turn: warm hues, so neighbours in a stack stand apart.
 DYNAMIC = np.array([(0.93, 0.45, 0.13), (0.90, 0.30, 0.24), (0.95, 0.62, 0.16), (0.86, 0.52, 0.30),
                     (0.92, 0.38, 0.10), (0.97, 0.72, 0.25)])
@@ -33,12 +35,14 @@ JOINT = (1.00, 0.80, 0.10)
 JOINT_AXIS = (0.20, 0.90, 1.00)
 
 
-def body_color(index, *, static, sleeping, sensor):
+def body_color(index, *, static, sleeping, sensor, kinematic=False):
     """RGB colour (3,) of the body at ``index`` (its creation order) in the given state."""
     if sensor:
         return np.array(SENSOR)
     if static:
         return np.array(STATIC)
+    if kinematic:
+        return np.array(KINEMATIC)
     if sleeping:
         return SLEEPING[index % len(SLEEPING)].copy()
     return DYNAMIC[index % len(DYNAMIC)].copy()

@@ -65,6 +65,7 @@ F_ISOTROPIC = 32   # inertia tensor is a multiple of the identity (spheres, cube
 F_CCD_ALWAYS = 64  # add_body(ccd=True): impacts taken in time order even when slow for its size (world ccd on)
 F_CCD_NEVER = 128  # add_body(ccd=False): never swept (no motion in its box, no time-of-impact ordering)
 F_JOINTED = 256    # has a ball, hinge, slider or fixed joint: pairs of bodies so joined do not collide
+F_KINEMATIC = 512  # moved by its velocities only (infinite mass): pushes and carries, is never pushed
 
 # --- shapes, float table sf and int table si ------------------------------------------------
 S_PARAMS = 0       # N_SHAPE_PARAMS kernel parameters (see collision/shape_types.py)

@@ -19,7 +19,7 @@ from . import layout as L
 
 #: the flag bits a body row may carry
 _BODY_FLAGS = (L.F_ALIVE | L.F_STATIC | L.F_SENSOR | L.F_SLEEPING | L.F_RESTART | L.F_ISOTROPIC | L.F_CCD_ALWAYS
-               | L.F_CCD_NEVER | L.F_JOINTED)
+               | L.F_CCD_NEVER | L.F_JOINTED | L.F_KINEMATIC)
 #: body columns that never change after a body is added (mass properties)
 _IMMUTABLE_BODY_COLUMNS = np.r_[L.INV_MASS, L.INV_I:L.INV_I + 9, L.MASS, L.I_BODY:L.I_BODY + 9]
 _IMMUTABLE_BODY_INTS = np.array([L.SHAPE_START, L.SHAPE_COUNT])
@@ -144,7 +144,7 @@ def validate(state, snapshot):
     q = bf[bodies, L.QUAT:L.QUAT + 4]
     if q.size and np.max(np.abs(np.einsum("ij,ij->i", q, q) - 1.0)) > 1e-9:
         _refuse("holds an orientation that is not a unit quaternion")
-    static = (flags & L.F_STATIC) != 0
+    static = (flags & (L.F_STATIC | L.F_KINEMATIC)) != 0
     if np.any(bf[bodies & static, L.MASS] != np.inf) or np.any(~np.isfinite(bf[bodies & ~static, L.MASS])):
         _refuse("holds a body mass that does not match its kind")
     if np.any(bi[bodies, L.ISLAND] < -1) or np.any(bi[bodies, L.ISLAND] >= nb):
@@ -154,7 +154,7 @@ def validate(state, snapshot):
             _refuse("holds a body that was removed since (or that this world never had)")
         if not np.array_equal(bf[i, _IMMUTABLE_BODY_COLUMNS], state.bf[i, _IMMUTABLE_BODY_COLUMNS]) \
                 or not np.array_equal(bi[i, _IMMUTABLE_BODY_INTS], state.bi[i, _IMMUTABLE_BODY_INTS]) \
-                or (bi[i, L.FLAGS] ^ state.bi[i, L.FLAGS]) & (L.F_STATIC | L.F_SENSOR | L.F_ISOTROPIC):
+                or (bi[i, L.FLAGS] ^ state.bi[i, L.FLAGS]) & (L.F_STATIC | L.F_KINEMATIC | L.F_SENSOR | L.F_ISOTROPIC):
             _refuse(f"holds body row {i} with other mass properties or shapes than this world's")
     # --- shapes: the same rows as this world's for every body alive in the snapshot
     si, sf = arrays["si"], arrays["sf"]
