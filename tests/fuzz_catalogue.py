@@ -326,6 +326,13 @@ _add("World.raycast", "max_distance", "max_distance", lambda ns, v: ns.w.raycast
 _add("World.raycast", "mask", "bits", lambda ns, v: ns.w.raycast((0, 5, 0), (0, -1, 0), mask=v))
 _add("World.query_box", "lower", "vec3", lambda ns, v: ns.w.query_box(v, (1e12, 1e12, 1e12)))
 _add("World.query_box", "upper", "vec3", lambda ns, v: ns.w.query_box((-1e12, -1e12, -1e12), v))
+for _kind in ("shape", "dynamic_shape"):
+    _add("World.shape_cast", "shape", _kind, lambda ns, v: ns.w.shape_cast(v, (0, 5, 0), (0, -5, 0)))
+_add("World.shape_cast", "start", "vec3", lambda ns, v: ns.w.shape_cast(_SPHERE, v, (0, -5, 0)))
+_add("World.shape_cast", "end", "vec3", lambda ns, v: ns.w.shape_cast(_SPHERE, (0, 5, 0), v))
+_add("World.shape_cast", "orientation", "quat", lambda ns, v: ns.w.shape_cast(mb.Box((1, 1, 1)), (0, 5, 0),
+                                                                              (0, -5, 0), orientation=v))
+_add("World.shape_cast", "mask", "bits", lambda ns, v: ns.w.shape_cast(_SPHERE, (0, 5, 0), (0, -5, 0), mask=v))
 _add("World.remove", "body_or_constraint", "body", lambda ns, v: ns.w.remove(v))
 
 for _arg, _kind in (("position", "vec3"), ("orientation", "quat"), ("velocity", "speed3"),

@@ -15,7 +15,7 @@ from .collide import pose_tables, shape_pose, update_aabbs
 
 
 @njit
-def _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb):
+def refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb):
     """The bodies' boxes (no sweep) and the broad phase at the bodies' current poses."""
     sweep = np.empty(nb)
     pos_t, rot_t, _, q = pose_tables(sf.shape[0])
@@ -27,7 +27,7 @@ def _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb):
 def query_box_world(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb, lower, upper, out):
     """The bodies whose boxes overlap ``[lower, upper]`` (m), ascending rows, into ``out`` (at least ``nb``
     ints); returns their count."""
-    _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
+    refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
     return query_aabb(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, lower, upper, out)
 
 
@@ -39,7 +39,7 @@ def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb,
 
     ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
     """
-    _refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
+    refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
     count = query_ray(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, origin, direction, max_distance, candidates)
     best = max_distance
     found = False
