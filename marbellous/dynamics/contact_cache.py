@@ -9,7 +9,7 @@ from .._numba.jit import njit, njit_inline
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
                             C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CF_COLS,
                             CI_COLS, CP_MATCHED, CP_RESTING, CP_SENSOR, CP_SLIDING, F_ALIVE, F_SLEEPING, FLAGS)
-from .forces import is_moving
+from .forces import is_driven, is_moving
 from .contact_basis import contact_basis
 
 
@@ -63,9 +63,10 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
 
 
 @njit
-def keep_resting_contacts(cf, ci, nc, pcf, pci, npc, bi, write):
+def keep_resting_contacts(cf, ci, nc, pcf, pci, npc, bf, bi, write):
     """Copy (when ``write``; else only count) the cache's contacts of resting pairs (neither body moves, one
-    sleeps) after this step's ``nc`` contacts, flagged ``CP_RESTING``: the narrow phase skips such pairs,
+    sleeps, and no kinematic body in motion is one of them) after this step's ``nc`` contacts, flagged
+    ``CP_RESTING``: the narrow phase skips such pairs,
     and these rows keep reporting them (``World.contacts``), with the impulses that held them when they
     were last solved, for as long as they rest.  Returns how many there are (rows past the table's
     capacity are counted, not written)."""
@@ -76,6 +77,8 @@ def keep_resting_contacts(cf, ci, nc, pcf, pci, npc, bi, write):
         b = pci[r, C_BODY_B]
         if is_moving(bi, a) or is_moving(bi, b) or (pci[r, C_FLAGS] & CP_SENSOR) != 0:
             continue
+        if is_driven(bf, bi, a) or is_driven(bf, bi, b):
+            continue                     # the narrow phase meets this pair afresh (and wakes the sleeper)
         fa, fb = bi[a, FLAGS], bi[b, FLAGS]
         if (fa & F_ALIVE) == 0 or (fb & F_ALIVE) == 0 or ((fa | fb) & F_SLEEPING) == 0:
             continue

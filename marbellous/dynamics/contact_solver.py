@@ -47,7 +47,7 @@ from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY
                             C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
                             C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2,
                             C_TORSION, C_VN0, DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT,
-                            RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION, TORSION)
+                            RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION, TORSION, VEL)
 from .contact_basis import contact_basis
 from .forces import is_moving
 from .solver_bodies import (effective_mass_along, lighter, motion, push, relative_velocity_at, set_velocity, twist,
@@ -58,8 +58,9 @@ from .solver_bodies import (effective_mass_along, lighter, motion, push, relativ
 def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
     """Stage "prepare": offsets, contact basis, effective masses, combined materials, approach speed.
 
-    A contact slides (dynamic friction) if its tangential speed exceeds ``slide_speed`` (m/s) or its
-    friction was saturated in the last step; otherwise it sticks (static friction).
+    A contact kept from the last step slides (dynamic friction) as :func:`store_friction_state` decided
+    then; a new one slides if its tangential speed exceeds ``slide_speed`` (m/s) (a box thrown onto the
+    floor sliding); otherwise it sticks (static friction).
     """
     for c in range(nc):
         a = ci[c, C_BODY_A]
@@ -91,9 +92,10 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
         cf[c, C_VN0] = dot3(dv, n)
         vt1 = dot3(dv, t1)
         vt2 = dot3(dv, t2)
-        sliding = math.sqrt(vt1 * vt1 + vt2 * vt2) > slide_speed
-        if (ci[c, C_FLAGS] & CP_MATCHED) != 0 and (ci[c, C_FLAGS] & CP_SLIDING) != 0:
-            sliding = True
+        if (ci[c, C_FLAGS] & CP_MATCHED) != 0:
+            sliding = (ci[c, C_FLAGS] & CP_SLIDING) != 0
+        else:
+            sliding = math.sqrt(vt1 * vt1 + vt2 * vt2) > slide_speed
         if sliding:
             ci[c, C_FLAGS] |= CP_SLIDING
         else:
@@ -712,13 +714,46 @@ def accumulate_listed(cf, order, n):
         _accumulate_contact(cf, order[k])
 
 
+@njit
+def _at_cone(cf, ci, c):
+    """True if contact ``c``'s friction impulse has reached its cone (static or dynamic, as it is flagged)."""
+    bound = cf[c, C_LAMBDA_N] * (cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S])
+    l1, l2 = cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
+    return bound > 0.0 and math.sqrt(l1 * l1 + l2 * l2) >= bound * (1.0 - 1e-9)
+
+
+@njit
+def _slides(bf, cf, ci, c, slide_speed):
+    """True if contact ``c``'s points slide past each other faster than ``slide_speed`` (m/s)."""
+    a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+    dv = relative_velocity_at((bf[a, VEL], bf[a, VEL + 1], bf[a, VEL + 2], bf[a, OMEGA], bf[a, OMEGA + 1],
+                               bf[a, OMEGA + 2]), row3(cf, c, C_RA),
+                              (bf[b, VEL], bf[b, VEL + 1], bf[b, VEL + 2], bf[b, OMEGA], bf[b, OMEGA + 1],
+                               bf[b, OMEGA + 2]), row3(cf, c, C_RB))
+    vn = dot3(dv, row3(cf, c, C_NORMAL))
+    return dot3(dv, dv) - vn * vn > slide_speed * slide_speed
+
+
 @njit_inline
-def store_friction_state(cf, ci, nc):
-    """Stage "store impulses": a contact whose friction reached the cone slides in the next step."""
-    for c in range(nc):
-        bound = cf[c, C_LAMBDA_N] * (cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S])
-        l1, l2 = cf[c, C_LAMBDA_T1], cf[c, C_LAMBDA_T2]
-        if bound > 0.0 and math.sqrt(l1 * l1 + l2 * l2) >= bound * (1.0 - 1e-9):
-            ci[c, C_FLAGS] |= CP_SLIDING
-        else:
-            ci[c, C_FLAGS] &= ~CP_SLIDING
+def store_friction_state(bf, cf, ci, nc, slide_speed):
+    """Stage "store impulses": the contacts of a pair of bodies slide in the next step (dynamic friction) if
+    every one of them reached its cone in this one, and each whose points slide past each other faster
+    than ``slide_speed`` (m/s) at the step's end does.  Some points of a pair at their cone do not make it
+    slide: the uphill corners of a box on a slope carry less weight and reach their share of the cone
+    first, while the others still hold it; the box lets go at ``tan(theta) = mu_s`` as a whole.  (A pair's
+    contacts are consecutive rows of the table.)"""
+    first = 0
+    while first < nc:
+        a, b = ci[first, C_BODY_A], ci[first, C_BODY_B]
+        last = first + 1
+        while last < nc and ci[last, C_BODY_A] == a and ci[last, C_BODY_B] == b:
+            last += 1
+        held = False
+        for c in range(first, last):
+            held = held or not _at_cone(cf, ci, c)
+        for c in range(first, last):
+            if not held and _slides(bf, cf, ci, c, slide_speed):
+                ci[c, C_FLAGS] |= CP_SLIDING
+            else:
+                ci[c, C_FLAGS] &= ~CP_SLIDING
+        first = last

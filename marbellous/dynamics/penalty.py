@@ -34,10 +34,12 @@ per tangent of the contact basis (``m_t`` the effective mass along it), so a bod
 friction rests on a stretched spring instead of creeping, and a sliding one feels ``mu F_n`` against
 its motion.  The spring force ``S h`` is the contact's friction impulse (C_LAMBDA_T1, C_LAMBDA_T2),
 carried from sub-step to sub-step and, matched by feature, from step to step.  A contact sticks
-(``mu = mu_s``) until its friction reaches the cone, then slides (``mu = mu_d``) until the spring and
-dashpot ask for less than ``mu_d F_n`` again.  "Sliding" is read off the stored impulses (a spring on
-the dynamic cone, or on the static one while the contact moves faster than ``slide_speed``), not off
-the speed alone: a spring that builds up its force lets a landing contact slip for a moment.
+(``mu = mu_s``; a spring pulled past the static cone is held on it, and the contact slips) until the
+step ends with every contact of its pair at the cone and its points sliding faster than ``slide_speed``
+(``contact_solver.store_friction_state``, as for the impulse solvers); then it slides (``mu = mu_d``)
+until the spring and dashpot ask for less than ``mu_d F_n`` again.  The uphill corners of a box on a
+slope, which carry less weight, reach their share of the static cone first: the box holds while the
+others do, and lets go at ``tan(theta) = mu_s``.
 
 Rolling resistance is a torque ``-I_r dw_t / h`` on the relative angular velocity across the normal,
 ``dw_t = dw - (dw.n) n`` with ``dw = w_b - w_a``, bounded by ``rho F_n`` (``I_r = 1 / (d . (I_a^-1 +
@@ -107,11 +109,10 @@ def damping_ratio(e):
 
 
 @njit
-def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, rest_speed=0.0):
+def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, saved, rest_speed=0.0):
     """Stage "penalty forces": add every contact spring's force and torque to the accumulators.
 
-    ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step;
-    a contact breaking loose from the static cone slides if its tangential speed exceeds ``slide_speed`` (m/s).
+    ``hertz`` (Hz) is the contact frequency (capped for stability, see above), ``h`` (s) the sub-step.
     The accumulators' previous contents (the user's forces) are kept in ``saved`` (nb, 6) for
     :func:`restore_user_forces`.  Contacts approaching faster than ``rest_speed`` (m/s; the step passes
     the speed gravity gives in a sub-step) have their dashpots capped so that those of one body cannot
@@ -132,8 +133,6 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, res
     for c in range(nc):
         for k in range(3):
             cf[c, C_LAMBDA_R + k] = 0.0
-        last_n = cf[c, C_LAMBDA_N]
-        last_t = math.sqrt(cf[c, C_LAMBDA_T1] ** 2 + cf[c, C_LAMBDA_T2] ** 2)
         cf[c, C_LAMBDA_N] = 0.0
         a = ci[c, C_BODY_A]
         b = ci[c, C_BODY_B]
@@ -146,12 +145,9 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, res
         n = cf[c, C_NORMAL:C_NORMAL + 3]
         relative_velocity(bf, a, cf[c, C_RA:C_RA + 3], b, cf[c, C_RB:C_RB + 3], dv)
         vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2]
-        # Sliding: the friction spring sat on the dynamic cone, or it broke loose from the static cone and
-        # the contact points are moving apart faster than slide_speed.
-        fast = dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2] - vn * vn > slide_speed * slide_speed
-        sliding = last_n > 0.0 and (_on_cone(last_t, cf[c, C_MU_D] * last_n)
-                                    or (fast and _on_cone(last_t, cf[c, C_MU_S] * last_n)))
-        mu = cf[c, C_MU_D] if sliding else cf[c, C_MU_S]
+        # Sliding (dynamic friction) as the step began (contact_solver.store_friction_state), until the spring
+        # holds again within the dynamic cone.
+        mu = cf[c, C_MU_D] if (ci[c, C_FLAGS] & CP_SLIDING) != 0 else cf[c, C_MU_S]
         # n dashpots on one body act at once (all from the sub-step's start): above the speed gravity gives in
         # a sub-step, at most 2 zeta omega h R <= 1 (see _dashpot_coupling)
         zeta = damping_ratio(cf[c, C_E])
@@ -178,9 +174,8 @@ def add_penalty_forces(bf, cf, ci, nc, sb, nb, h, hertz, slide_speed, saved, res
             f1 *= scale
             f2 *= scale
             s1, s2 = f1, f2
-            ci[c, C_FLAGS] |= CP_SLIDING
         else:
-            ci[c, C_FLAGS] &= ~CP_SLIDING
+            ci[c, C_FLAGS] &= ~CP_SLIDING       # the spring holds: the contact sticks again
         for k in range(3):
             f[k] = fn * n[k] + f1 * t1[k] + f2 * t2[k]
         # f acts on b and -f on a, at the contact's offsets of the step's start (as the impulse solvers).
@@ -264,12 +259,6 @@ def _dashpot_coupling(cf, ci, nc, sb, nb):
                 total += abs(sign * sj * entry)
         out[c] = max(cf[c, C_MASS_N] * total, 1.0)
     return out
-
-
-@njit
-def _on_cone(friction, bound):
-    """True if ``friction`` equals the cone's ``bound`` up to the round-off of storing and re-projecting it."""
-    return abs(friction - bound) <= 1e-6 * bound
 
 
 @njit

@@ -187,14 +187,15 @@ def collide(ctx, coverage):
     # the resting pairs' contacts kept from the cache go after the step's own (counted first: the
     # time-of-impact stage may change velocities, so a table too small must be found before it)
     npc = ctx.stats[STAT_CACHED]
-    resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bi, False)
+    resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi, False)
     if ctx.nc + resting > ctx.cf.shape[0]:
         ctx.stats[STAT_CONTACTS] = ctx.nc + resting
         return GROW_CONTACTS
     status = stage_time_of_impact(ctx, coverage)
     lap(ctx, ST_TIME_OF_IMPACT)
     if status == OK and resting > 0:
-        ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bi, True)
+        ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi,
+                                               True)
     return status
 
 
@@ -350,8 +351,8 @@ def stage_integrate_velocities(ctx, penalty):
     h = ctx.h
     sb, user_forces = ctx.solver_bodies, ctx.user_forces
     if penalty:
-        add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ],
-                           params_f[PF_SLIDE_SPEED], user_forces, params_f[PF_RESTITUTION_SPEED])
+        add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ], user_forces,
+                           params_f[PF_RESTITUTION_SPEED])
     integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
                          params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
                          ctx.ws[W_PREV_DT], 1.0 / ctx.substeps, ctx.implicit, ctx.vecs)
@@ -619,9 +620,9 @@ def stage_restitution(ctx, on_body_table):
 @njit
 def stage_store_impulses(ctx):
     """Stage "store impulses": each contact's friction state for the next step's warm start (a contact at
-    the cone slides); the joints' forces over the step."""
+    the cone whose points slide, slides); the joints' forces over the step."""
     if ctx.nc > 0:
-        store_friction_state(ctx.cf, ctx.ci, ctx.nc)
+        store_friction_state(ctx.bf, ctx.cf, ctx.ci, ctx.nc, ctx.params_f[PF_SLIDE_SPEED])
     if ctx.nk > 0:
         record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
                             ctx.joint_totals, ctx.implicit, ctx.vecs)
