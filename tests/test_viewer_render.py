@@ -159,6 +159,22 @@ def test_a_kinematic_platform_is_drawn_violet_where_it_has_moved(renderer):
     assert np.all(px[:, 2] > px[:, 1] + 25) and np.all(px[:, 0] > px[:, 1] + 10)
 
 
+def test_contact_events_are_dots_where_pairs_began_touching(renderer):
+    """The "events" layer draws a red dot at a landing's contact point in the step it began."""
+    w = mb.World()
+    w.add_static(mb.Plane())
+    ball = w.add_body(mb.Sphere(0.3), position=(0.0, 0.6, 0.0))
+    while not w.contact_events():
+        w.step(1 / 60)
+    (event,) = w.contact_events()
+    view = OrbitCamera.looking((0.0, 2.0, 4.0), (0.0, 0.0, 0.0)).view()
+    with_events = renderer.render_to_array(w, view, layers=("bodies", "events"))
+    without = renderer.render_to_array(w, view, layers=("bodies",))
+    px, before = patch(with_events, event.point, view=view), patch(without, event.point, view=view)
+    assert event.kind == "begin" and ball.position[1] < 0.31
+    assert np.all(near(px, palette.EVENT_BEGIN)) and not np.all(near(before, palette.EVENT_BEGIN))
+
+
 def test_a_registered_drawable_is_drawn_in_its_layer(renderer, scene):
     w, parts = scene
     spot = np.array([0.0, 2.5, 0.0])
@@ -215,4 +231,5 @@ def test_meshes_are_uploaded_once_and_only_poses_change():
     assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
     assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
     r.ctx.release()
+
 

@@ -17,7 +17,7 @@ from .stats import stats_line
 from .view_options import check_flag, check_size, check_world, initial_camera, layers_for
 
 #: The key help shown under the stats line.
-KEYS_HELP = "space pause  |  N step  |  C contacts  |  B boxes  |  R reset  |  F frame  |  Esc quit"
+KEYS_HELP = "space pause  |  N step  |  C contacts  |  E events  |  B boxes  |  R reset  |  F frame  |  Esc quit"
 #: Seconds of real time between two state lines when ``print_state`` is on.
 PRINT_INTERVAL = 0.5
 
@@ -84,6 +84,7 @@ def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False
         key.N: runner.step_once,
         key.RIGHT: runner.step_once,
         key.C: lambda: toggle("contacts"),
+        key.E: lambda: toggle("events"),
         key.B: lambda: toggle("boxes"),
         key.R: runner.reset,
         key.F: lambda: _reframe(orbit, world, window),

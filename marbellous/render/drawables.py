@@ -12,7 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from .body_solids import body_solids
-from .overlays import box_outlines, constraint_lines, contact_marks
+from .overlays import box_outlines, constraint_lines, contact_marks, event_marks
 
 
 @dataclass(frozen=True)
@@ -59,4 +59,5 @@ def check_layers(layers):
 register(Drawable("bodies", body_solids, shown=True, help="every body's shapes"))
 register(Drawable("constraints", constraint_lines, shown=True, help="springs, rods, cables and joints"))
 register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))
+register(Drawable("events", event_marks, shown=False, help="where pairs began (red) and stopped touching"))
 register(Drawable("boxes", box_outlines, shown=False, help="broad-phase bounding boxes"))

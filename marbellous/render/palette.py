@@ -24,6 +24,9 @@ SENSOR = (0.30, 0.90, 0.42)
 SENSOR_ALPHA = 0.35
 #: Contact points and their normals.
 CONTACT = (1.0, 0.88, 0.10)
+#: Contact events of the last step: pairs that began touching (red), and that stopped (pale blue).
+EVENT_BEGIN = (1.0, 0.20, 0.15)
+EVENT_END = (0.55, 0.75, 1.0)
 #: Broad-phase bounding boxes.
 BOX = (0.15, 0.90, 1.0)
 #: Constraint lines by kind, and their anchor points.
