@@ -80,6 +80,18 @@ def _parse_shapes(shape):
 _check_flag = as_flag
 
 
+def _moving_body(shape, position, orientation, velocity, angular_velocity):
+    """The validated shapes (none static only), pose and velocities of a body that moves (``add_body``,
+    ``add_kinematic``): ``(parts, position, orientation, velocity, angular_velocity)``."""
+    parts = _parse_shapes(shape)
+    for s, _, _ in parts:
+        if s.is_static_only:
+            raise ValueError(f"shape {type(s).__name__} is static only: use add_static")
+    return (parts, as_vec3("position", position), as_quat("orientation", orientation),
+            as_vec3("velocity", velocity, bound=MAX_SPEED, unit="m/s"),
+            as_vec3("angular_velocity", angular_velocity, bound=MAX_SPEED, unit="rad/s"))
+
+
 class World:
     """A physics world: bodies, shapes and constraints advanced in time with SI units, y up.
 
@@ -395,14 +407,7 @@ class World:
         the world's :attr:`ccd` is on): None sweeps the body when it moves far in a step for its size, True
         always, False never (not even its motion in its bounding box).
         """
-        parts = _parse_shapes(shape)
-        for s, _, _ in parts:
-            if s.is_static_only:
-                raise ValueError(f"shape {type(s).__name__} is static only: use add_static")
-        pos = as_vec3("position", position)
-        quat = as_quat("orientation", orientation)
-        vel = as_vec3("velocity", velocity, bound=MAX_SPEED, unit="m/s")
-        omega = as_vec3("angular_velocity", angular_velocity, bound=MAX_SPEED, unit="rad/s")
+        parts, pos, quat, vel, omega = _moving_body(shape, position, orientation, velocity, angular_velocity)
         if mass is not None and density is not None:
             raise ValueError("give mass or density, not both")
         if mass is not None:
@@ -471,14 +476,7 @@ class World:
         thrown).  ``shape``: a shape or compound of shapes that dynamic bodies may have (not a plane, height
         field or mesh); the materials, ``sensor``, ``group`` and ``mask`` as for :meth:`add_body`.
         """
-        parts = _parse_shapes(shape)
-        for s, _, _ in parts:
-            if s.is_static_only:
-                raise ValueError(f"shape {type(s).__name__} is static only: use add_static")
-        pos = as_vec3("position", position)
-        quat = as_quat("orientation", orientation)
-        vel = as_vec3("velocity", velocity, bound=MAX_SPEED, unit="m/s")
-        omega = as_vec3("angular_velocity", angular_velocity, bound=MAX_SPEED, unit="rad/s")
+        parts, pos, quat, vel, omega = _moving_body(shape, position, orientation, velocity, angular_velocity)
         material = material_values(friction, static_friction, restitution, rolling_friction, torsional_friction)
         flags = L.F_KINEMATIC | (L.F_SENSOR if _check_flag("sensor", sensor) else 0)
         group, mask = as_filter_bits("group", group), as_filter_bits("mask", mask)
