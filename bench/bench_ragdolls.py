@@ -1,4 +1,4 @@
-"""A pile of ragdolls, side by side with PyBullet: cost per step and how well the joints hold.
+"""A pile of ragdolls, side by side with PyBullet and MuJoCo: cost per step and how well the joints hold.
 
 The scene: ``count`` ragdolls of ``marbellous.scenes.ragdoll`` (ten capsules and a sphere, 67 kg, 1.9 m),
 standing in two layers of a 2 x ``count / 4`` grid 0.7 m apart, the upper layer 2.2 m up, dropped onto a
@@ -9,7 +9,11 @@ ground plane so that they fall and tangle into a pile; 60 Hz, gravity 9.81.
   (10 solver iterations, its default; the joined pairs' collisions switched off as Marbellous does).  Its
   constraints between free bodies have no revolute kind, so elbows and knees are ball joints there, without
   limits: a simpler scene than Marbellous'.
-- MuJoCo is not run: its ragdoll would be one kinematic tree per figure in MJCF, not ported yet.
+- MuJoCo: each ragdoll one kinematic tree rooted at its torso (a free joint), ball joints and limited
+  hinges as Marbellous has them, with MuJoCo's defaults (Newton solver, Euler integrator: with PGS at 10
+  iterations and ``implicitfast``, as in ``bench_joints.py``, the pile went unstable at 1.03 s); its
+  joints cannot open (reduced coordinates), so its widest gap is 0 by construction.  A run that MuJoCo
+  flags unstable is reported as failed, not timed.
 Reported per engine: ms per step (the ``step()`` calls only, best of ``--repeats``), the widest gap (m)
 between a joint's two anchors over the run, and the lowest body centre at the end (m; below 0: through the
 ground).
@@ -124,7 +128,57 @@ def _world(p, body, local, kw):
     return np.array(x) + np.array(p.getMatrixFromQuaternion(r)).reshape(3, 3) @ local
 
 
-RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet}
+#: the ragdoll as a tree: each part's parent (the joint that holds it is the one between them)
+_PARENT = {a: b for _, a, b, _, _, _ in RAGDOLL_JOINTS}
+
+
+def _mjcf_part(name, at):
+    """The MJCF of part ``name`` and the parts it carries, its frame at the part's centre (peer axes, no
+    rotation: the parts stand as Marbellous builds them); ``at`` is the parent frame's origin in the
+    ragdoll's own coordinates (m, Marbellous axes; for the torso, minus where the ragdoll stands)."""
+    shape, centre, mass = RAGDOLL_PARTS[name]
+    centre = np.array(centre)
+    if name in _PARENT:
+        kind, _, _, anchor, axis, limits = next(j for j in RAGDOLL_JOINTS if j[1] == name)
+        joint = (f'<joint type="ball" pos="{_f(to_peer(np.array(anchor) - centre))}"/>' if kind == "ball" else
+                 f'<joint type="hinge" pos="{_f(to_peer(np.array(anchor) - centre))}" axis="{_f(to_peer(axis))}" '
+                 f'limited="true" range="{limits[0]:.17g} {limits[1]:.17g}"/>')
+    else:
+        joint = '<freejoint/>'
+    if isinstance(shape, mb.Sphere):
+        geom = f'<geom type="sphere" size="{shape.radius:.17g}" mass="{mass:.17g}"/>'
+    else:
+        hh = shape.half_height
+        geom = (f'<geom type="capsule" size="{shape.radius:.17g}" fromto="0 0 {-hh:.17g} 0 0 {hh:.17g}" '
+                f'mass="{mass:.17g}"/>')
+    children = "".join(_mjcf_part(child, centre) for child, parent in _PARENT.items() if parent == name)
+    return f'<body pos="{_f(to_peer(centre - at))}">{joint}{geom}{children}</body>'
+
+
+def run_mujoco(count, steps):
+    import mujoco
+    figures = "".join(_mjcf_part("torso", -at) for at in feet(count))      # the torso at its feet + centre
+    model = mujoco.MjModel.from_xml_string(
+        f'<mujoco><compiler angle="radian"/><option timestep="{DT:.17g}" gravity="0 0 -9.81"/>'
+        f'<default><geom friction="0.6 0.005 0.0001"/></default>'
+        f'<worldbody><geom type="plane" size="50 50 1"/>{figures}</worldbody></mujoco>')
+    data = mujoco.MjData(model)
+    mujoco.mj_step(model, data)
+    seconds = 0.0
+    for _ in range(steps):
+        t = time.perf_counter()
+        mujoco.mj_step(model, data)
+        seconds += time.perf_counter() - t
+    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+        raise RuntimeError("MuJoCo flagged the ragdolls unstable (NaN or huge accelerations) and reset them")
+    return 1e3 * seconds / steps, 0.0, float(np.min(data.xpos[1:, 2]))
+
+
+def _f(v):
+    return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
+
+
+RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mujoco}
 
 
 def main():
@@ -140,12 +194,18 @@ def main():
             best = min((run(count, steps) for _ in range(args.repeats)), key=lambda r: r[0])
         except ImportError:
             continue
+        except RuntimeError as e:
+            results[name] = {"failed": str(e)}
+            continue
         results[name] = {"ms_per_step": best[0], "widest_gap_m": best[1], "lowest_centre_m": best[2]}
     base = results["marbellous"]["ms_per_step"]
     print(f"{count} ragdolls ({count * len(RAGDOLL_PARTS)} bodies, {count * len(RAGDOLL_JOINTS)} joints) dropped "
           f"into a pile, {steps} steps at 60 Hz")
     print(f"{'engine':12s} {'ms/step':>9s} {'x marbellous':>13s} {'widest gap (m)':>15s} {'lowest centre (m)':>18s}")
     for name, r in results.items():
+        if "failed" in r:
+            print(f"{name:12s} {r['failed']}")
+            continue
         print(f"{name:12s} {r['ms_per_step']:9.3f} {r['ms_per_step'] / base:13.2f} {r['widest_gap_m']:15.2e} "
               f"{r['lowest_centre_m']:18.3f}")
     if args.json:
