@@ -30,6 +30,8 @@ sys.path.insert(0, os.path.dirname(HERE))
 
 import marbellous as mb  # noqa: E402
 from bench.peers.axes import from_peer, quat_to_peer, to_peer  # noqa: E402
+from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
+from bench.peers.timing import best_results, time_mujoco  # noqa: E402
 
 DT = 1.0 / 60.0
 HALF = (0.02, 0.04, 0.02)       # a link's half extents (m): 8 cm along the chain
@@ -188,20 +190,7 @@ def run_mujoco(chains, links, steps):
                  f'integrator="implicitfast"/>'
                  f'<worldbody>{"".join(parts)}</worldbody></mujoco>')
     model = mujoco.MjModel.from_xml_string(model_xml)
-    data = mujoco.MjData(model)
-    mujoco.mj_step(model, data)
-    seconds = 0.0
-    for _ in range(steps):
-        t = time.perf_counter()
-        mujoco.mj_step(model, data)
-        seconds += time.perf_counter() - t
-    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-        raise RuntimeError("MuJoCo flagged the chains unstable (NaN or huge accelerations) and reset them")
-    return 1e3 * seconds / steps, 0.0
-
-
-def _f(v):
-    return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
+    return time_mujoco(model, mujoco.MjData(model), steps, "the chains"), 0.0
 
 
 RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mujoco}
@@ -214,16 +203,8 @@ def main():
     parser.add_argument("--json", help="write the results to this file")
     args = parser.parse_args()
     chains, links, steps = (2, 10, 30) if args.quick else (10, 20, 600)
-    results = {}
-    for name, run in RUNS.items():
-        try:
-            best = min((run(chains, links, steps) for _ in range(args.repeats)), key=lambda r: r[0])
-        except ImportError:
-            continue
-        except RuntimeError as e:
-            results[name] = {"failed": str(e)}
-            continue
-        results[name] = {"ms_per_step": best[0], "widest_gap_m": best[1]}
+    results = {name: r if isinstance(r, dict) else {"ms_per_step": r[0], "widest_gap_m": r[1]}
+               for name, r in best_results(RUNS, args.repeats, chains, links, steps).items()}
     base = results["marbellous"]["ms_per_step"]
     print(f"{chains} chains x {links} ball-jointed links, {steps} steps at 60 Hz")
     print(f"{'engine':12s} {'ms/step':>9s} {'x marbellous':>13s} {'widest gap (m)':>15s}")

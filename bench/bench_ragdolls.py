@@ -34,6 +34,8 @@ sys.path.insert(0, os.path.dirname(HERE))
 
 import marbellous as mb  # noqa: E402
 from bench.peers.axes import quat_to_peer, to_peer  # noqa: E402
+from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
+from bench.peers.timing import best_results, time_mujoco  # noqa: E402
 from marbellous.scenes.articulated import RAGDOLL_JOINTS, RAGDOLL_PARTS, ragdoll  # noqa: E402
 
 DT = 1.0 / 60.0
@@ -163,19 +165,8 @@ def run_mujoco(count, steps):
         f'<default><geom friction="0.6 0.005 0.0001"/></default>'
         f'<worldbody><geom type="plane" size="50 50 1"/>{figures}</worldbody></mujoco>')
     data = mujoco.MjData(model)
-    mujoco.mj_step(model, data)
-    seconds = 0.0
-    for _ in range(steps):
-        t = time.perf_counter()
-        mujoco.mj_step(model, data)
-        seconds += time.perf_counter() - t
-    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-        raise RuntimeError("MuJoCo flagged the ragdolls unstable (NaN or huge accelerations) and reset them")
-    return 1e3 * seconds / steps, 0.0, float(np.min(data.xpos[1:, 2]))
-
-
-def _f(v):
-    return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
+    ms = time_mujoco(model, data, steps, "the ragdolls")
+    return ms, 0.0, float(np.min(data.xpos[1:, 2]))
 
 
 RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mujoco}
@@ -188,16 +179,9 @@ def main():
     parser.add_argument("--json", help="write the results to this file")
     args = parser.parse_args()
     count, steps = (2, 30) if args.quick else (16, 300)
-    results = {}
-    for name, run in RUNS.items():
-        try:
-            best = min((run(count, steps) for _ in range(args.repeats)), key=lambda r: r[0])
-        except ImportError:
-            continue
-        except RuntimeError as e:
-            results[name] = {"failed": str(e)}
-            continue
-        results[name] = {"ms_per_step": best[0], "widest_gap_m": best[1], "lowest_centre_m": best[2]}
+    results = {name: r if isinstance(r, dict) else {"ms_per_step": r[0], "widest_gap_m": r[1],
+                                                     "lowest_centre_m": r[2]}
+               for name, r in best_results(RUNS, args.repeats, count, steps).items()}
     base = results["marbellous"]["ms_per_step"]
     print(f"{count} ragdolls ({count * len(RAGDOLL_PARTS)} bodies, {count * len(RAGDOLL_JOINTS)} joints) dropped "
           f"into a pile, {steps} steps at 60 Hz")

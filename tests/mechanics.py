@@ -45,6 +45,18 @@ def box_on_incline(w, mu, mu_s=None):
                       static_friction=mu_s)
 
 
+def box_on_slope(solver, degrees, mu_s=0.6, mu_d=0.4):
+    """A 0.4 m box released at rest, face down, on a plane tilted ``degrees`` about z; both bodies have
+    static friction ``mu_s`` and dynamic ``mu_d``.  Returns the world, the box and the downhill direction."""
+    a = math.radians(degrees)
+    w = mb.World(solver=solver, sleeping=False)
+    w.add_static(mb.Plane((-math.sin(a), math.cos(a), 0.0), 0.0), friction=mu_d, static_friction=mu_s)
+    up = np.array([-math.sin(a), math.cos(a), 0.0])
+    box = w.add_body(mb.Box((0.2, 0.2, 0.2)), position=tuple(0.2 * up), friction=mu_d, static_friction=mu_s,
+                     orientation=(math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)))
+    return w, box, np.array([-math.cos(a), -math.sin(a), 0.0])
+
+
 HEAD_ON = (2.0, 3.0, 4.0, -1.0)   # masses m1, m2 (kg) and velocities u1, u2 (m/s) along x
 
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 from mechanics import (DOWNHILL, HEAD_ON, N_INCLINE, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline,
-                       head_on_collision, sliding_acceleration, sphere_on_incline)
+                       box_on_slope, head_on_collision, sliding_acceleration, sphere_on_incline)
 
 import marbellous as mb
 
@@ -149,32 +149,20 @@ def test_contacts_are_reported_at_the_start_of_the_step():
     assert c.depth == pytest.approx(0.0, abs=1e-12)
 
 
-def _box_on_slope(solver, degrees, mu_s=0.6, mu_d=0.4):
-    """A 0.4 m box released at rest, face down, on a plane tilted ``degrees`` about z; both bodies have
-    static friction ``mu_s`` and dynamic ``mu_d``.  Returns the world, the box and the downhill direction."""
-    a = math.radians(degrees)
-    w = mb.World(solver=solver, sleeping=False)
-    w.add_static(mb.Plane((-math.sin(a), math.cos(a), 0.0), 0.0), friction=mu_d, static_friction=mu_s)
-    up = np.array([-math.sin(a), math.cos(a), 0.0])
-    box = w.add_body(mb.Box((0.2, 0.2, 0.2)), position=tuple(0.2 * up), friction=mu_d, static_friction=mu_s,
-                     orientation=(math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)))
-    return w, box, np.array([-math.cos(a), -math.sin(a), 0.0])
-
-
 @pytest.mark.parametrize("solver", SOLVERS)
 def test_a_box_lets_go_within_a_fifth_of_a_degree_of_the_static_friction_angle(solver):
     """mu_s = 0.6 > mu_d = 0.4: at atan(0.6) - 0.2 deg the box stays put (it moves less than 0.1 mm in
     2 s, the contact's settling); at atan(0.6) + 0.2 deg it breaks loose, and sliding it accelerates at
     g (sin - mu_d cos), dynamic friction's, within 1% (the soft contact's sub-millimetre settling)."""
     angle = math.degrees(math.atan(0.6))
-    w, box, _ = _box_on_slope(solver, angle - 0.2)
+    w, box, _ = box_on_slope(solver, angle - 0.2)
     for _ in range(10):
         w.step(1.0 / 60.0)
     start = box.position
     for _ in range(120):
         w.step(1.0 / 60.0)
     assert np.linalg.norm(box.position - start) < 1e-4
-    w, box, downhill = _box_on_slope(solver, angle + 0.2)
+    w, box, downhill = box_on_slope(solver, angle + 0.2)
     for _ in range(60):
         w.step(1.0 / 60.0)
     v1 = box.velocity @ downhill

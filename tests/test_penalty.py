@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from mechanics import (DT, HEAD_ON, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline, head_on_collision,
-                       sliding_acceleration, sphere_on_incline)
+from mechanics import (DT, HEAD_ON, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline, box_on_slope,
+                       head_on_collision, sliding_acceleration, sphere_on_incline)
 
 import marbellous as mb
 from marbellous.dynamics.penalty import STABLE_FRACTION, damping_ratio, spring_restitution
@@ -158,12 +158,7 @@ def test_a_box_between_the_two_friction_angles_stays_put():
     """mu_s = 0.6, mu_d = 0.4 and a slope of 25 deg (atan 0.4 = 21.8 < 25 < atan 0.6 = 31.0): released at
     rest, the box is held by static friction (it slid 1.4 m in 2 s when its landing slip counted as
     sliding).  It settles onto its springs (the penalty scheme's sink and stretch, below 2 mm) and stays."""
-    a = math.radians(25.0)
-    w = mb.World(solver="penalty", sleeping=False)
-    w.add_static(mb.Plane((-math.sin(a), math.cos(a), 0.0), 0.0), friction=0.4, static_friction=0.6)
-    up = np.array([-math.sin(a), math.cos(a), 0.0])
-    box = w.add_body(mb.Box((0.2, 0.2, 0.2)), position=tuple(0.2 * up), friction=0.4, static_friction=0.6,
-                     orientation=(math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)))
+    w, box, _ = box_on_slope("penalty", 25.0)
     for _ in range(30):
         w.step(1.0 / 60.0)
     start = box.position
@@ -176,12 +171,7 @@ def test_a_box_between_the_two_friction_angles_stays_put():
                                        "take its weight; every corner then reaches the static cone while it "
                                        "moves, and it breaks loose about 3 degrees below atan(mu_s)")
 def test_a_box_holds_up_to_the_static_friction_angle():
-    a = math.radians(math.degrees(math.atan(0.6)) - 0.2)
-    w = mb.World(solver="penalty", sleeping=False)
-    w.add_static(mb.Plane((-math.sin(a), math.cos(a), 0.0), 0.0), friction=0.4, static_friction=0.6)
-    up = np.array([-math.sin(a), math.cos(a), 0.0])
-    box = w.add_body(mb.Box((0.2, 0.2, 0.2)), position=tuple(0.2 * up), friction=0.4, static_friction=0.6,
-                     orientation=(math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)))
+    w, box, _ = box_on_slope("penalty", math.degrees(math.atan(0.6)) - 0.2)
     for _ in range(150):
         w.step(1.0 / 60.0)
     assert np.linalg.norm(box.velocity) < 1e-3

@@ -18,8 +18,12 @@ from . import Unsupported, bodies_of
 from .axes import from_peer, quat_to_peer, to_peer
 
 
-def _f(v):
+def mjcf_numbers(v):
+    """The numbers of ``v`` (a scalar or array) as MJCF writes them: space-separated, to full precision."""
     return " ".join(f"{float(x):.17g}" for x in np.ravel(v))
+
+
+_f = mjcf_numbers
 
 
 def _geom(shape, mu, mass=None):
