@@ -22,7 +22,7 @@ __version__ = "0.1.0"
 _HOME = {
     "World": ".world", "Body": ".body", "Snapshot": ".state.snapshot", "Contact": ".reports",
     "ContactEvent": ".reports", "RayHit": ".reports", "StepReport": ".reports", "Shape": ".shapes",
-    "Sphere": ".shapes", "Box": ".shapes", "Capsule": ".shapes",
+    "Sphere": ".shapes", "Box": ".shapes", "Capsule": ".shapes", "ConvexHull": ".shapes",
     "Plane": ".shapes", "HeightField": ".shapes", "TriangleMesh": ".shapes",
     "Spring": ".constraints", "Rod": ".constraints", "Cable": ".constraints", "Joint": ".constraints",
     "BallJoint": ".constraints", "Hinge": ".constraints", "Slider": ".constraints", "FixedJoint": ".constraints",
@@ -30,10 +30,10 @@ _HOME = {
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
 }
 
-__all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule", "Plane",
-           "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint", "Hinge", "Slider",
-           "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show", "record",
-           "render_image", "__version__"]
+__all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
+           "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
+           "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
+           "record", "render_image", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
@@ -43,7 +43,7 @@ if TYPE_CHECKING:      # for type checkers and the API reference; at run time th
     from .pipeline.profile import StepProfile
     from .query import ContactPoint, collide
     from .reports import Contact, ContactEvent, RayHit, StepReport
-    from .shapes import Box, Capsule, HeightField, Plane, Shape, Sphere, TriangleMesh
+    from .shapes import Box, Capsule, ConvexHull, HeightField, Plane, Shape, Sphere, TriangleMesh
     from .state.snapshot import Snapshot
     from .world import World
 

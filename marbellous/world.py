@@ -846,16 +846,16 @@ class World:
 
     def shape_cast(self, shape: Shape, start: ArrayLike, end: ArrayLike, *,
                    orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), mask: int = -1) -> RayHit | None:
-        """The first body that ``shape`` (a sphere, box or capsule) meets as it slides, without turning, from
-        ``start`` to ``end`` (m) at ``orientation``: a :class:`RayHit` whose ``distance`` (m) is how far along
-        the sweep it got, ``point`` where it touches and ``normal`` the hit surface's, pointing back at the
-        shape; None if it meets nothing.  Only bodies whose ``group & mask`` is nonzero are hit; a shape
+        """The first body that ``shape`` (a sphere, box, capsule or convex hull) meets as it slides, without
+        turning, from ``start`` to ``end`` (m) at ``orientation``: a :class:`RayHit` whose ``distance`` (m) is
+        how far along the sweep it got, ``point`` where it touches and ``normal`` the hit surface's, pointing
+        back at the shape; None if it meets nothing.  Only bodies whose ``group & mask`` is nonzero are hit; a shape
         that already overlaps a body hits it at distance 0.  Bodies are taken at their poses now.
         """
         if not isinstance(shape, Shape):
-            raise TypeError(f"shape must be a Sphere, Box or Capsule, got {type(shape).__name__}")
+            raise TypeError(f"shape must be a Sphere, Box, Capsule or ConvexHull, got {type(shape).__name__}")
         if shape.is_static_only:
-            raise ValueError(f"shape {type(shape).__name__} cannot be cast: give a Sphere, Box or Capsule")
+            raise ValueError(f"shape {type(shape).__name__} cannot be cast: give a Sphere, Box, Capsule or ConvexHull")
         a = as_vec3("start", start)
         b = as_vec3("end", end)
         quat = as_quat("orientation", orientation)
@@ -864,9 +864,12 @@ class World:
         nb = st.bodies.end
         hit = np.zeros(8)
         candidates = np.zeros(max(nb, 1), dtype=np.int64)
-        found = shape_cast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
-                                 st.broadphase_code, nb, shape._type, np.asarray(shape._params(), np.float64), a, b,
-                                 quat, mask, candidates, hit)
+        cast_f, cast_i = shape._geometry()        # a hull's geometry, after the world's
+        geom_f = np.concatenate([st.geom_f, cast_f]) if cast_f.size else st.geom_f
+        geom_i = np.concatenate([st.geom_i, cast_i]).astype(np.int64) if cast_i.size else st.geom_i
+        found = shape_cast_world(st.bf, st.bi, st.sf, st.si, geom_f, geom_i, st.aabbs, st.bp_f, st.bp_i,
+                                 st.broadphase_code, nb, shape._type, np.asarray(shape._params(), np.float64),
+                                 st.geom_f.size, st.geom_i.size, a, b, quat, mask, candidates, hit)
         if not found:
             return None
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))

@@ -145,7 +145,9 @@ KINDS = {
               ("tiny", Lazy(lambda: mb.Box((1.0, 1e-300, 1.0)), "Box((1, 1e-300, 1))")),
               ("tiny", Lazy(lambda: mb.Capsule(5e-324, 1.0), "Capsule(5e-324, 1)")),
               ("huge", Lazy(lambda: mb.Sphere(1e300), "Sphere(1e300)")),
-              ("huge", Lazy(lambda: mb.Box((1e200, 1e200, 1e200)), "Box((1e200, 1e200, 1e200))"))],
+              ("huge", Lazy(lambda: mb.Box((1e200, 1e200, 1e200)), "Box((1e200, 1e200, 1e200))")),
+              ("tiny", Lazy(lambda: mb.ConvexHull(np.vstack([np.zeros(3), np.eye(3) * 1e-300])),
+                            "ConvexHull(1e-300 tetrahedron)"))],
     "dynamic_shape": [("static_only", mb.Plane())],
     "body": [("str", "x"), ("number", 3), ("object", object())],
     "angle_limits": _vector_types(2, none_ok=True) + _vector_values(2, 4.0) + [("reversed", (0.5, -0.5)),
@@ -170,6 +172,16 @@ KINDS = {
                  ("huge", [[0, 0, 0], [BIG_INT, 0, 0], [0, 0, 1]]), ("bool", np.ones((3, 3), bool)),
                  ("complex", np.ones((3, 3), complex)), ("str", [["a"] * 3] * 3), ("nested", [[0, 0, 0], [1, 0]]),
                  ("zero", np.zeros((3, 3))), ("bool", [[True, False, True], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])],
+    "points": [("str", "abc"), ("none", None), ("shape", [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]),
+               ("shape", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+               ("nan", [[0, 0, 0], [1, NAN, 0], [0, 1, 0], [0, 0, 1]]),
+               ("inf", [[0, 0, 0], [1, INF, 0], [0, 1, 0], [0, 0, 1]]),
+               ("huge", [[0, 0, 0], [1e300, 0, 0], [0, 1, 0], [0, 0, 1]]),
+               ("huge", [[0, 0, 0], [BIG_INT, 0, 0], [0, 1, 0], [0, 0, 1]]), ("bool", np.ones((4, 3), bool)),
+               ("complex", np.ones((4, 3), complex)), ("str", [["a"] * 3] * 4), ("nested", [[0, 0, 0], [1, 0]]),
+               ("zero", np.zeros((4, 3))), ("flat", [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]),
+               ("tiny", [[0, 0, 0], [1e-9, 0, 0], [0, 1e-9, 0], [0, 0, 1e-9]]),
+               ("huge", [[0, 0, 0], [1e7, 0, 0], [0, 1e7, 0], [0, 0, 1e7]]), ("object", object())],
     "triangles": [("str", "abc"), ("none", None), ("shape", [[0, 1]]), ("shape", [[0, 1, 2, 3]]), ("shape", [0, 1, 2]),
                   ("negative", [[0, -1, 2]]), ("huge", [[0, 1, 4]]), ("huge", [[0, 1, 2 ** 62]]),
                   ("float", [[0, 1, 2.5]]), ("nan", [[0, 1, NAN]]), ("bool", [[True, False, True]]),
@@ -369,6 +381,7 @@ _add("TriangleMesh()", "cell_size", "cell_size",
      lambda ns, v: mb.TriangleMesh(_QUAD, [[0, 2, 1]], cell_size=v), world=False)
 _add("TriangleMesh()", "weld_tolerance", "weld",
      lambda ns, v: mb.TriangleMesh(_QUAD, [[0, 2, 1]], weld_tolerance=v), world=False)
+_add("ConvexHull()", "points", "points", lambda ns, v: mb.ConvexHull(v), world=False)
 _add("collide()", "shape_a", "shape", lambda ns, v: mb.collide(v, _SPHERE), world=False)
 _add("collide()", "position_a", "vec3", lambda ns, v: mb.collide(_SPHERE, _SPHERE, position_a=v), world=False)
 _add("collide()", "orientation_b", "quat", lambda ns, v: mb.collide(_SPHERE, _SPHERE, orientation_b=v), world=False)
@@ -400,6 +413,7 @@ def immutable_cases():
          lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]], accel="brute")),
         ("TriangleMesh", "vertices", v[:3] * 1e6, lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]])),
         ("TriangleMesh", "accel", "bvh", lambda: mb.TriangleMesh(v, [[0, 2, 1], [1, 2, 3]])),
+        ("ConvexHull", "vertices", np.zeros((4, 3)), lambda: mb.ConvexHull(np.vstack([np.zeros(3), np.eye(3)]))),
     ]
 
 
@@ -409,7 +423,9 @@ def inplace_cases():
             ("Plane.normal", lambda: mb.Plane(), "normal"),
             ("HeightField.heights", lambda: mb.HeightField(np.zeros((3, 3))), "heights"),
             ("HeightField.origin", lambda: mb.HeightField(np.zeros((3, 3))), "origin"),
-            ("TriangleMesh.vertices", lambda: mb.TriangleMesh(_QUAD, [[0, 2, 1]]), "vertices")]
+            ("TriangleMesh.vertices", lambda: mb.TriangleMesh(_QUAD, [[0, 2, 1]]), "vertices"),
+            ("ConvexHull.vertices", lambda: mb.ConvexHull(np.vstack([np.zeros(3), np.eye(3)])), "vertices"),
+            ("ConvexHull.centroid", lambda: mb.ConvexHull(np.vstack([np.zeros(3), np.eye(3)])), "centroid")]
 
 
 # --- files -------------------------------------------------------------------------------------------------

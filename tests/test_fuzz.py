@@ -122,7 +122,7 @@ def test_every_listed_bad_value_names_its_argument(entry, arg, klass, value, cal
     msg = str(err.value)
     names = {arg}
     if "shape" in arg:          # a shape refused by its own constructor names that constructor's argument
-        names |= {"shape", "static only", "radius", "half_extents", "half_height"}
+        names |= {"shape", "static only", "radius", "half_extents", "half_height", "points"}
     if arg in ("a", "b"):
         names |= {"constraint", "a and b"}
     assert any(n in msg for n in names), f"{entry}({arg}) error does not name the argument: {msg!r}"

@@ -1,7 +1,8 @@
 """Axis-aligned bounding boxes of placed shapes: ``[minx, miny, minz, maxx, maxy, maxz]`` (m).
 
 Sphere: ``c +- r``.  Capsule: its segment's end points ``c +- R e_y h`` grown by ``r``.
-Box: ``c +- |R| h`` (the absolute rotation matrix times the half extents).  Planes, height fields and
+Box: ``c +- |R| h`` (the absolute rotation matrix times the half extents); a hull likewise, from its own
+bounding box.  Planes, height fields and
 meshes are static: their boxes are computed once when they are added (``static_box``).
 ``boxes_overlap`` tests a triangle's box against a query box (meshes and height fields).
 """
@@ -18,8 +19,22 @@ def sphere_aabb(c, r):
 
 
 @njit
+def hull_bounds(pos, rot, params, margin):
+    """Corners ``(lo, hi)`` (3-tuples, m) of a box holding the hull at pose ``(pos, rot)``, grown by ``margin``
+    (m): its own bounding box (half extents ``params[0:3]``, centre ``params[3:6]`` in its frame) turned,
+    ``c +- |R| e`` with ``c = pos + R centre``."""
+    c = (pos[0] + rot[0, 0] * params[3] + rot[0, 1] * params[4] + rot[0, 2] * params[5],
+         pos[1] + rot[1, 0] * params[3] + rot[1, 1] * params[4] + rot[1, 2] * params[5],
+         pos[2] + rot[2, 0] * params[3] + rot[2, 1] * params[4] + rot[2, 2] * params[5])
+    e = (abs(rot[0, 0]) * params[0] + abs(rot[0, 1]) * params[1] + abs(rot[0, 2]) * params[2] + margin,
+         abs(rot[1, 0]) * params[0] + abs(rot[1, 1]) * params[1] + abs(rot[1, 2]) * params[2] + margin,
+         abs(rot[2, 0]) * params[0] + abs(rot[2, 1]) * params[1] + abs(rot[2, 2]) * params[2] + margin)
+    return (c[0] - e[0], c[1] - e[1], c[2] - e[2]), (c[0] + e[0], c[1] + e[1], c[2] + e[2])
+
+
+@njit
 def shape_bounds(stype, pos, rot, params):
-    """Corners ``(lo, hi)`` (3-tuples, m) of the world AABB of a primitive (sphere, capsule, box) at pose
+    """Corners ``(lo, hi)`` (3-tuples, m) of the world AABB of a moving shape (sphere, capsule, box, hull) at pose
     ``(pos, rot)``; unbounded (+-inf) for any other type."""
     if stype == st.SPHERE:
         return sphere_aabb((pos[0], pos[1], pos[2]), params[0])
@@ -30,6 +45,8 @@ def shape_bounds(stype, pos, rot, params):
         e = (abs(rot[0, 0]) * params[0] + abs(rot[0, 1]) * params[1] + abs(rot[0, 2]) * params[2],
              abs(rot[1, 0]) * params[0] + abs(rot[1, 1]) * params[1] + abs(rot[1, 2]) * params[2],
              abs(rot[2, 0]) * params[0] + abs(rot[2, 1]) * params[1] + abs(rot[2, 2]) * params[2])
+    elif stype == st.HULL:
+        return hull_bounds(pos, rot, params, 0.0)
     else:
         return (-math.inf, -math.inf, -math.inf), (math.inf, math.inf, math.inf)
     return (pos[0] - e[0], pos[1] - e[1], pos[2] - e[2]), (pos[0] + e[0], pos[1] + e[1], pos[2] + e[2])

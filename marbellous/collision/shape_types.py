@@ -6,11 +6,13 @@ BOX = 2
 PLANE = 3
 HEIGHTFIELD = 4
 MESH = 5
+#: a convex hull moves and takes its geometry from the blobs; its pair tests take it first (``hull/``)
+HULL = 6
 
 #: Number of float parameters every shape carries in its kernel record (unused slots are 0).
 N_SHAPE_PARAMS = 8
 
-NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh")
+NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh", "hull")
 
 # Coverage: which pair tests a world's step can need, from the kinds of shape its bodies have.  A world's
 # step is compiled for its coverage (``pipeline/step.py``), so that a first run compiles only the pair
@@ -19,7 +21,7 @@ NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh")
 COVER_SPHERES = 0
 #: every moving shape a sphere, meshes or height fields too (the marble on its level)
 COVER_GROUND = 1
-#: capsules or boxes that move: every pair test
+#: capsules, boxes or hulls that move: every pair test
 COVER_ALL = 2
 #: the number of coverages
 COVERAGES = 3

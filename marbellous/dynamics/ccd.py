@@ -43,7 +43,7 @@ def shape_reach(sf, si, s):
 @njit
 def body_extent(bi, sf, si, i):
     """Smallest inner size (m) of body row ``i``'s shapes: radius of a sphere or capsule, smallest half
-    extent of a box; ``inf`` for a body of static-only shapes."""
+    extent of a box, inner radius of a hull; ``inf`` for a body of static-only shapes."""
     e = math.inf
     s0 = bi[i, SHAPE_START]
     for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
@@ -52,6 +52,8 @@ def body_extent(bi, sf, si, i):
             e = min(e, sf[s, S_PARAMS])
         elif t == st.BOX:
             e = min(e, sf[s, S_PARAMS], sf[s, S_PARAMS + 1], sf[s, S_PARAMS + 2])
+        elif t == st.HULL:
+            e = min(e, sf[s, S_PARAMS + 6])
     return e
 
 

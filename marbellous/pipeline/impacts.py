@@ -37,7 +37,7 @@ from .._numba.jit import njit, njit_inline
 from ..collision import shape_types as st
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
 from ..collision.toi.closed_forms import gap_comes_within, spheres_come_within
-from ..collision.toi.conservative_advancement import IMPACT, MISS, time_of_impact
+from ..collision.toi.conservative_advancement import IMPACT, MISS, made_of_pieces, time_of_impact
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
@@ -250,7 +250,7 @@ def pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity
 def touching_piece(si, ci, c, touch):
     """True if contact ``c`` lies on a triangle that ``touch`` lists (contacts with meshes and height fields;
     a convex pair is one piece and lists none)."""
-    if si[ci[c, C_SHAPE_A], S_TYPE] < st.HEIGHTFIELD and si[ci[c, C_SHAPE_B], S_TYPE] < st.HEIGHTFIELD:
+    if not (made_of_pieces(si[ci[c, C_SHAPE_A], S_TYPE]) or made_of_pieces(si[ci[c, C_SHAPE_B], S_TYPE])):
         return False
     piece = ci[c, C_FEATURE] // 16
     for k in range(1, touch[0] + 1):

@@ -31,9 +31,10 @@ CONTACT_ROWS = 64
 
 
 @njit
-def shape_cast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, cast_type, cast_params, start,
-                     end, quat, mask, candidates, hit):
-    """First hit of the convex shape (``cast_type``, kernel record ``cast_params``) at orientation ``quat``
+def shape_cast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, cast_type, cast_params, cast_off_f,
+                     cast_off_i, start, end, quat, mask, candidates, hit):
+    """First hit of the convex shape (``cast_type``, kernel record ``cast_params``, a hull's geometry at
+    ``cast_off_f``/``cast_off_i`` of the blobs) at orientation ``quat``
     moved from ``start`` to ``end`` (m) on the bodies whose ``group & mask`` is nonzero; writes
     ``hit = [distance, body, px, py, pz, nx, ny, nz]`` and returns True.  ``candidates``: scratch of at
     least ``nb`` ints."""
@@ -67,7 +68,7 @@ def shape_cast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, 
                        (bf[b, QUAT], bf[b, QUAT + 1], bf[b, QUAT + 2], bf[b, QUAT + 3]), zero)
         for s in range(bi[b, SHAPE_START], bi[b, SHAPE_START] + bi[b, SHAPE_COUNT]):
             outcome, t = time_of_impact(
-                st.COVER_ALL, cast_type, cast_params, 0, 0, cast_motion, zero, identity, 0.0,
+                st.COVER_ALL, cast_type, cast_params, cast_off_f, cast_off_i, cast_motion, zero, identity, 0.0,
                 si[s, S_TYPE], sf[s, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[s, S_OFF_F], si[s, S_OFF_I],
                 body_motion, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]),
                 (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2], sf[s, S_LOCAL_QUAT + 3]),
@@ -78,9 +79,9 @@ def shape_cast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, 
             for j in range(3):
                 pos_t[0, j] = start[j] + t * d[j]
             n = collide_pair_covering(st.COVER_ALL, cast_type, pos_t[0], rot, cast_params, si[s, S_TYPE], pos_t[1],
-                                      rot_t[1], sf[s, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], geom_f, geom_i, 0, 0,
-                                      si[s, S_OFF_F], si[s, S_OFF_I], 2.0 * HIT_TOLERANCE + 1e-9 * length, out_f,
-                                      out_i, 0)
+                                      rot_t[1], sf[s, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], geom_f, geom_i,
+                                      cast_off_f, cast_off_i, si[s, S_OFF_F], si[s, S_OFF_I],
+                                      2.0 * HIT_TOLERANCE + 1e-9 * length, out_f, out_i, 0)
             if n == 0:
                 continue
             m = min(n, CONTACT_ROWS)

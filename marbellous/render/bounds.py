@@ -8,6 +8,7 @@ import numpy as np
 
 from ..shapes.heightfield import HeightField
 from ..shapes.mesh import TriangleMesh
+from ..shapes.hull import ConvexHull
 from ..shapes.primitives import Box, Capsule, Plane, Sphere
 from .transforms import quat_to_matrix
 
@@ -19,7 +20,7 @@ def shape_points(shape, position, rotation):
     ``rotation`` (3, 3); none for a plane."""
     if isinstance(shape, Plane):
         return np.zeros((0, 3))
-    if isinstance(shape, TriangleMesh):
+    if isinstance(shape, (TriangleMesh, ConvexHull)):
         return shape.vertices @ rotation.T + position
     if isinstance(shape, HeightField):
         nx, nz = shape.heights.shape
@@ -33,7 +34,8 @@ def shape_points(shape, position, rotation):
     elif isinstance(shape, Capsule):
         half = np.abs(rotation[:, 1]) * shape.half_height + shape.radius
     else:
-        raise TypeError(f"shape must be a Sphere, Box, Capsule, Plane, HeightField or TriangleMesh, got {shape!r}")
+        raise TypeError(f"shape must be a Sphere, Box, Capsule, ConvexHull, Plane, HeightField or TriangleMesh, "
+                        f"got {shape!r}")
     return position + _CORNER_SIGNS * half
 
 

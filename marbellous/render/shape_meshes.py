@@ -16,6 +16,7 @@ import numpy as np
 
 from ..shapes.heightfield import HeightField
 from ..shapes.mesh import TriangleMesh
+from ..shapes.hull import ConvexHull
 from ..shapes.primitives import Box, Capsule, Plane, Sphere
 from .geometry import box_triangles, capsule_triangles, flat, heightfield_triangles, uv_sphere
 
@@ -47,7 +48,7 @@ _described = weakref.WeakKeyDictionary()   # shape -> ShapeMesh, so a frame does
 
 
 def shape_mesh(shape):
-    """The :class:`ShapeMesh` of an engine shape (``Sphere``, ``Box``, ``Capsule``, ``Plane``,
+    """The :class:`ShapeMesh` of an engine shape (``Sphere``, ``Box``, ``Capsule``, ``ConvexHull``, ``Plane``,
     ``HeightField`` or ``TriangleMesh``); raises ``TypeError`` naming ``shape`` for anything else."""
     try:
         return _described[shape]
@@ -70,10 +71,19 @@ def shape_mesh(shape):
     elif isinstance(shape, TriangleMesh):
         tri = weakref.ref(shape)
         mesh = ShapeMesh(tri, np.ones(3), False, lambda: flat(tri().vertices, tri().triangles))
+    elif isinstance(shape, ConvexHull):
+        hull = weakref.ref(shape)
+        mesh = ShapeMesh(hull, np.ones(3), False, lambda: flat(hull().vertices, hull_triangles(hull().faces)))
     else:
-        raise TypeError(f"shape must be a Sphere, Box, Capsule, Plane, HeightField or TriangleMesh, got {shape!r}")
+        raise TypeError(f"shape must be a Sphere, Box, Capsule, ConvexHull, Plane, HeightField or TriangleMesh, "
+                        f"got {shape!r}")
     _described[shape] = mesh
     return mesh
+
+
+def hull_triangles(faces):
+    """Triangles (T, 3) of a hull's polygon faces, each fanned from its first corner."""
+    return np.array([(loop[0], loop[k], loop[k + 1]) for loop in faces for k in range(1, len(loop) - 1)], np.int64)
 
 
 def plane_frame(plane):

@@ -35,6 +35,7 @@ from .. import shape_types as st
 from ..aabb import boxes_overlap, ray_span_xz
 from ..ray.triangle_ray import ray_triangle
 from ..triangle.triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from ..hull.polytope import hull_polytope, no_polytope
 from ..triangle.triangle_convex import convex_local_bounds, convex_triangle, emit_unique, to_static_frame
 from ..triangle.triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_C, sphere_triangle
 from ..vec3 import cross, dot, matrix, sub
@@ -126,9 +127,29 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
     Arguments and buffer convention as ``mesh_collide.collide_convex_mesh``; contacts are in
     ascending triangle order with feature id ``triangle * 16 + code``, bit-for-bit repeats once.
     """
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    return _convex_heightfield(type_a, c, rot, params_a, no_polytope(), pos_b, rot_b, params_b, geom_f, off_f_b,
+                               prediction, out_f, out_i, n)
+
+
+@njit
+def collide_hull_heightfield(pos_a, rot_a, params_a, off_f_a, off_i_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                             off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of the convex hull a (its blob slices at ``off_f_a``/``off_i_a``) with the static height
+    field b; arguments otherwise as :func:`collide_convex_heightfield`."""
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    poly = hull_polytope(c, rot, geom_f, geom_i, off_f_a, off_i_a)
+    return _convex_heightfield(st.HULL, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, off_f_b,
+                               prediction, out_f, out_i, n)
+
+
+@njit
+def _convex_heightfield(type_a, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, off_f_b, prediction,
+                        out_f, out_i, n):
+    """Contacts of convex shape a (centre ``c`` and rotation ``rot`` in b's frame, a hull placed there as
+    ``poly``) with the static height field b."""
     dx, dz, x0, y0, z0 = params_b[0], params_b[1], params_b[2], params_b[3], params_b[4]
     nx, nz = int(params_b[5]), int(params_b[6])
-    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
     if hi[0] < x0 or hi[2] < z0 or lo[0] > x0 + (nx - 1) * dx or lo[2] > z0 + (nz - 1) * dz:
         return n
@@ -155,11 +176,11 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
                 if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
                     continue                          # missed: decided by values alone (no array call)
                 m0 = m1 = m2 = (0.0, 0.0, 0.0)
-                if type_a == st.BOX:
+                if type_a == st.BOX or type_a == st.HULL:
                     m0 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 0, a, b)
                     m1 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 1, b, cc)
                     m2 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 2, cc, a)
-                rows = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction,
+                rows = convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, nrm, m0, m1, m2, prediction,
                                        scratch)
                 t = 2 * (i * (nz - 1) + j) + k
                 for r in range(rows):

@@ -1,4 +1,4 @@
-"""Convex shape (sphere, capsule, box) against a static triangle mesh, through its acceleration.
+"""Convex shape (sphere, capsule, box, hull) against a static triangle mesh, through its acceleration.
 
 1. Move shape a into the mesh's frame: ``c = R_b^T (p_a - p_b)``, ``R = R_b^T R_a``.
 2. Its bounding box grown by ``prediction`` selects candidate triangles: all of them
@@ -21,6 +21,7 @@ from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
 from ..aabb import boxes_overlap, sphere_misses_box
 from ..triangle.triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
+from ..hull.polytope import hull_polytope, no_polytope
 from ..triangle.triangle_convex import convex_local_bounds, convex_triangle, emit_contact, emit_unique, to_static_frame
 from ..triangle.triangle_sphere import EDGE_AB, EDGE_CA, VERTEX_A, VERTEX_B, VERTEX_C, sphere_triangle
 from ..vec3 import mat_to_local, matrix
@@ -117,12 +118,33 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
     ``prediction`` (m) speculative distance.  Appends rows to ``out_f``/``out_i`` (the buffer
     convention of docs/architecture.md: normal from a to b) and returns the new count.
     """
+    if type_a == st.SPHERE:
+        return collide_sphere_mesh((pos_a[0], pos_a[1], pos_a[2]), params_a[0], (pos_b[0], pos_b[1], pos_b[2]),
+                                   matrix(rot_b), params_b, geom_f, geom_i, off_f_b, off_i_b, prediction, out_f,
+                                   out_i, n)
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    return _convex_mesh(type_a, c, rot, params_a, no_polytope(), pos_b, rot_b, params_b, geom_f, geom_i, off_f_b,
+                        off_i_b, prediction, out_f, out_i, n)
+
+
+@njit
+def collide_hull_mesh(pos_a, rot_a, params_a, off_f_a, off_i_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                      off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """Contacts of the convex hull a (its blob slices at ``off_f_a``/``off_i_a``) with the static mesh b;
+    arguments otherwise as :func:`collide_convex_mesh`."""
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    poly = hull_polytope(c, rot, geom_f, geom_i, off_f_a, off_i_a)
+    return _convex_mesh(st.HULL, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, geom_i, off_f_b, off_i_b,
+                        prediction, out_f, out_i, n)
+
+
+@njit
+def _convex_mesh(type_a, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, geom_i, off_f_b, off_i_b,
+                 prediction, out_f, out_i, n):
+    """Contacts of convex shape a (CAPSULE, BOX or HULL; centre ``c`` and rotation ``rot`` in b's frame, a
+    hull placed there as ``poly``) with the static mesh b."""
     pb = (pos_b[0], pos_b[1], pos_b[2])
     m_b = matrix(rot_b)
-    if type_a == st.SPHERE:
-        return collide_sphere_mesh((pos_a[0], pos_a[1], pos_a[2]), params_a[0], pb, m_b, params_b, geom_f, geom_i,
-                                   off_f_b, off_i_b, prediction, out_f, out_i, n)
-    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)
     cand, first, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
     scratch = np.empty((MAX_ROWS, N_COLS))
@@ -137,11 +159,11 @@ def collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, 
         if not boxes_overlap(a, b, cc, lo, hi):
             continue                                  # too far
         m0 = m1 = m2 = zero
-        if type_a == st.BOX:
+        if type_a == st.BOX or type_a == st.HULL:
             m0 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 0)
             m1 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 1)
             m2 = ml.neighbour_direction(geom_f, geom_i, off_f_b, off_i_b, t, 2)
-        k = convex_triangle(type_a, c, rot, params_a, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
+        k = convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, nrm, m0, m1, m2, prediction, scratch)
         for r in range(k):
             f = int(scratch[r, 7])
             if feature_is_true(geom_f, geom_i, off_f_b, off_i_b, t, f, (scratch[r, 8], scratch[r, 9], scratch[r, 10]),

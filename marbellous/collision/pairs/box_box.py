@@ -30,6 +30,7 @@ from ..._numba.jit import njit
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import column, cross, dot, length, load, madd, scale, sub
 from .contact_output import add_contact
+from .manifold import reduce_to_four
 from .segment import closest_segment_params
 
 _EDGE_ID_BASE = 4608
@@ -65,12 +66,6 @@ def _side(d, axis):
     if abs(t) <= 1e-12 * length(d):
         return _dominant_sign(d) * _dominant_sign(axis)
     return 1.0 if t > 0.0 else -1.0
-
-
-@njit
-def _area2(px, py, qx, qy, rx, ry):
-    """Twice the signed area of the 2-D triangle ``p q r``."""
-    return (qx - px) * (ry - py) - (qy - py) * (rx - px)
 
 
 @njit
@@ -118,60 +113,6 @@ def _clip_incident_face(ref_h, axis, slop, poly, labels):
         if count == 0:
             break
     return src, count
-
-
-@njit
-def _reduce_to_four(pts, keep, m, chosen):
-    """Pick at most 4 of the ``m`` points ``pts[keep[:m]]`` (2-D coordinates, column 2 = -depth).
-
-    Writes the picked indices into ``chosen`` and returns how many.
-    """
-    if m <= 4:
-        for q in range(m):
-            chosen[q] = keep[q]
-        return m
-    i1 = keep[0]
-    for q in range(1, m):
-        if pts[keep[q], 2] < pts[i1, 2]:
-            i1 = keep[q]
-    i2 = i1
-    best = 0.0
-    for q in range(m):
-        v = keep[q]
-        d2 = (pts[v, 0] - pts[i1, 0]) ** 2 + (pts[v, 1] - pts[i1, 1]) ** 2
-        if d2 > best:
-            best = d2
-            i2 = v
-    chosen[0] = i1
-    if i2 == i1:
-        return 1
-    chosen[1] = i2
-    i3 = i1
-    best = 0.0
-    for q in range(m):
-        v = keep[q]
-        a = abs(_area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[v, 0], pts[v, 1]))
-        if a > best:
-            best = a
-            i3 = v
-    if i3 == i1:
-        return 2
-    chosen[2] = i3
-    sigma = 1.0 if _area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[i3, 0], pts[i3, 1]) >= 0.0 else -1.0
-    i4 = -1
-    best = 0.0
-    for q in range(m):
-        v = keep[q]
-        a = min(sigma * _area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[v, 0], pts[v, 1]),
-                sigma * _area2(pts[i2, 0], pts[i2, 1], pts[i3, 0], pts[i3, 1], pts[v, 0], pts[v, 1]),
-                sigma * _area2(pts[i3, 0], pts[i3, 1], pts[i1, 0], pts[i1, 1], pts[v, 0], pts[v, 1]))
-        if a < best:
-            best = a
-            i4 = v
-    if i4 < 0:
-        return 3
-    chosen[3] = i4
-    return 4
 
 
 @njit
@@ -223,7 +164,7 @@ def _face_contact(pos_r, rot_r, h_r, axis, pos_i, rot_i, h_i, ref_is_b, slop, pr
         if -pts[q, 2] >= -prediction:
             keep[m] = q
             m += 1
-    m = _reduce_to_four(pts, keep, m, chosen)
+    m = reduce_to_four(pts, keep, m, chosen)
     face_r = 2 * axis + (0 if s > 0.0 else 1)
     face_i = 2 * inc + (0 if si > 0.0 else 1)
     base = ((ref_is_b * 6 + face_r) * 6 + face_i) * 64

@@ -1,8 +1,9 @@
 """The narrow-phase dispatcher: any two shapes to the right pair test, normals from a to b.
 
 Pair tests exist for the canonical order only (sphere < capsule < box < plane < height field <
-mesh).  When the caller's a has the higher type code the shapes are swapped, the pair test runs,
-and the rows it added get their normals negated; points, depths and feature ids stay as they are
+mesh; a convex hull's pair tests take the hull first, whatever the other shape).  When the caller's a
+comes second in that order the shapes are swapped, the pair test runs, and the rows it added get their
+normals negated; points, depths and feature ids stay as they are
 (the point is the midpoint between the surfaces, the same seen from either side).
 
 The dispatchers are inlined into their callers (``njit_inline``): each level of calls would pass, and
@@ -13,6 +14,7 @@ cannot meet, so that they are not compiled for it.
 from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
 from ..shape_types import COVER_ALL, COVER_SPHERES
+from ..hull.hull_pairs import collide_hull_shape
 from ..mesh.heightfield_collide import collide_convex_heightfield
 from ..mesh.mesh_collide import collide_convex_mesh
 from ..vec3 import load, mat_column, matrix
@@ -109,6 +111,14 @@ def collide_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_
                           off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """:func:`collide_pair` with the pair tests of ``coverage`` (``shape_types.COVER_*``) only: pairs that a
     world of that coverage cannot meet report no contact."""
+    if coverage == COVER_ALL and (type_a == st.HULL or type_b == st.HULL):
+        if type_a == st.HULL:
+            return collide_hull_shape(pos_a, rot_a, params_a, off_f_a, off_i_a, type_b, pos_b, rot_b, params_b,
+                                      off_f_b, off_i_b, geom_f, geom_i, prediction, out_f, out_i, n)
+        m = collide_hull_shape(pos_b, rot_b, params_b, off_f_b, off_i_b, type_a, pos_a, rot_a, params_a, off_f_a,
+                               off_i_a, geom_f, geom_i, prediction, out_f, out_i, n)
+        flip_normals(out_f, n, m)
+        return m
     if type_a <= st.PLANE and type_b <= st.PLANE:
         return _convex_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
                                      prediction, out_f, out_i, n)

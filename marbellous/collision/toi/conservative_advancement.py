@@ -50,6 +50,12 @@ def _listed(touch, piece):
     return False
 
 
+@njit
+def made_of_pieces(stype):
+    """True for the shapes whose contacts name a triangle (feature id // 16): meshes and height fields."""
+    return stype == st.HEIGHTFIELD or stype == st.MESH
+
+
 @njit_inline
 def time_of_impact(coverage, type_a, params_a, off_f_a, off_i_a, motion_a, local_pos_a, local_quat_a, reach_a,
                    type_b, params_b, off_f_b, off_i_b, motion_b, local_pos_b, local_quat_b, reach_b,
@@ -65,7 +71,7 @@ def time_of_impact(coverage, type_a, params_a, off_f_a, off_i_a, motion_a, local
     the touching pieces of a mesh or height field at t = 0.  ``coverage`` (``shape_types.COVER_*``, a
     constant where this is inlined): the pair tests the world can meet.
     """
-    pieces = type_a >= st.HEIGHTFIELD or type_b >= st.HEIGHTFIELD
+    pieces = made_of_pieces(type_a) or made_of_pieces(type_b)
     touch[0] = 0
     turn = turning_speed(motion_a, reach_a) + turning_speed(motion_b, reach_b)
     acc_a, acc_b = motion_a[2], motion_b[2]

@@ -1,4 +1,4 @@
-"""One convex shape (sphere, capsule or box) against one triangle: picks the pair test by type code.
+"""One convex shape (sphere, capsule, box or hull) against one triangle: picks the pair test by type code.
 
 Everything is in the static shape's local frame.  Candidate contacts go to ``scratch`` rows (layout
 in ``triangle_contact``).  The Voronoi tests of edge and vertex rows on the whole surface are left
@@ -9,19 +9,21 @@ import numpy as np
 
 from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
+from ..aabb import hull_bounds
 from ..pairs.contact_output import add_contact
 from ..vec3 import column, madd, mat_to_world, to_local
 from .triangle_box import box_triangle
 from .triangle_capsule import capsule_triangle
+from .triangle_hull import hull_triangle
 from .triangle_contact import FEATURE_STRIDE, write_row
 from .triangle_sphere import sphere_triangle
 
 
 @njit
-def convex_triangle(type_a, c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
-    """Candidate contacts of shape ``type_a`` (centre ``c``, rotation ``rot``, ``params_a``) with
-    the triangle ``a b cc`` (unit normal ``n``; neighbour directions ``m2*``, read by boxes only);
-    returns their number.
+def convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
+    """Candidate contacts of shape ``type_a`` (centre ``c``, rotation ``rot``, ``params_a``; a hull placed
+    as ``poly``, ``hull/polytope``) with the triangle ``a b cc`` (unit normal ``n``; neighbour directions
+    ``m2*``, read by boxes and hulls only); returns their number.
     """
     if type_a == st.SPHERE:
         feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, n, prediction)
@@ -33,6 +35,8 @@ def convex_triangle(type_a, c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, pre
         hh = params_a[1]
         return capsule_triangle(madd(c, -hh, axis), madd(c, hh, axis), params_a[0], a, b, cc, n, prediction,
                                 scratch)
+    if type_a == st.HULL:
+        return hull_triangle(poly, params_a[6], a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
     return box_triangle(c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
 
 
@@ -45,6 +49,8 @@ def convex_local_bounds(type_a, c, rot, params_a, margin):
     elif type_a == st.CAPSULE:
         r, hh = params_a[0], params_a[1]
         e = (abs(rot[0, 1]) * hh + r, abs(rot[1, 1]) * hh + r, abs(rot[2, 1]) * hh + r)
+    elif type_a == st.HULL:
+        return hull_bounds(c, rot, params_a, margin)
     else:
         h = params_a
         e = (abs(rot[0, 0]) * h[0] + abs(rot[0, 1]) * h[1] + abs(rot[0, 2]) * h[2],

@@ -1,0 +1,41 @@
+"""A convex hull against a plane: its vertices within ``prediction`` of the plane, reduced to four.
+
+Vertex ``k`` at height ``h_k = n . v_k - offset`` above the plane is a contact of depth ``-h_k`` (feature id
+``k``) when ``h_k <= prediction``; more than four such vertices (a hull resting on a many-sided face) are
+reduced to the four that hold it (``pairs/manifold``).
+"""
+import numpy as np
+
+from ..._numba.jit import njit
+from ..pairs.contact_output import add_contact
+from ..pairs.manifold import reduce_to_four
+from ..vec3 import any_perpendicular, cross, dot, scale
+from .polytope import vertex
+
+
+@njit
+def collide_polytope_plane(verts, pn, off, prediction, out_f, out_i, n):
+    """Contacts of the placed polytope ``verts`` (shape a) with the plane ``pn . x = off`` (shape b, unit
+    ``pn``, solid below); normals from a to b (``-pn``).  Returns the new count."""
+    nv = verts.shape[0]
+    t1 = any_perpendicular(pn)
+    t2 = cross(pn, t1)
+    pts = np.empty((nv, 3))
+    keep = np.empty(nv, np.int64)
+    chosen = np.empty(4, np.int64)
+    m = 0
+    for k in range(nv):
+        v = vertex(verts, k)
+        h = dot(pn, v) - off
+        if h <= prediction:
+            pts[k, 0] = dot(v, t1)
+            pts[k, 1] = dot(v, t2)
+            pts[k, 2] = h
+            keep[m] = k
+            m += 1
+    m = reduce_to_four(pts, keep, m, chosen)
+    normal = scale(pn, -1.0)
+    for q in range(m):
+        k = chosen[q]
+        n = add_contact(out_f, out_i, n, vertex(verts, k), normal, -pts[k, 2], k)
+    return n

@@ -1,0 +1,215 @@
+"""Two convex polytopes (hull-hull, hull-box): the separating-axis test, then face clipping or an edge pair.
+
+Axes (``polytope`` has the placed polytopes and the Gauss map):
+
+- a face ``f`` of A (normal ``n``, plane ``d``): ``sep = min_{v in B} n . v - d``; likewise B's faces;
+- an edge of A and an edge of B: ``L = e_A x e_B`` (unit), only when the two edges' Gauss-map arcs cross
+  (``L`` on A's arc and ``-L`` on B's), which is exactly when both edges support their polytopes along
+  ``L``; then ``sep = L . (p_B - p_A)`` for points ``p`` on the edges (Gregorius, "The Separating Axis Test
+  between Convex Polyhedra", GDC 2013).  Pruned this way, edge pairs cost no support search.
+
+Any ``sep > prediction`` separates them.  Otherwise the axis of largest ``sep`` is the contact normal, with
+``tolerances.FACE_BIAS`` times the smaller inner radius in favour of A's faces, then B's, over edges (so a
+resting hull keeps its reference face).  For a face axis the incident face of the other polytope (its face
+most opposed to the normal) is clipped against the reference face's side planes (Sutherland-Hodgman); points
+within ``prediction`` of the reference plane are reduced to the four that hold it (``pairs/manifold``).
+For an edge axis the edges' closest points give one contact.
+
+Feature ids: a face contact ``(((ref_is_b * 1024 + ref_face) * 1024 + incident_face) * 512 + in) * 512
++ out``, a clipped point being named by the two polygon edges meeting there (incident edges ``0..``,
+reference side planes ``256 + k``); an edge contact ``EDGE_FEATURES + edge_a * 4096 + edge_b``.  Hulls
+have at most ``MAX_VERTICES`` vertices, so that these fit (faces <= 2 V - 4, edges <= 3 V - 6).
+"""
+import math
+
+import numpy as np
+
+from ..._numba.jit import njit
+from ..pairs.contact_output import add_contact
+from ..pairs.manifold import reduce_to_four
+from ..pairs.segment import closest_segment_params
+from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
+from ..vec3 import any_perpendicular, cross, dot, madd, scale, sub
+from .polytope import edge_arc, edge_segment, lowest, most_opposed_face, normal, on_edge_arc, vertex
+
+#: Most vertices of a hull (and of one face's loop).
+MAX_VERTICES = 512
+#: Label of reference side plane ``k`` in a clipped point's name.
+SIDE_LABEL = 256
+#: First feature id of edge contacts.
+EDGE_FEATURES = 1 << 42
+
+
+@njit
+def face_separation(planes, f, verts_other):
+    """``min_{v in other} n_f . v - d_f`` (m): how far the other polytope lies in front of face ``f``."""
+    n = normal(planes, f)
+    return lowest(verts_other, n) - planes[f, 3]
+
+
+@njit
+def best_face(planes, verts_other, prediction):
+    """``(sep, face)``: the face of largest separation from the other polytope; ``sep > prediction``
+    stops the search (the polytopes are apart)."""
+    best = -np.inf
+    face = 0
+    for f in range(planes.shape[0]):
+        s = face_separation(planes, f, verts_other)
+        if s > best:
+            best = s
+            face = f
+            if s > prediction:
+                break
+    return best, face
+
+
+@njit
+def _best_edge_pair(va, pa, ea, vb, pb, eb, prediction):
+    """``(sep, edge_a, edge_b, L)``: the supporting edge pair of largest separation (module docstring),
+    ``L`` unit from A to B; ``edge_a = -1`` when no pair's arcs cross."""
+    best = -np.inf
+    best_i = -1
+    best_j = -1
+    best_l = (0.0, 0.0, 0.0)
+    for i in range(ea.shape[0] // 4):
+        p, d = edge_segment(va, ea, i)
+        a, b = edge_arc(pa, ea, i)
+        ld = math.sqrt(dot(d, d))
+        for j in range(eb.shape[0] // 4):
+            q, e = edge_segment(vb, eb, j)
+            c, g = edge_arc(pb, eb, j)
+            axis = cross(d, e)
+            la = math.sqrt(dot(axis, axis))
+            if la < CROSS_AXIS_MIN * ld * math.sqrt(dot(e, e)):
+                continue
+            axis = scale(axis, 1.0 / la)
+            neg = scale(axis, -1.0)
+            if on_edge_arc(axis, a, b) and on_edge_arc(neg, c, g):
+                l_ab = axis
+            elif on_edge_arc(neg, a, b) and on_edge_arc(axis, c, g):
+                l_ab = neg
+            else:
+                continue
+            s = dot(l_ab, sub(q, p))
+            if s > best:
+                best, best_i, best_j, best_l = s, i, j, l_ab
+                if s > prediction:
+                    return best, best_i, best_j, best_l
+    return best, best_i, best_j, best_l
+
+
+@njit
+def clip_polygon(poly, labels, src, count, side, offset, label):
+    """Sutherland-Hodgman: keep the part of polygon ``poly[src, :count]`` with ``side . x <= offset``,
+    writing it into ``poly[1 - src]``; a new vertex is named by the polygon edge it cuts and ``label``.
+    Returns the new count."""
+    dst = 1 - src
+    out = 0
+    prev = count - 1
+    cap = poly.shape[1]
+    for cur in range(count):
+        dp = side[0] * poly[src, prev, 0] + side[1] * poly[src, prev, 1] + side[2] * poly[src, prev, 2] - offset
+        dc = side[0] * poly[src, cur, 0] + side[1] * poly[src, cur, 1] + side[2] * poly[src, cur, 2] - offset
+        edge = labels[src, prev, 1]
+        if (dc <= 0.0) != (dp <= 0.0) and out < cap:
+            f = dp / (dp - dc)
+            for m in range(3):
+                poly[dst, out, m] = poly[src, prev, m] + f * (poly[src, cur, m] - poly[src, prev, m])
+            labels[dst, out, 0] = label if dc <= 0.0 else edge
+            labels[dst, out, 1] = edge if dc <= 0.0 else label
+            out += 1
+        if dc <= 0.0 and out < cap:
+            for m in range(3):
+                poly[dst, out, m] = poly[src, cur, m]
+            labels[dst, out, 0] = labels[src, cur, 0]
+            labels[dst, out, 1] = labels[src, cur, 1]
+            out += 1
+        prev = cur
+    return out
+
+
+@njit
+def _face_contact(vr, pr, sr, lr, face, vi, pi, si, li, ref_is_b, slop, prediction, out_f, out_i, n):
+    """Contacts of reference face ``face`` of polytope r with the incident face of polytope i."""
+    nref = normal(pr, face)
+    inc = most_opposed_face(pi, nref)
+    k0 = si[inc]
+    m = si[inc + 1] - k0
+    r0 = sr[face]
+    mr = sr[face + 1] - r0
+    cap = m + mr + 1
+    poly = np.empty((2, cap, 3))
+    labels = np.empty((2, cap, 2), np.int64)
+    for q in range(m):
+        for c in range(3):
+            poly[0, q, c] = vi[li[k0 + q], c]
+        labels[0, q, 0] = (q + m - 1) % m
+        labels[0, q, 1] = q
+    src = 0
+    count = m
+    for k in range(mr):
+        u = vertex(vr, lr[r0 + k])
+        w = vertex(vr, lr[r0 + (k + 1) % mr])
+        side = cross(sub(w, u), nref)
+        ls = math.sqrt(dot(side, side))
+        if ls == 0.0:
+            continue
+        side = scale(side, 1.0 / ls)
+        count = clip_polygon(poly, labels, src, count, side, dot(side, u) + slop, SIDE_LABEL + k)
+        src = 1 - src
+        if count == 0:
+            return n
+    t1 = any_perpendicular(nref)
+    t2 = cross(nref, t1)
+    pts = np.empty((count, 3))
+    keep = np.empty(count, np.int64)
+    chosen = np.empty(4, np.int64)
+    kept = 0
+    for q in range(count):
+        x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
+        pts[q, 0] = dot(x, t1)
+        pts[q, 1] = dot(x, t2)
+        pts[q, 2] = dot(x, nref) - pr[face, 3]
+        if pts[q, 2] <= prediction:
+            keep[kept] = q
+            kept += 1
+    kept = reduce_to_four(pts, keep, kept, chosen)
+    base = ((ref_is_b * 1024 + face) * 1024 + inc) * 512
+    nab = nref if ref_is_b == 0 else scale(nref, -1.0)
+    for k in range(kept):
+        q = chosen[k]
+        x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
+        height = pts[q, 2]
+        p_on_a = madd(x, -height, nref) if ref_is_b == 0 else x
+        feature = (base + labels[src, q, 0]) * 512 + labels[src, q, 1]
+        n = add_contact(out_f, out_i, n, p_on_a, nab, -height, feature)
+    return n
+
+
+@njit
+def collide_polytopes(va, pa, sa, la, ea, size_a, vb, pb, sb, lb, eb, size_b, prediction, out_f, out_i, n):
+    """Contact manifold of placed polytopes A and B (``polytope``; ``size_*`` their inner radii, m): up to
+    four points, normals from A to B, appended from row ``n``; returns the new count."""
+    sep_a, face_a = best_face(pa, vb, prediction)
+    if sep_a > prediction:
+        return n
+    sep_b, face_b = best_face(pb, va, prediction)
+    if sep_b > prediction:
+        return n
+    sep_e, edge_a, edge_b, axis = _best_edge_pair(va, pa, ea, vb, pb, eb, prediction)
+    if sep_e > prediction:
+        return n
+    size = min(size_a, size_b)
+    bias = FACE_BIAS * size
+    use_b = sep_b > sep_a + bias or sep_a <= 0.0 < sep_b
+    sep_face = sep_b if use_b else sep_a
+    if edge_a >= 0 and (sep_e > sep_face + bias or sep_face <= 0.0 < sep_e):
+        p, d = edge_segment(va, ea, edge_a)
+        q, e = edge_segment(vb, eb, edge_b)
+        s, _ = closest_segment_params(p, d, q, e)
+        return add_contact(out_f, out_i, n, madd(p, s, d), axis, -sep_e,
+                           EDGE_FEATURES + edge_a * 4096 + edge_b)
+    slop = CLIP_SLOP * size
+    if use_b:
+        return _face_contact(vb, pb, sb, lb, face_b, va, pa, sa, la, 1, slop, prediction, out_f, out_i, n)
+    return _face_contact(va, pa, sa, la, face_a, vb, pb, sb, lb, 0, slop, prediction, out_f, out_i, n)

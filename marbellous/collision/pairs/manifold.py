@@ -1,0 +1,67 @@
+"""Reducing a clipped contact polygon to the four points that keep a body resting on it.
+
+A face contact (box on box, hull on hull, hull on a plane) can have many points; the solver needs no more
+than four to hold a body flat: the deepest, the one farthest from it, the one spanning the largest triangle
+with those two, and the one adding the most area outside that triangle.
+"""
+from ..._numba.jit import njit
+
+
+@njit
+def area2(px, py, qx, qy, rx, ry):
+    """Twice the signed area of the 2-D triangle ``p q r``."""
+    return (qx - px) * (ry - py) - (qy - py) * (rx - px)
+
+
+@njit
+def reduce_to_four(pts, keep, m, chosen):
+    """Pick at most 4 of the ``m`` points ``pts[keep[:m]]`` (2-D coordinates, column 2 = -depth).
+
+    Writes the picked indices into ``chosen`` and returns how many.
+    """
+    if m <= 4:
+        for q in range(m):
+            chosen[q] = keep[q]
+        return m
+    i1 = keep[0]
+    for q in range(1, m):
+        if pts[keep[q], 2] < pts[i1, 2]:
+            i1 = keep[q]
+    i2 = i1
+    best = 0.0
+    for q in range(m):
+        v = keep[q]
+        d2 = (pts[v, 0] - pts[i1, 0]) ** 2 + (pts[v, 1] - pts[i1, 1]) ** 2
+        if d2 > best:
+            best = d2
+            i2 = v
+    chosen[0] = i1
+    if i2 == i1:
+        return 1
+    chosen[1] = i2
+    i3 = i1
+    best = 0.0
+    for q in range(m):
+        v = keep[q]
+        a = abs(area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[v, 0], pts[v, 1]))
+        if a > best:
+            best = a
+            i3 = v
+    if i3 == i1:
+        return 2
+    chosen[2] = i3
+    sigma = 1.0 if area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[i3, 0], pts[i3, 1]) >= 0.0 else -1.0
+    i4 = -1
+    best = 0.0
+    for q in range(m):
+        v = keep[q]
+        a = min(sigma * area2(pts[i1, 0], pts[i1, 1], pts[i2, 0], pts[i2, 1], pts[v, 0], pts[v, 1]),
+                sigma * area2(pts[i2, 0], pts[i2, 1], pts[i3, 0], pts[i3, 1], pts[v, 0], pts[v, 1]),
+                sigma * area2(pts[i3, 0], pts[i3, 1], pts[i1, 0], pts[i1, 1], pts[v, 0], pts[v, 1]))
+        if a < best:
+            best = a
+            i4 = v
+    if i4 < 0:
+        return 3
+    chosen[3] = i4
+    return 4
