@@ -2,6 +2,8 @@
 references, resting heights on planes, meshes and height fields, stacks, continuous collision, queries,
 and refused input."""
 import math
+import runpy
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -355,3 +357,14 @@ def test_hulls_are_immutable():
         hull.vertices = np.zeros((4, 3))
     with pytest.raises(ValueError):
         hull.vertices[0, 0] = 1.0
+
+
+def test_the_hulls_example_pours_rocks_that_rest_on_the_bowl():
+    """examples/hulls.py: twenty rocks at rest in a bowl of triangles, none through it (the give of resting
+    contacts, as for the resting prism above, is about a millimetre), and the tower of ten pucks standing."""
+    run = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "hulls.py"))["run"]
+    sink, fastest, top, drift = run()
+    assert sink < 2e-3
+    assert fastest < 1e-3
+    assert top == pytest.approx(1.9, abs=0.015)
+    assert drift < 0.01
