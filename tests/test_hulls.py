@@ -14,6 +14,7 @@ from marbellous.collision import shape_types as st
 from marbellous.collision.pairs.dispatch import collide_pair
 from marbellous.collision.tolerances import FACE_BIAS
 from marbellous.math3d import quat_to_matrix_np
+from marbellous.render import palette
 
 CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
 HALF = np.array([0.5, 0.3, 0.4])
@@ -368,3 +369,15 @@ def test_the_hulls_example_pours_rocks_that_rest_on_the_bowl():
     assert fastest < 1e-3
     assert top == pytest.approx(1.9, abs=0.015)
     assert drift < 0.01
+
+
+def test_the_viewer_draws_a_hull_where_the_box_would_be(tmp_path):
+    """The hull of a box's corners and the box cover the same pixels."""
+    masks = []
+    for shape in (mb.Box(HALF), box_hull()):
+        w = mb.World()
+        w.add_body(shape, position=(0.0, 1.0, 0.0), orientation=(math.cos(0.4), 0.3, math.sin(0.4), 0.1))
+        img = mb.render_image(w, size=(160, 120), camera=((2.0, 2.0, 3.0), (0.0, 1.0, 0.0)))
+        masks.append(np.abs(img.astype(int) - np.asarray(palette.BACKGROUND) * 255).max(axis=-1) > 40)
+    assert masks[0].mean() > 0.05
+    assert (masks[0] != masks[1]).mean() < 0.005

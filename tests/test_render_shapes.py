@@ -42,7 +42,8 @@ def test_heightfield_triangles_lie_on_the_physics_surface():
     assert np.all(face[:, 1] > 0)
 
 
-@pytest.mark.parametrize("shape", [mb.Sphere(0.3), mb.Box((0.2, 0.5, 0.1)), mb.Capsule(0.2, 0.4)])
+@pytest.mark.parametrize("shape", [mb.Sphere(0.3), mb.Box((0.2, 0.5, 0.1)), mb.Capsule(0.2, 0.4),
+                                   mb.ConvexHull(np.random.default_rng(0).normal(size=(15, 3)))], ids=repr)
 def test_scaled_meshes_have_the_shape_s_size(shape):
     mesh = shape_mesh(shape)
     pos, nrm = mesh.triangles()
@@ -51,6 +52,13 @@ def test_scaled_meshes_have_the_shape_s_size(shape):
     assert np.allclose(scaled.min(axis=0), outline.min(axis=0), atol=2e-3)
     assert np.allclose(scaled.max(axis=0), outline.max(axis=0), atol=2e-3)
     assert np.allclose(np.linalg.norm(nrm, axis=1), 1.0, atol=1e-5)
+
+
+def test_hull_triangles_face_outwards():
+    hull = mb.ConvexHull(np.random.default_rng(1).normal(size=(20, 3)))
+    pos, nrm = shape_mesh(hull).triangles()
+    centres = pos.reshape(-1, 3, 3).mean(axis=1)      # the centre of mass (the origin) is inside
+    assert np.all(np.einsum("ij,ij->i", nrm.reshape(-1, 3, 3)[:, 0], centres) > 0.0)
 
 
 def test_meshes_are_shared_by_kind_and_kept_per_shape():
