@@ -1,16 +1,21 @@
 """A convex hull against a plane: its vertices within ``prediction`` of the plane, reduced to four.
 
 Vertex ``k`` at height ``h_k = n . v_k - offset`` above the plane is a contact of depth ``-h_k`` (feature id
-``k``) when ``h_k <= prediction``; more than four such vertices (a hull resting on a many-sided face) are
-reduced to the four that hold it (``pairs/manifold``).
+``k``) when ``h_k <= prediction``; of more than ``MOST_CONTACTS`` such vertices, those touching come first
+(four at most) and then the nearest (``pairs/manifold``): a hull resting on a small face keeps the corners
+it rests on, not far corners above, and a falling hull the corners it meets first.
 """
 import numpy as np
 
 from ..._numba.jit import njit
 from ..pairs.contact_output import add_contact
-from ..pairs.manifold import reduce_to_four
+from ..pairs.manifold import reduce_touching_first
 from ..vec3 import any_perpendicular, cross, dot, scale
 from .polytope import vertex
+
+#: most contacts of a hull with a plane: four touching corners and the nearest speculative ones (a random hull
+#: dropped from 2.9 m with four in all went 47 mm into the ground as a corner left out hit; with eight, 0.5 mm)
+MOST_CONTACTS = 8
 
 
 @njit
@@ -22,7 +27,7 @@ def collide_polytope_plane(verts, pn, off, prediction, out_f, out_i, n):
     t2 = cross(pn, t1)
     pts = np.empty((nv, 3))
     keep = np.empty(nv, np.int64)
-    chosen = np.empty(4, np.int64)
+    chosen = np.empty(MOST_CONTACTS, np.int64)
     m = 0
     for k in range(nv):
         v = vertex(verts, k)
@@ -33,7 +38,7 @@ def collide_polytope_plane(verts, pn, off, prediction, out_f, out_i, n):
             pts[k, 2] = h
             keep[m] = k
             m += 1
-    m = reduce_to_four(pts, keep, m, chosen)
+    m = reduce_touching_first(pts, keep, m, chosen, np.empty(m, np.int64))
     normal = scale(pn, -1.0)
     for q in range(m):
         k = chosen[q]

@@ -12,7 +12,8 @@ Any ``sep > prediction`` separates them.  Otherwise the axis of largest ``sep`` 
 ``tolerances.FACE_BIAS`` times the smaller inner radius in favour of A's faces, then B's, over edges (so a
 resting hull keeps its reference face).  For a face axis the incident face of the other polytope (its face
 most opposed to the normal) is clipped against the reference face's side planes (Sutherland-Hodgman); points
-within ``prediction`` of the reference plane are reduced to the four that hold it (``pairs/manifold``).
+within ``prediction`` of the reference plane are reduced as for a plane (``hull_plane``): the touching ones
+to four, then the nearest, eight in all.
 For an edge axis the edges' closest points give one contact.
 
 Feature ids: a face contact ``(((ref_is_b * 1024 + ref_face) * 1024 + incident_face) * 512 + in) * 512
@@ -26,10 +27,11 @@ import numpy as np
 
 from ..._numba.jit import njit
 from ..pairs.contact_output import add_contact
-from ..pairs.manifold import reduce_to_four
+from ..pairs.manifold import reduce_touching_first
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import any_perpendicular, cross, dot, madd, scale, sub
+from .hull_plane import MOST_CONTACTS
 from .polytope import edge_arc, edge_segment, lowest, most_opposed_face, normal, on_edge_arc, vertex
 
 #: Most vertices of a hull (and of one face's loop).
@@ -163,7 +165,7 @@ def _face_contact(vr, pr, sr, lr, face, vi, pi, si, li, ref_is_b, slop, predicti
     t2 = cross(nref, t1)
     pts = np.empty((count, 3))
     keep = np.empty(count, np.int64)
-    chosen = np.empty(4, np.int64)
+    chosen = np.empty(MOST_CONTACTS, np.int64)
     kept = 0
     for q in range(count):
         x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
@@ -173,7 +175,7 @@ def _face_contact(vr, pr, sr, lr, face, vi, pi, si, li, ref_is_b, slop, predicti
         if pts[q, 2] <= prediction:
             keep[kept] = q
             kept += 1
-    kept = reduce_to_four(pts, keep, kept, chosen)
+    kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
     base = ((ref_is_b * 1024 + face) * 1024 + inc) * 512
     nab = nref if ref_is_b == 0 else scale(nref, -1.0)
     for k in range(kept):
@@ -189,7 +191,7 @@ def _face_contact(vr, pr, sr, lr, face, vi, pi, si, li, ref_is_b, slop, predicti
 @njit
 def collide_polytopes(va, pa, sa, la, ea, size_a, vb, pb, sb, lb, eb, size_b, prediction, out_f, out_i, n):
     """Contact manifold of placed polytopes A and B (``polytope``; ``size_*`` their inner radii, m): up to
-    four points, normals from A to B, appended from row ``n``; returns the new count."""
+    ``MOST_CONTACTS`` points, normals from A to B, appended from row ``n``; returns the new count."""
     sep_a, face_a = best_face(pa, vb, prediction)
     if sep_a > prediction:
         return n

@@ -65,3 +65,34 @@ def reduce_to_four(pts, keep, m, chosen):
         return 3
     chosen[3] = i4
     return 4
+
+
+@njit
+def reduce_touching_first(pts, keep, m, chosen, scratch):
+    """Pick at most ``len(chosen)`` (>= 4) of the ``m`` points ``pts[keep[:m]]`` (column 2 = -depth), touching
+    points first: the points that touch or overlap (``depth >= 0``) are reduced to four by
+    :func:`reduce_to_four`, and the places left go to the speculative points nearest to touching, in that
+    order (the ones a falling body meets first).
+    Spread alone would keep far corners of a tilted face and drop a corner resting in the ground, or about
+    to hit it.  ``scratch``: ``m`` ints.  Writes the picked indices into ``chosen``; returns how many."""
+    touching = 0
+    for q in range(m):
+        if pts[keep[q], 2] <= 0.0:
+            scratch[touching] = keep[q]
+            touching += 1
+    picked = reduce_to_four(pts, scratch, touching, chosen)
+    while picked < chosen.shape[0]:
+        best = -1
+        for q in range(m):
+            v = keep[q]
+            if pts[v, 2] > 0.0 and (best < 0 or pts[v, 2] < pts[best, 2]):
+                taken = False
+                for k in range(picked):
+                    taken = taken or chosen[k] == v
+                if not taken:
+                    best = v
+        if best < 0:
+            break
+        chosen[picked] = best
+        picked += 1
+    return picked

@@ -11,8 +11,9 @@ faces.  Internal edges: an axis other than ``n`` that points into a neighbour (`
 and the triangle's normal is used instead, so hulls slide over flat seams.
 
 Contacts: for the triangle's face, the hull's face most opposed to ``n`` clipped by the triangle's side
-planes; for a hull face, the triangle clipped by that face's side planes; both reduced to four points
-within ``prediction``.  For an edge pair, the edges' closest points.
+planes; for a hull face, the triangle clipped by that face's side planes; of the points within
+``prediction``, the touching ones reduced to four and then the nearest, seven in all.  For an edge pair,
+the edges' closest points.
 """
 import math
 
@@ -21,7 +22,7 @@ import numpy as np
 from ..._numba.jit import njit
 from ..hull.polytope import edge_arc, edge_segment, highest, lowest, most_opposed_face, normal, on_edge_arc, vertex
 from ..hull.polytope_polytope import clip_polygon
-from ..pairs.manifold import reduce_to_four
+from ..pairs.manifold import reduce_touching_first
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import any_perpendicular, cross, dot, madd, scale, sub
@@ -38,7 +39,7 @@ def _clipped_rows(poly, src, count, ref_n, ref_d, normal_out, on_triangle, predi
     t2 = cross(ref_n, t1)
     pts = np.empty((count, 3))
     keep = np.empty(count, np.int64)
-    chosen = np.empty(4, np.int64)
+    chosen = np.empty(EDGE_PAIR - CLIP_FIRST, np.int64)    # (feature codes CLIP_FIRST + k stay below EDGE_PAIR)
     kept = 0
     for q in range(count):
         x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
@@ -48,7 +49,7 @@ def _clipped_rows(poly, src, count, ref_n, ref_d, normal_out, on_triangle, predi
         if pts[q, 2] <= prediction:
             keep[kept] = q
             kept += 1
-    kept = reduce_to_four(pts, keep, kept, chosen)
+    kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
     for k in range(min(kept, scratch.shape[0])):
         q = chosen[k]
         x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
