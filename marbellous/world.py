@@ -138,9 +138,9 @@ class World:
                                      "and taken as two halves", positive=True, hi=MAX_SIZE)
 
     __slots__ = ("_tunables", "_params_dt", "_gravity", "_solver", "_integrator", "_broadphase", "_iterations",
-                 "_substeps", "_substeps_auto", "_threads", "_ccd", "_sleeping", "_state", "_body_at",
-                 "_constraint_at", "_living", "_living_constraints", "_accumulator", "_time_stepping", "_retroactive",
-                 "_max_halvings", "_last", "_stepped", "_gone", "__weakref__")
+                 "_iterations_auto", "_substeps", "_substeps_auto", "_threads", "_ccd", "_sleeping", "_state",
+                 "_body_at", "_constraint_at", "_living", "_living_constraints", "_accumulator", "_time_stepping",
+                 "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -163,7 +163,7 @@ class World:
         self.gravity = gravity
         self.solver = solver
         self.integrator = integrator
-        self.iterations = DEFAULT_ITERATIONS if iterations is None else iterations
+        self.iterations = iterations
         self.substeps = substeps
         self.threads = threads
         self.ccd = ccd
@@ -216,12 +216,18 @@ class World:
 
     @property
     def iterations(self) -> int:
-        """Most velocity iterations per sub-step (the solver stops earlier once converged)."""
+        """Most velocity iterations per sub-step (the solver stops earlier once converged).
+
+        ``None`` (the default) is adaptive: 4 passes, and for stacked contacts up to two per body of the
+        stack's depth (at most 128; dynamics/support_depth.py); the value then reads 4.  A number is taken
+        as the cap for every scene."""
         return self._iterations
 
     @iterations.setter
-    def iterations(self, value: int) -> None:
-        self._iterations = as_int("iterations", value, lo=1, hi=10000)
+    def iterations(self, value: int | None) -> None:
+        auto = value is None
+        self._iterations = DEFAULT_ITERATIONS if auto else as_int("iterations", value, lo=1, hi=10000)
+        self._iterations_auto = auto
         self._parameters_changed()
 
     @property

@@ -69,6 +69,7 @@ FIELDS = TABLE_FIELDS + (
     ("bundles", types.int64),       # bundles of the step
     ("n_overflow", types.int64),    # contacts no bundle takes
     ("iterations", types.int64),    # velocity iterations used so far in the step
+    ("iteration_cap", types.int64),  # most velocity (and push) passes per sub-step (dynamics/support_depth.py)
     ("turning", types.boolean),     # some contact touches a body whose world inertia turns with it
     ("n_supported", types.int64),   # heavy-on-light contacts of the step (rows of ``supported``)
     ("n_static", types.int64),      # contacts of a movable body with a static or sleeping one
@@ -120,6 +121,11 @@ FIELDS = TABLE_FIELDS + (
     ("push_impulse", _F1),    # accumulated push impulse of each contact in the sub-step (N s)
     ("implicit", _F1),        # 1 for each spring the constraint solver takes (too stiff for a force), else 0
     ("static_contacts", _I1),  # the contacts of a movable body with one that cannot move (their count: n_static)
+    # the support depth (dynamics/support_depth.py): breadth-first levels over the contact graph
+    ("support_level", _I1),   # level of each body slot
+    ("support_queue", _I1),   # the search's queue of body slots
+    ("support_start", _I1),   # where each body's neighbours start in support_adjacent (slots + 1)
+    ("support_adjacent", _I1),  # the bodies each body touches, body by body (two per contact)
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -142,6 +148,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.h, t.substeps, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 1, 0, 0, False, False
     t.n_resting = 0
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
+    t.iteration_cap = 1
     t.turning, t.n_supported, t.n_static = False, 0, 0
     n_slots = bf.shape[0]
     t.sweep = np.zeros(n_slots)
@@ -188,6 +195,10 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.push_impulse = np.zeros(contacts)
     t.implicit = np.zeros(kf.shape[0])
     t.static_contacts = np.zeros(contacts, dtype=np.int64)
+    t.support_level = np.zeros(n_slots, dtype=np.int64)
+    t.support_queue = np.zeros(n_slots, dtype=np.int64)
+    t.support_start = np.zeros(n_slots + 1, dtype=np.int64)
+    t.support_adjacent = np.zeros(2 * contacts, dtype=np.int64)
     return t
 
 

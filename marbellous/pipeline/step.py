@@ -51,12 +51,13 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
+from ..dynamics.support_depth import iteration_cap, support_depth
 from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP, K_IMPULSE,
                             LCP, MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
                             PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
                             PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE,
                             PF_STEP_DT, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR,
-                            PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS,
+                            PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS,
                             PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED,
                             STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS,
                             STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE,
@@ -317,6 +318,12 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
             load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
     ctx.regions = regions
     ctx.bundles = bundles
+    adaptive = ctx.params_i[PI_ADAPTIVE] == 1
+    depth = 0
+    if adaptive and nc > 0:
+        depth = support_depth(bi, ctx.ci, nc, nb, ctx.support_level, ctx.support_start, ctx.support_adjacent,
+                              ctx.support_queue)
+    ctx.iteration_cap = iteration_cap(ctx.params_i[PI_ITERATIONS], adaptive, depth)
     ctx.n_overflow = ctx.part_overflow[regions + 1] if bundled else 0
     # contacts on bodies whose world inertia turns get their effective masses again after each position
     # update; contacts of a heavy body on a light one get passes with the light one held
@@ -477,7 +484,7 @@ def _push_out(ctx, contacts):
         return
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
-    while change >= tolerance and passes < ctx.params_i[PI_ITERATIONS]:
+    while change >= tolerance and passes < ctx.iteration_cap:
         change = _push_pass(ctx, contacts, False, passes < JOINT_PUSH_PASSES)
         passes += 1
     if contacts:
@@ -493,7 +500,7 @@ def stage_solve(ctx, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
     until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
     tolerance = ctx.params_f[PF_TOLERANCE]
-    for _ in range(ctx.params_i[PI_ITERATIONS]):
+    for _ in range(ctx.iteration_cap):
         ctx.iterations += 1
         change = _joint_pass(ctx, True)
         if contacts:

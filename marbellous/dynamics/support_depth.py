@@ -1,0 +1,80 @@
+"""How deep the contacts stack: the adaptive iteration count of the sequential-impulse passes.
+
+A pass of sequential impulses hands a contact's impulse on to the next body in the chain, so the weight of
+the top of a stack of ``n`` bodies reaches the ground only after passes in proportion to ``n``; with too few,
+a tall stack leans and walks (20 cubes at 60 Hz with 4 passes per sub-step: the top moved 26 cm sideways in
+5 s; with 16, 1.5 cm).  The lecture's remedy: give scenes with many stacked contacts more iterations and
+scenes with few contacts fewer.  The passes already stop once no velocity changes by more than the
+tolerance (few contacts: fewer passes); this module gives deep stacks more.
+
+The support depth is how many bodies deep the stack goes: over the movable bodies, the most contacts any of
+them is from something that cannot move (the ground, a static, kinematic or sleeping body) along its
+shortest chain; breadth-first search over the contact graph, level 1 for the bodies touching the ground.
+With ``World(iterations=None)`` a sub-step's passes may run to ``DEPTH_PASSES`` times that depth (at least
+the world's base count, at most ``MAX_ADAPTIVE``).
+"""
+from .._numba.jit import njit
+from ..state.layout import C_BODY_A, C_BODY_B
+from .forces import is_moving
+
+#: passes allowed per body of support depth (20 cubes: top 1.0 cm sideways in 5 s at 40 passes, 0.4 cm at 64)
+DEPTH_PASSES = 2
+#: most passes per sub-step the depth can ask for
+MAX_ADAPTIVE = 128
+
+
+@njit
+def support_depth(bi, ci, nc, nb, level, start, adjacent, queue):
+    """The support depth (module docstring) over the contacts ``0 .. nc - 1``: the largest breadth-first
+    level of a movable body, level 1 touching a body that cannot move; 0 when none does.
+
+    Scratch: ``level`` and ``queue`` (>= nb ints), ``start`` (>= nb + 1), ``adjacent`` (>= 2 nc).
+    """
+    for i in range(nb + 1):
+        start[i] = 0
+    for c in range(nc):
+        a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+        start[a + 1] += 1
+        start[b + 1] += 1
+    for i in range(nb):
+        start[i + 1] += start[i]
+    for i in range(nb):
+        level[i] = start[i]                  # (fill cursor)
+    for c in range(nc):
+        a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+        adjacent[level[a]] = b
+        level[a] += 1
+        adjacent[level[b]] = a
+        level[b] += 1
+    head = 0
+    tail = 0
+    for i in range(nb):
+        level[i] = -1
+        if is_moving(bi, i):
+            for k in range(start[i], start[i + 1]):
+                if not is_moving(bi, adjacent[k]):
+                    level[i] = 1
+                    queue[tail] = i
+                    tail += 1
+                    break
+    depth = 1 if tail > 0 else 0
+    while head < tail:
+        i = queue[head]
+        head += 1
+        for k in range(start[i], start[i + 1]):
+            j = adjacent[k]
+            if level[j] < 0 and is_moving(bi, j):
+                level[j] = level[i] + 1
+                depth = max(depth, level[j])
+                queue[tail] = j
+                tail += 1
+    return depth
+
+
+@njit
+def iteration_cap(base, adaptive, depth):
+    """Most velocity passes per sub-step: ``base``, or with ``adaptive`` up to ``DEPTH_PASSES * depth``
+    (at most ``MAX_ADAPTIVE``)."""
+    if not adaptive:
+        return base
+    return max(base, min(MAX_ADAPTIVE, DEPTH_PASSES * depth))
