@@ -11,7 +11,8 @@ The support depth is how many bodies deep the stack goes: over the movable bodie
 them is from something that cannot move (the ground, a static, kinematic or sleeping body) along its
 shortest chain; breadth-first search over the contact graph, level 1 for the bodies touching the ground.
 With ``World(iterations=None)`` a sub-step's passes may run to ``DEPTH_PASSES`` times that depth (at least
-the world's base count, at most ``MAX_ADAPTIVE``).
+the world's base count, at most ``MAX_ADAPTIVE``); the passes beyond the base count go on only while a
+velocity still changes by ``EXTRA_TOLERANCE``.
 """
 from .._numba.jit import njit
 from ..state.layout import C_BODY_A, C_BODY_B
@@ -21,6 +22,10 @@ from .forces import is_moving
 DEPTH_PASSES = 2
 #: most passes per sub-step the depth can ask for
 MAX_ADAPTIVE = 128
+#: the passes beyond the world's base count go on only while some velocity still changes by this much (m/s):
+#: a settled pyramid stops at the base count, a leaning tower does not (20 cubes: 0.9 cm off its axis in 5 s
+#: at 1e-3, 13 cm at 1e-2)
+EXTRA_TOLERANCE = 1e-3
 
 
 @njit
