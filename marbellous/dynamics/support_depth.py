@@ -1,11 +1,13 @@
 """How deep the contacts stack: the adaptive iteration count of the sequential-impulse passes.
 
-A pass of sequential impulses hands a contact's impulse on to the next body in the chain, so the weight of
-the top of a stack of ``n`` bodies reaches the ground only after passes in proportion to ``n``; with too few,
-a tall stack leans and walks (20 cubes at 60 Hz with 4 passes per sub-step: the top moved 26 cm sideways in
+A pass of sequential impulses hands a contact's impulse on to the next body in the chain, so the weight of the
+top of a stack of ``n`` bodies reaches the ground only after passes in proportion to ``n``; with too few, a
+tall stack leans and walks (20 cubes at 60 Hz with 4 passes per sub-step: the top moved 26 cm sideways in
 5 s; with 16, 1.5 cm).  The lecture's remedy: give scenes with many stacked contacts more iterations and
-scenes with few contacts fewer.  The passes already stop once no velocity changes by more than the
-tolerance (few contacts: fewer passes); this module gives deep stacks more.
+scenes with few contacts fewer.  The passes already stop once no velocity changes by more than the tolerance
+(few contacts: fewer passes); this module gives deep stacks more.  More passes delay a tall tower's fall but
+do not stop it: its soft contacts give way as it leans (``bench/bench_stacks.py``); stiffer contacts (more
+sub-steps, a higher ``contact_hertz``) do.
 
 The support depth is how many bodies deep the stack goes: over the movable bodies, the most contacts any of
 them is from something that cannot move (the ground, a static, kinematic or sleeping body) along its
@@ -23,8 +25,8 @@ DEPTH_PASSES = 2
 #: most passes per sub-step the depth can ask for
 MAX_ADAPTIVE = 128
 #: the passes beyond the world's base count go on only while some velocity still changes by this much (m/s):
-#: a settled pyramid stops at the base count, a leaning tower does not (20 cubes: 0.9 cm off its axis in 5 s
-#: at 1e-3, 13 cm at 1e-2)
+#: a settled pyramid stops at the base count, a tower falling over does not (20 cubes: 0.9 cm off its axis in
+#: 5 s at 1e-3, 13 cm at 1e-2; a lean of a few mm/s gets no extra passes)
 EXTRA_TOLERANCE = 1e-3
 
 
