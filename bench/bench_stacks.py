@@ -5,9 +5,9 @@ on face with no gap, on a ground plane, their centres on the vertical axis throu
 and 30; friction 0.6 on the cubes and the ground, 60 Hz, gravity 9.81, one untimed step and then 300 timed
 steps (5 s), every body awake throughout.
 - Marbellous: sequential impulses, its defaults (4 sub-steps) but ``sleeping=False``, once as
-  ``marbellous-4`` with ``iterations=4`` (a fixed count, the old default) and once as ``marbellous-adaptive``
-  with ``iterations=None`` (the new default: up to two passes per body of the stack's support depth, 4 to
-  128 per sub-step, passes beyond the first 4 only while a velocity still changes by 1e-3 m/s);
+  ``marbellous-4`` (its default: at most 4 passes per sub-step) and once as ``marbellous-adaptive`` with
+  ``adaptive_iterations = True`` (up to two passes per body of the stack's support depth, 4 to 128 per
+  sub-step, passes beyond the first 4 only while a velocity still changes by 1e-3 m/s);
 - PyBullet: ``GEOM_BOX`` maximal-coordinate rigid bodies (Bullet's own box inertia), its default solver
   (10 iterations), no damping (its default 0.04 off, as Marbellous has none), sleeping off; Bullet multiplies
   two bodies' friction, so each cube and the ground get ``sqrt(0.6)``;
@@ -75,17 +75,18 @@ def standing(count, drift, sink):
     return drift < STANDING_DRIFT and ideal_top(count) - sink > STANDING_HEIGHT * ideal_top(count)
 
 
-def marbellous_tower(count, iterations):
-    """``(world, cubes)``: the tower in a Marbellous world with that ``iterations`` (None: adaptive)."""
-    w = mb.World(iterations=iterations, sleeping=False)
+def marbellous_tower(count, adaptive):
+    """``(world, cubes)``: the tower in a Marbellous world, with ``adaptive_iterations`` on or off."""
+    w = mb.World(sleeping=False)
+    w.adaptive_iterations = adaptive
     w.add_static(mb.Plane(), friction=FRICTION)
     cubes = [w.add_body(mb.Box((HALF, HALF, HALF)), position=x, density=DENSITY, friction=FRICTION)
              for x in centres(count)]
     return w, cubes
 
 
-def run_marbellous(count, steps, iterations):
-    w, cubes = marbellous_tower(count, iterations)
+def run_marbellous(count, steps, adaptive):
+    w, cubes = marbellous_tower(count, adaptive)
     w.step(DT)
     seconds = 0.0
     for _ in range(steps):
@@ -94,7 +95,7 @@ def run_marbellous(count, steps, iterations):
         seconds += time.perf_counter() - t
     top = cubes[-1].position
     # The passes from a profiled replay, so that the timed steps carry no profiling at all.
-    w, cubes = marbellous_tower(count, iterations)
+    w, cubes = marbellous_tower(count, adaptive)
     w.step(DT)
     w.profiling = True
     for _ in range(steps):
@@ -105,11 +106,11 @@ def run_marbellous(count, steps, iterations):
 
 
 def run_marbellous_4(count, steps):
-    return run_marbellous(count, steps, 4)
+    return run_marbellous(count, steps, False)
 
 
 def run_marbellous_adaptive(count, steps):
-    return run_marbellous(count, steps, None)
+    return run_marbellous(count, steps, True)
 
 
 def run_pybullet(count, steps):

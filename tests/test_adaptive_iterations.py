@@ -1,4 +1,5 @@
-"""Adaptive iteration counts: deep stacks get more velocity passes, easy scenes stop early.
+"""Adaptive iteration counts (``World.adaptive_iterations``): deep stacks get more velocity passes, easy scenes
+stop early.
 
 The support depth (``dynamics/support_depth.py``) is checked on contact graphs with known answers; the
 world's behaviour on a tall stack, against the same stack with a fixed pass count."""
@@ -58,10 +59,11 @@ def test_the_cap_grows_with_the_depth_within_its_bounds():
     assert iteration_cap(200, True, 10) == 200
 
 
-def tower(iterations, n=20, seconds=5.0):
-    """``n`` cubes of 0.5 m stacked on the ground, stepped for ``seconds``: the top cube's sideways drift (m)
-    and the mean passes per step."""
-    w = mb.World(iterations=iterations, sleeping=False)
+def tower(adaptive, n=20, seconds=5.0):
+    """``n`` cubes of 0.5 m stacked on the ground, stepped for ``seconds`` with ``adaptive_iterations`` on or
+    off: the top cube's sideways drift (m) and the mean passes per step."""
+    w = mb.World(sleeping=False)
+    w.adaptive_iterations = adaptive
     w.profiling = True
     w.add_static(mb.Plane())
     boxes = [w.add_body(mb.Box((0.25, 0.25, 0.25)), position=(0.0, 0.25 + 0.5 * k, 0.0), density=500)
@@ -73,8 +75,8 @@ def tower(iterations, n=20, seconds=5.0):
 
 
 def test_a_tall_tower_stands_longer_with_the_adaptive_count():
-    drift, passes = tower(None)
-    fixed, fixed_passes = tower(4)
+    drift, passes = tower(True)
+    fixed, fixed_passes = tower(False)
     # 20 cubes over 5 s: with 4 passes per sub-step the top walks off by decimetres; with up to the depth's
     # 40 it stays within a centimetre or two (it still leans over within 20 s: bench/bench_stacks.py), and
     # the extra passes stop once no velocity changes by 1 mm/s
@@ -84,12 +86,15 @@ def test_a_tall_tower_stands_longer_with_the_adaptive_count():
     assert fixed_passes <= 4 * 4
 
 
-def test_the_setting_reads_back():
+def test_the_settings_read_back():
     w = mb.World()
-    assert w.iterations == 4
+    assert w.iterations == 4 and w.adaptive_iterations is False
     w.iterations = 12
-    assert w.iterations == 12
+    w.adaptive_iterations = True
+    assert w.iterations == 12 and w.adaptive_iterations is True
     w.iterations = None
     assert w.iterations == 4
     with pytest.raises(ValueError, match="iterations"):
         w.iterations = 0
+    with pytest.raises(TypeError, match="adaptive_iterations"):
+        w.adaptive_iterations = 1

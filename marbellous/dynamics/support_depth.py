@@ -12,9 +12,11 @@ sub-steps, a higher ``contact_hertz``) do.
 The support depth is how many bodies deep the stack goes: over the movable bodies, the most contacts any of
 them is from something that cannot move (the ground, a static, kinematic or sleeping body) along its
 shortest chain; breadth-first search over the contact graph, level 1 for the bodies touching the ground.
-With ``World(iterations=None)`` a sub-step's passes may run to ``DEPTH_PASSES`` times that depth (at least
-the world's base count, at most ``MAX_ADAPTIVE``); the passes beyond the base count go on only while a
-velocity still changes by ``EXTRA_TOLERANCE``.
+With ``World.adaptive_iterations`` on, a sub-step's passes may run to ``DEPTH_PASSES`` times that depth (at
+least the world's ``iterations``, at most ``MAX_ADAPTIVE``); the passes beyond ``iterations`` go on only
+while a velocity still changes by ``EXTRA_TOLERANCE``.  It is off by default: converged passes carry a heavy
+heap's weight to its lowest contacts, which give in proportion (1000 balls in a heap 3.8 m high: the lowest
+5.8 mm into the ground at 4 passes, 15 mm at 8, 24 mm at 32).
 """
 from .._numba.jit import njit
 from ..state.layout import C_BODY_A, C_BODY_B

@@ -203,7 +203,7 @@ PI_TOI_MODE = 8         # which impacts end an interval and are resolved at its 
 PI_TOI_SPLIT = 9        # 1: the step may stop before solving and ask for a shorter interval (T_LIMIT)
 PI_DETECT = 10          # 1: the step only detects contacts (no prediction) and returns (retroactive mode)
 PI_TURN_SUBSTEPS = 11   # most sub-steps a fast-turning body may ask for (automatic sub-steps); 0: PI_SUBSTEPS exactly
-PI_ADAPTIVE = 12        # 1: deep stacks may take more than PI_ITERATIONS passes (dynamics/support_depth.py)
+PI_ADAPTIVE = 12        # 1: deep stacks may take more than PI_ITERATIONS passes (World.adaptive_iterations)
 PI_LEN = 13
 
 # time-of-impact modes (PI_TOI_MODE); every mode drops speculative contacts that no motion can reach
