@@ -268,13 +268,26 @@ def apply_row(sb, kf, c, a, b, rows, r, lam):
 
 
 @njit
-def warm_start_rigid_joints(bf, kf, ki, nk, sb, rows):
-    """Apply each joint row's impulse of the last sub-step along its current Jacobian (a row the joint no
-    longer uses forgets its impulse)."""
+def fill_joint_rows(bf, kf, ki, nk, cache):
+    """Every ball, hinge, slider and fixed joint's rows at the bodies' current poses into ``cache[c]`` (``nk``
+    x ``JOINT_ROWS`` x ``ROW_COLS``).  A joint's rows depend on the poses only, which no velocity pass moves:
+    filled once where the poses change (the warm start, after the position update), they serve every pass
+    until then."""
+    for c in range(nk):
+        if is_rigid_joint(ki, c):
+            fill_rows(bf, kf, ki, c, cache[c])
+
+
+@njit
+def warm_start_rigid_joints(bf, kf, ki, nk, sb, cache):
+    """The rows at the poses of the sub-step's start into ``cache`` (:func:`fill_joint_rows`), and each joint
+    row's impulse of the last sub-step applied along its Jacobian (a row the joint no longer uses forgets its
+    impulse)."""
+    fill_joint_rows(bf, kf, ki, nk, cache)
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
-        fill_rows(bf, kf, ki, c, rows)
+        rows = cache[c]
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in range(JOINT_ROWS):
             lam = kf[c, K_ROW_IMPULSE + r]
@@ -386,15 +399,16 @@ def _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push):
 
 
 @njit
-def solve_rigid_joints(bf, kf, ki, nk, sb, h, use_bias, soft, max_push, rows):
+def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache):
     """One pass over the ball, hinge, slider and fixed joints on the solver bodies ``sb`` (``use_bias``:
-    solve, else relax): motor, limits, then the orientation or hinge-axis block and the point or across
-    block (the most important last).  Returns the largest velocity change (m/s or rad/s)."""
+    solve, else relax), with their rows in ``cache`` (:func:`fill_joint_rows`): motor, limits, then the
+    orientation or hinge-axis block and the point or across block (the most important last).  Returns the
+    largest velocity change (m/s or rad/s)."""
     largest = 0.0
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
-        fill_rows(bf, kf, ki, c, rows)
+        rows = cache[c]
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in (DRIVE, LOWER, UPPER):
             if rows[r, R_KIND] != OFF:
@@ -418,19 +432,19 @@ def _push_rhs(pb, a, b, rows, r0, n, i, h, max_push):
 
 
 @njit
-def push_rigid_joints(bf, kf, ki, nk, sb, pb, h, max_push, rows):
+def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache):
     """One pass of the joints' position correction on the pseudo-velocities ``pb`` of the contacts' split
     impulses (``contact_solver.push_contacts``), at the poses just integrated: each block of equality rows
     gets the pseudo-velocity that closes its error ``C`` in the sub-step of ``h`` s (``J v_p = -C / h``, no
     faster than ``max_push``), and a limit past its bound one that brings it back (``J v_p >= -C / h``).
     ``apply_push`` then moves the bodies (no faster than ``max_push``) and the velocities never see it, so
-    a joint holds its anchors together however soft its velocity rows are, without adding energy.
-    Returns the largest pseudo-velocity change (m/s or rad/s)."""
+    a joint holds its anchors together however soft its velocity rows are, without adding energy.  The rows
+    come from ``cache`` (:func:`fill_joint_rows`).  Returns the largest pseudo-velocity change (m/s or rad/s)."""
     largest = 0.0
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
-        fill_rows(bf, kf, ki, c, rows)
+        rows = cache[c]
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in (LOWER, UPPER):
             if rows[r, R_KIND] == LIMIT and rows[r, R_C] < 0.0:

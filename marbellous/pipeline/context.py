@@ -85,7 +85,8 @@ FIELDS = TABLE_FIELDS + (
     ("soft", _F2),            # soft-constraint coefficients of contacts (row 0), rods and cables (row 1) and the
     #                           ball, hinge, slider and fixed joints (row 2)
     ("vecs", _F2),            # small vectors of the per-sub-step stages
-    ("joint_rows", _F2),      # the rows of one ball, hinge, slider or fixed joint (dynamics/joint_rows.py)
+    ("joint_cache", types.float64[:, :, ::1]),  # the rows of every ball, hinge, slider and fixed joint at the
+    #                           poses the passes work at (slots x JOINT_ROWS x ROW_COLS, dynamics/joint_rows.py)
     ("parent", _I1),          # union-find forest of the islands
     ("least_rest", _F1),      # least rest time of each island (s)
     ("slab", _I1),            # slab of each body for the parallel contact passes (dynamics/contact_regions.py)
@@ -160,7 +161,7 @@ def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, 
     t.joint_totals = np.zeros(kf.shape[0])
     t.soft = np.zeros((3, 3))
     t.vecs = np.zeros((SCRATCH_VECS, 4))
-    t.joint_rows = np.zeros((JOINT_ROWS, ROW_COLS))
+    t.joint_cache = np.zeros((kf.shape[0], JOINT_ROWS, ROW_COLS))
     t.parent = np.zeros(n_slots, dtype=np.int64)
     t.least_rest = np.zeros(n_slots)
     t.slab = np.zeros(n_slots, dtype=np.int64)

@@ -42,7 +42,8 @@ from ..dynamics.ccd import shape_reach
 from ..dynamics.forces import is_driven, is_moving
 from ..dynamics.integrators import integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
-from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, push_rigid_joints,
+from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, fill_joint_rows,
+                                   push_rigid_joints,
                                    record_rigid_joint_forces, scale_joint_impulses, solve_rigid_joints,
                                    warm_start_rigid_joints)
 from ..dynamics.lcp import solve_lcp
@@ -374,7 +375,7 @@ def stage_integrate_velocities(ctx, penalty):
 def _warm_start_joints(ctx):
     if ctx.nk > 0:
         warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
-        warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_rows)
+        warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
 
 
 @njit
@@ -433,7 +434,7 @@ def _joint_pass(ctx, use_bias):
     bf, kf, ki, nk, sb, h = ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h
     max_push = ctx.params_f[PF_MAX_PUSH]
     return max(solve_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[1], max_push, ctx.implicit, ctx.vecs),
-               solve_rigid_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[2], max_push, ctx.joint_rows))
+               solve_rigid_joints(kf, ki, nk, sb, h, use_bias, ctx.soft[2], max_push, ctx.joint_cache))
 
 
 @njit_inline
@@ -460,8 +461,8 @@ def _push_pass(ctx, contacts, first_pass, joints):
     largest change."""
     change = _contact_pass(ctx, True, first_pass, False) if contacts else 0.0
     if joints and ctx.nk > 0:
-        change = max(change, push_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies,
-                                               ctx.h, ctx.params_f[PF_MAX_PUSH], ctx.joint_rows))
+        change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies, ctx.h,
+                                               ctx.params_f[PF_MAX_PUSH], ctx.joint_cache))
     return change
 
 
@@ -569,6 +570,7 @@ def stage_relax(ctx, contacts):
     stops what the soft solve passes let close; then the contacts' overlap pushed out by split impulses,
     which move the poses and leave the velocities alone."""
     if ctx.nk > 0:
+        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (the poses just integrated)
         _joint_pass(ctx, False)
     if contacts and ctx.nc > 0:
         if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
@@ -588,6 +590,7 @@ def stage_relax_lcp(ctx):
     out by the split impulses of the sequential-impulse solver."""
     if ctx.nk > 0:
         _lcp_pass(ctx, False)
+        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (for the push passes)
     _push_out(ctx, True)
     lap(ctx, ST_RELAX)
 
