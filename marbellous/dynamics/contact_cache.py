@@ -7,8 +7,8 @@ friction (re-projected onto the new tangents) and rolling impulses and the slidi
 """
 from .._numba.jit import njit, njit_inline
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2,
-                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2, CF_COLS,
-                            CI_COLS, CP_MATCHED, CP_RESTING, CP_SENSOR, CP_SLIDING, F_ALIVE, F_SLEEPING, FLAGS)
+                            C_MASS_N, C_MASS_T1, C_MASS_T2, C_NORMAL, C_PAIR_SLIP, C_SHAPE_A, C_SHAPE_B, C_T1, C_T2,
+                            CF_COLS, CI_COLS, CP_MATCHED, CP_RESTING, CP_SENSOR, CP_SLIDING, F_ALIVE, F_SLEEPING, FLAGS)
 from .forces import is_driven, is_moving
 from .contact_basis import contact_basis
 
@@ -57,6 +57,7 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
                 cf[c, C_MASS_N] = pcf[q, C_MASS_N]
                 cf[c, C_MASS_T1] = pcf[q, C_MASS_T1]
                 cf[c, C_MASS_T2] = pcf[q, C_MASS_T2]
+                cf[c, C_PAIR_SLIP] = pcf[q, C_PAIR_SLIP]
                 ci[c, C_FLAGS] |= CP_MATCHED | (pci[q, C_FLAGS] & CP_SLIDING)
                 break
             q += 1

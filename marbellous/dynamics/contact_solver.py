@@ -45,8 +45,8 @@ from .._numba.jit import njit, njit_inline
 from ..math3d import dot3, quat_step, row3, row4
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS,
                             C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
-                            C_MU_D, C_MU_S, C_NORMAL, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2,
-                            C_TORSION, C_VN0, DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT,
+                            C_MU_D, C_MU_S, C_NORMAL, C_PAIR_SLIP, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1,
+                            C_T2, C_TORSION, C_VN0, DTHETA, F_ISOTROPIC, FLAGS, FRICTION, OMEGA, PB_V, PB_W, POS, QUAT,
                             RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION, TORSION, VEL)
 from .contact_basis import contact_basis
 from .forces import is_moving
@@ -96,6 +96,7 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
             sliding = (ci[c, C_FLAGS] & CP_SLIDING) != 0
         else:
             sliding = math.sqrt(vt1 * vt1 + vt2 * vt2) > slide_speed
+            cf[c, C_PAIR_SLIP] = _pair_slip(bf, cf, ci, c)
         if sliding:
             ci[c, C_FLAGS] |= CP_SLIDING
         else:
@@ -734,14 +735,26 @@ def _slides(bf, cf, ci, c, slide_speed):
     return dot3(dv, dv) - vn * vn > slide_speed * slide_speed
 
 
+@njit
+def _pair_slip(bf, cf, ci, c):
+    """How fast the centres of contact ``c``'s two bodies move past each other across its normal (m/s)."""
+    a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
+    dv = (bf[b, VEL] - bf[a, VEL], bf[b, VEL + 1] - bf[a, VEL + 1], bf[b, VEL + 2] - bf[a, VEL + 2])
+    vn = dot3(dv, row3(cf, c, C_NORMAL))
+    return math.sqrt(max(dot3(dv, dv) - vn * vn, 0.0))
+
+
 @njit_inline
 def store_friction_state(bf, cf, ci, nc, slide_speed):
     """Stage "store impulses": the contacts of a pair of bodies slide in the next step (dynamic friction) if
     every one of them reached its cone in this one, and each whose points slide past each other faster
-    than ``slide_speed`` (m/s) at the step's end does.  Some points of a pair at their cone do not make it
-    slide: the uphill corners of a box on a slope carry less weight and reach their share of the cone
-    first, while the others still hold it; the box lets go at ``tan(theta) = mu_s`` as a whole.  (A pair's
-    contacts are consecutive rows of the table.)"""
+    than ``slide_speed`` (m/s) at the step's end does -- unless the pair sticks and its bodies slip past each
+    other (their centres, across the normal: ``C_PAIR_SLIP``) no faster than at the last step's end: static
+    friction lets go of a slip it cannot stop, not of one it is stopping (penalty springs start from zero
+    force, and a box set down on a slope slips while they take its weight).  Some points of a pair at their
+    cone do not make it slide: the uphill corners of a box on a slope carry less weight and reach their share
+    of the cone first, while the others still hold it; the box lets go at ``tan(theta) = mu_s`` as a whole.
+    (A pair's contacts are consecutive rows of the table.)"""
     first = 0
     while first < nc:
         a, b = ci[first, C_BODY_A], ci[first, C_BODY_B]
@@ -751,9 +764,13 @@ def store_friction_state(bf, cf, ci, nc, slide_speed):
         held = False
         for c in range(first, last):
             held = held or not _at_cone(cf, ci, c)
+        # a sticking pair lets go only of a slip it cannot stop: one that grew over the step
+        slip = _pair_slip(bf, cf, ci, first)
         for c in range(first, last):
-            if not held and _slides(bf, cf, ci, c, slide_speed):
+            stopping = (ci[c, C_FLAGS] & CP_SLIDING) == 0 and slip <= cf[c, C_PAIR_SLIP]
+            if not held and not stopping and _slides(bf, cf, ci, c, slide_speed):
                 ci[c, C_FLAGS] |= CP_SLIDING
             else:
                 ci[c, C_FLAGS] &= ~CP_SLIDING
+            cf[c, C_PAIR_SLIP] = slip
         first = last

@@ -35,9 +35,11 @@ friction rests on a stretched spring instead of creeping, and a sliding one feel
 its motion.  The spring force ``S h`` is the contact's friction impulse (C_LAMBDA_T1, C_LAMBDA_T2),
 carried from sub-step to sub-step and, matched by feature, from step to step.  A contact sticks
 (``mu = mu_s``; a spring pulled past the static cone is held on it, and the contact slips) until the
-step ends with every contact of its pair at the cone and its points sliding faster than ``slide_speed``
-(``contact_solver.store_friction_state``, as for the impulse solvers); then it slides (``mu = mu_d``)
-until the spring and dashpot ask for less than ``mu_d F_n`` again.  The uphill corners of a box on a
+step ends with every contact of its pair at the cone, its points sliding faster than ``slide_speed`` and
+its bodies slipping past each other faster than at the step before (``contact_solver.store_friction_state``,
+as for the impulse solvers: the springs start from zero force, so a box set down on a slope slips while
+they take its weight, a slip that static friction then stops); then it slides (``mu = mu_d``) until the
+spring and dashpot ask for less than ``mu_d F_n`` again.  The uphill corners of a box on a
 slope, which carry less weight, reach their share of the static cone first: the box holds while the
 others do, and lets go at ``tan(theta) = mu_s``.
 

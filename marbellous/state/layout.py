@@ -153,7 +153,9 @@ C_ADJ_SEP = 34     # separation at detection, for updating it from the bodies' m
 C_SUM_N = 35       # normal impulse applied over the whole step (N s)
 C_SUM_T = 36       # friction impulse applied over the whole step, world vector (N s), 3
 C_TORSION = 39     # combined torsional friction (m)
-CF_COLS = 40
+C_PAIR_SLIP = 40   # how fast the pair's bodies slid past each other at the last step's end (m/s; a new contact:
+#                    as this step began): their centres' relative velocity across the contact normal
+CF_COLS = 41
 
 C_BODY_A = 0
 C_BODY_B = 1
