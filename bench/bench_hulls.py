@@ -27,7 +27,6 @@ non-finite poses is reported as failed.
 
     python bench/bench_hulls.py [--quick] [--json FILE]
 """
-import argparse
 import json
 import math
 import os
@@ -47,7 +46,8 @@ from bench.peers import version  # noqa: E402
 from bench.peers.axes import R as PEER_AXES  # noqa: E402
 from bench.peers.axes import quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import best_results, time_mujoco  # noqa: E402
+from bench.peers.pybullet_world import direct_client  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
 
 DT = 1.0 / 60.0
 SEED = 20261202
@@ -141,15 +141,9 @@ def _principal(shape):
 
 
 def run_pybullet(count, steps):
-    import pybullet as p
     shapes = hulls(count)
-    cid = p.connect(p.DIRECT)
-    kw = {"physicsClientId": cid}
-    p.setGravity(*to_peer((0.0, -9.81, 0.0)), **kw)
-    p.setPhysicsEngineParameter(fixedTimeStep=DT, numSolverIterations=10, numSubSteps=0, **kw)
     mu = math.sqrt(FRICTION)        # Bullet multiplies the two coefficients
-    ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
-    p.changeDynamics(ground, -1, lateralFriction=mu, **kw)
+    p, kw = direct_client(DT, ground_friction=mu)
     ids, frames = [], []
     for s, x, q in zip(shapes, *poses(shapes)):
         moments, e = _principal(s)
@@ -179,7 +173,7 @@ def run_pybullet(count, steps):
         rots.append(PEER_AXES.T @ np.array(p.getMatrixFromQuaternion(r)).reshape(3, 3) @ e.T)
         vs.append(PEER_AXES.T @ np.array(v))
         ws.append(PEER_AXES.T @ np.array(w))
-    p.disconnect(cid)
+    p.disconnect(**kw)
     return (1e3 * seconds / steps, *measures(shapes, xs, rots, vs, ws))
 
 
@@ -223,11 +217,7 @@ RUNS = {"marbellous": run_marbellous, "marbellous-noccd": run_marbellous_no_ccd,
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--json", help="write the results to this file")
-    args = parser.parse_args()
+    args = bench_arguments(__doc__)
     count, steps = (16, 60) if args.quick else (64, 300)
     shapes = hulls(count)
     results = {name: r if isinstance(r, dict) else {"ms_per_step": r[0], "lowest_point_m": r[1], "moving": r[2],

@@ -16,7 +16,6 @@ Reported per engine: ms per step (the ``step()`` calls only, best of ``--repeats
 
     python bench/bench_joints.py [--quick] [--json FILE]
 """
-import argparse
 import json
 import math
 import os
@@ -31,7 +30,8 @@ sys.path.insert(0, os.path.dirname(HERE))
 import marbellous as mb  # noqa: E402
 from bench.peers.axes import from_peer, quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import best_results, time_mujoco  # noqa: E402
+from bench.peers.pybullet_world import direct_client  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
 
 DT = 1.0 / 60.0
 HALF = (0.02, 0.04, 0.02)       # a link's half extents (m): 8 cm along the chain
@@ -109,11 +109,7 @@ def run_marbellous(chains, links, steps):
 
 
 def run_pybullet(chains, links, steps):
-    import pybullet as p
-    cid = p.connect(p.DIRECT)
-    kw = {"physicsClientId": cid}
-    p.setGravity(*to_peer((0.0, -9.81, 0.0)), **kw)
-    p.setPhysicsEngineParameter(fixedTimeStep=DT, numSolverIterations=10, numSubSteps=0, **kw)
+    p, kw = direct_client(DT)
     shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=list(HALF), **kw)
     ids, worlds = [], []
     anchors = _local_anchors(chains, links)
@@ -150,7 +146,7 @@ def run_pybullet(chains, links, steps):
             pos.append(from_peer(np.array(x)))
             orn.append(_quat_from_peer(np.array([r[3], r[0], r[1], r[2]])))
         worst = max(worst, _gaps(pos, orn, anchors, world_points))
-    p.disconnect(cid)
+    p.disconnect(**kw)
     return 1e3 * seconds / steps, worst
 
 
@@ -197,11 +193,7 @@ RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mu
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--json", help="write the results to this file")
-    args = parser.parse_args()
+    args = bench_arguments(__doc__)
     chains, links, steps = (2, 10, 30) if args.quick else (10, 20, 600)
     results = {name: r if isinstance(r, dict) else {"ms_per_step": r[0], "widest_gap_m": r[1]}
                for name, r in best_results(RUNS, args.repeats, chains, links, steps).items()}

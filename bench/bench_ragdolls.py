@@ -20,7 +20,6 @@ ground).
 
     python bench/bench_ragdolls.py [--quick] [--json FILE]
 """
-import argparse
 import json
 import math
 import os
@@ -35,7 +34,8 @@ sys.path.insert(0, os.path.dirname(HERE))
 import marbellous as mb  # noqa: E402
 from bench.peers.axes import quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import best_results, time_mujoco  # noqa: E402
+from bench.peers.pybullet_world import direct_client  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
 from marbellous.scenes.articulated import RAGDOLL_JOINTS, RAGDOLL_PARTS, ragdoll  # noqa: E402
 
 DT = 1.0 / 60.0
@@ -77,13 +77,7 @@ _Z_TO_Y = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]
 
 
 def run_pybullet(count, steps):
-    import pybullet as p
-    cid = p.connect(p.DIRECT)
-    kw = {"physicsClientId": cid}
-    p.setGravity(*to_peer((0.0, -9.81, 0.0)), **kw)
-    p.setPhysicsEngineParameter(fixedTimeStep=DT, numSolverIterations=10, numSubSteps=0, **kw)
-    ground = p.createCollisionShape(p.GEOM_PLANE, **kw)
-    p.changeDynamics(p.createMultiBody(0, ground, **kw), -1, lateralFriction=0.6, **kw)
+    p, kw = direct_client(DT, ground_friction=0.6)
     shapes = {}
     for name, (shape, _, _) in RAGDOLL_PARTS.items():
         if isinstance(shape, mb.Sphere):
@@ -120,7 +114,7 @@ def run_pybullet(count, steps):
         for a, ra, b, rb in joints:
             worst = max(worst, float(np.linalg.norm(_world(p, a, ra, kw) - _world(p, b, rb, kw))))
     lowest = min(float(p.getBasePositionAndOrientation(i, **kw)[0][2]) for i in ids)
-    p.disconnect(cid)
+    p.disconnect(**kw)
     return 1e3 * seconds / steps, worst, lowest
 
 
@@ -173,11 +167,7 @@ RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mu
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--json", help="write the results to this file")
-    args = parser.parse_args()
+    args = bench_arguments(__doc__)
     count, steps = (2, 30) if args.quick else (16, 300)
     results = {name: r if isinstance(r, dict) else {"ms_per_step": r[0], "widest_gap_m": r[1],
                                                      "lowest_centre_m": r[2]}

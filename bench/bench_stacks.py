@@ -24,7 +24,6 @@ reported as failed.
 
     python bench/bench_stacks.py [--quick] [--json FILE]
 """
-import argparse
 import json
 import math
 import os
@@ -42,7 +41,8 @@ from bench.machine import describe  # noqa: E402
 from bench.peers import version  # noqa: E402
 from bench.peers.axes import from_peer, quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import best_results, time_mujoco  # noqa: E402
+from bench.peers.pybullet_world import direct_client  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
 
 DT = 1.0 / 60.0
 HALF = 0.25                 # half extent of a cube (m)
@@ -114,14 +114,8 @@ def run_marbellous_adaptive(count, steps):
 
 
 def run_pybullet(count, steps):
-    import pybullet as p
-    cid = p.connect(p.DIRECT)
-    kw = {"physicsClientId": cid}
-    p.setGravity(*to_peer((0.0, -9.81, 0.0)), **kw)
-    p.setPhysicsEngineParameter(fixedTimeStep=DT, numSolverIterations=10, numSubSteps=0, **kw)
     mu = math.sqrt(FRICTION)        # Bullet multiplies the two coefficients
-    ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
-    p.changeDynamics(ground, -1, lateralFriction=mu, **kw)
+    p, kw = direct_client(DT, ground_friction=mu)
     box = p.createCollisionShape(p.GEOM_BOX, halfExtents=[HALF] * 3, **kw)
     mass = DENSITY * (2.0 * HALF) ** 3
     qp = quat_to_peer((1.0, 0.0, 0.0, 0.0))
@@ -139,7 +133,7 @@ def run_pybullet(count, steps):
         p.stepSimulation(**kw)
         seconds += time.perf_counter() - t
     top = from_peer(p.getBasePositionAndOrientation(ids[-1], **kw)[0])
-    p.disconnect(cid)
+    p.disconnect(**kw)
     return 1e3 * seconds / steps, *measures(count, top), None
 
 
@@ -163,11 +157,7 @@ RUNS = {"marbellous-4": run_marbellous_4, "marbellous-adaptive": run_marbellous_
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--json", help="write the results to this file")
-    args = parser.parse_args()
+    args = bench_arguments(__doc__)
     heights, steps = ((10, 20), 120) if args.quick else ((10, 20, 30), 300)
     results = {}
     for count in heights:

@@ -57,6 +57,20 @@ def box_on_slope(solver, degrees, mu_s=0.6, mu_d=0.4):
     return w, box, np.array([-math.cos(a), -math.sin(a), 0.0])
 
 
+def sliding_past_static_angle(solver, excess=0.2, mu_s=0.6, mu_d=0.4):
+    """A box released at rest ``excess`` degrees past atan(mu_s) (:func:`box_on_slope`): ``(measured, expected)``
+    downhill acceleration (m/s^2) between its 60th and 120th steps, and dynamic friction's g (sin - mu_d cos)."""
+    angle = math.degrees(math.atan(mu_s)) + excess
+    w, box, downhill = box_on_slope(solver, angle, mu_s, mu_d)
+    for _ in range(60):
+        w.step(DT)
+    v1 = box.velocity @ downhill
+    for _ in range(60):
+        w.step(DT)
+    a = math.radians(angle)
+    return (box.velocity @ downhill - v1) / (60 * DT), G * (math.sin(a) - mu_d * math.cos(a))
+
+
 HEAD_ON = (2.0, 3.0, 4.0, -1.0)   # masses m1, m2 (kg) and velocities u1, u2 (m/s) along x
 
 

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from mechanics import (DT, HEAD_ON, ROLLING_ACCELERATION, G, acceleration_downhill, box_on_incline, box_on_slope,
-                       head_on_collision, sliding_acceleration, sphere_on_incline)
+                       head_on_collision, sliding_acceleration, sliding_past_static_angle, sphere_on_incline)
 
 import marbellous as mb
 from marbellous.dynamics.penalty import STABLE_FRACTION, damping_ratio, spring_restitution
@@ -178,11 +178,5 @@ def test_a_box_holds_up_to_the_static_friction_angle_and_slides_past_it():
     for _ in range(150):
         w.step(1.0 / 60.0)
     assert np.linalg.norm(box.velocity) < 1e-3
-    w, box, downhill = box_on_slope("penalty", angle + 0.2)
-    for _ in range(60):
-        w.step(1.0 / 60.0)
-    v1 = box.velocity @ downhill
-    for _ in range(60):
-        w.step(1.0 / 60.0)
-    a = math.radians(angle + 0.2)
-    assert box.velocity @ downhill - v1 == pytest.approx(G * (math.sin(a) - 0.4 * math.cos(a)), rel=0.01)
+    measured, expected = sliding_past_static_angle("penalty")
+    assert measured == pytest.approx(expected, rel=0.01)

@@ -24,6 +24,20 @@ from . import Unsupported, bodies_of
 from .axes import from_peer, quat_to_peer, to_peer
 
 
+def direct_client(dt, ground_friction=None):
+    """A new PyBullet physics client in DIRECT mode at the settings above (time step ``dt`` s, no sub-steps,
+    10 solver iterations, gravity 9.81 along -z): ``(pybullet module, keyword arguments naming the client)``.
+    With ``ground_friction`` a ground plane too, whose coefficient Bullet multiplies by each body's."""
+    import pybullet as p
+    kw = {"physicsClientId": p.connect(p.DIRECT)}
+    p.setGravity(*to_peer((0.0, -9.81, 0.0)), **kw)
+    p.setPhysicsEngineParameter(fixedTimeStep=dt, numSolverIterations=10, numSubSteps=0, **kw)
+    if ground_friction is not None:
+        ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
+        p.changeDynamics(ground, -1, lateralFriction=ground_friction, **kw)
+    return p, kw
+
+
 def _xyzw(q):
     return [float(q[1]), float(q[2]), float(q[3]), float(q[0])]
 

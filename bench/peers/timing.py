@@ -1,6 +1,17 @@
-"""Timing the peer engines side by side: the best of several runs, and MuJoCo's step loop with its
-instability check."""
+"""Timing the peer engines side by side: the benches' command line, the best of several runs, and MuJoCo's
+step loop with its instability check."""
+import argparse
 import time
+
+
+def bench_arguments(doc):
+    """The command line every side-by-side bench takes (``--quick``, ``--repeats``, ``--json FILE``), described
+    by the first line of its docstring ``doc``: the parsed arguments."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a smaller scene and fewer steps")
+    parser.add_argument("--repeats", type=int, default=3, help="runs per engine, the fastest kept")
+    parser.add_argument("--json", help="write the results to this file")
+    return parser.parse_args()
 
 
 def best_results(runs, repeats, *scene):

@@ -5,12 +5,10 @@ Vertex ``k`` at height ``h_k = n . v_k - offset`` above the plane is a contact o
 (four at most) and then the nearest (``pairs/manifold``): a hull resting on a small face keeps the corners
 it rests on, not far corners above, and a falling hull the corners it meets first.
 """
-import numpy as np
-
 from ..._numba.jit import njit
 from ..pairs.contact_output import add_contact
-from ..pairs.manifold import reduce_touching_first
-from ..vec3 import any_perpendicular, cross, dot, scale
+from ..pairs.manifold import reduce_on_plane
+from ..vec3 import scale
 from .polytope import vertex
 
 #: most contacts of a hull with a plane: four touching corners and the nearest speculative ones (a random hull
@@ -22,25 +20,9 @@ MOST_CONTACTS = 8
 def collide_polytope_plane(verts, pn, off, prediction, out_f, out_i, n):
     """Contacts of the placed polytope ``verts`` (shape a) with the plane ``pn . x = off`` (shape b, unit
     ``pn``, solid below); normals from a to b (``-pn``).  Returns the new count."""
-    nv = verts.shape[0]
-    t1 = any_perpendicular(pn)
-    t2 = cross(pn, t1)
-    pts = np.empty((nv, 3))
-    keep = np.empty(nv, np.int64)
-    chosen = np.empty(MOST_CONTACTS, np.int64)
-    m = 0
-    for k in range(nv):
-        v = vertex(verts, k)
-        h = dot(pn, v) - off
-        if h <= prediction:
-            pts[k, 0] = dot(v, t1)
-            pts[k, 1] = dot(v, t2)
-            pts[k, 2] = h
-            keep[m] = k
-            m += 1
-    m = reduce_touching_first(pts, keep, m, chosen, np.empty(m, np.int64))
+    heights, chosen, m = reduce_on_plane(verts, verts.shape[0], pn, off, prediction, MOST_CONTACTS)
     normal = scale(pn, -1.0)
     for q in range(m):
         k = chosen[q]
-        n = add_contact(out_f, out_i, n, vertex(verts, k), normal, -pts[k, 2], k)
+        n = add_contact(out_f, out_i, n, vertex(verts, k), normal, -heights[k], k)
     return n

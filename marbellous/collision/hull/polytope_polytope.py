@@ -27,10 +27,10 @@ import numpy as np
 
 from ..._numba.jit import njit
 from ..pairs.contact_output import add_contact
-from ..pairs.manifold import reduce_touching_first
+from ..pairs.manifold import reduce_on_plane
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
-from ..vec3 import any_perpendicular, cross, dot, madd, scale, sub
+from ..vec3 import cross, dot, madd, scale, sub
 from .hull_plane import MOST_CONTACTS
 from .polytope import edge_arc, edge_segment, lowest, most_opposed_face, normal, on_edge_arc, vertex
 
@@ -161,27 +161,13 @@ def _face_contact(vr, pr, sr, lr, face, vi, pi, si, li, ref_is_b, slop, predicti
         src = 1 - src
         if count == 0:
             return n
-    t1 = any_perpendicular(nref)
-    t2 = cross(nref, t1)
-    pts = np.empty((count, 3))
-    keep = np.empty(count, np.int64)
-    chosen = np.empty(MOST_CONTACTS, np.int64)
-    kept = 0
-    for q in range(count):
-        x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
-        pts[q, 0] = dot(x, t1)
-        pts[q, 1] = dot(x, t2)
-        pts[q, 2] = dot(x, nref) - pr[face, 3]
-        if pts[q, 2] <= prediction:
-            keep[kept] = q
-            kept += 1
-    kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
+    heights, chosen, kept = reduce_on_plane(poly[src], count, nref, pr[face, 3], prediction, MOST_CONTACTS)
     base = ((ref_is_b * 1024 + face) * 1024 + inc) * 512
     nab = nref if ref_is_b == 0 else scale(nref, -1.0)
     for k in range(kept):
         q = chosen[k]
         x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
-        height = pts[q, 2]
+        height = heights[q]
         p_on_a = madd(x, -height, nref) if ref_is_b == 0 else x
         feature = (base + labels[src, q, 0]) * 512 + labels[src, q, 1]
         n = add_contact(out_f, out_i, n, p_on_a, nab, -height, feature)

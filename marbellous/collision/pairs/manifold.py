@@ -4,7 +4,10 @@ A face contact (box on box, hull on hull, hull on a plane) can have many points;
 than four to hold a body flat: the deepest, the one farthest from it, the one spanning the largest triangle
 with those two, and the one adding the most area outside that triangle.
 """
+import numpy as np
+
 from ..._numba.jit import njit
+from ..vec3 import any_perpendicular, cross, dot
 
 
 @njit
@@ -96,3 +99,27 @@ def reduce_touching_first(pts, keep, m, chosen, scratch):
         chosen[picked] = best
         picked += 1
     return picked
+
+
+@njit
+def reduce_on_plane(xs, count, normal, offset, prediction, most):
+    """The points ``xs[:count]`` (rows of an (n, 3) array, m) within ``prediction`` (m) above the plane
+    ``normal . x = offset``, at most ``most`` of them, touching first (:func:`reduce_touching_first`, in the
+    plane's own 2-D coordinates).  Returns ``(heights, chosen, kept)``: each point's height above the plane
+    (m, minus its depth) and the picked points' indices ``chosen[:kept]``."""
+    t1 = any_perpendicular(normal)
+    t2 = cross(normal, t1)
+    pts = np.empty((count, 3))
+    keep = np.empty(count, np.int64)
+    chosen = np.empty(most, np.int64)
+    kept = 0
+    for q in range(count):
+        x = (xs[q, 0], xs[q, 1], xs[q, 2])
+        pts[q, 0] = dot(x, t1)
+        pts[q, 1] = dot(x, t2)
+        pts[q, 2] = dot(x, normal) - offset
+        if pts[q, 2] <= prediction:
+            keep[kept] = q
+            kept += 1
+    kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
+    return pts[:, 2], chosen, kept

@@ -22,10 +22,10 @@ import numpy as np
 from ..._numba.jit import njit
 from ..hull.polytope import edge_arc, edge_segment, highest, lowest, most_opposed_face, normal, on_edge_arc, vertex
 from ..hull.polytope_polytope import clip_polygon
-from ..pairs.manifold import reduce_touching_first
+from ..pairs.manifold import reduce_on_plane
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CROSS_AXIS_MIN, FACE_BIAS
-from ..vec3 import any_perpendicular, cross, dot, madd, scale, sub
+from ..vec3 import cross, dot, madd, scale, sub
 from .triangle_box import _IN_PLANE, CLIP_FIRST, EDGE_PAIR
 from .triangle_contact import GHOST_ROUNDING, write_row
 
@@ -33,27 +33,15 @@ from .triangle_contact import GHOST_ROUNDING, write_row
 @njit
 def _clipped_rows(poly, src, count, ref_n, ref_d, normal_out, on_triangle, prediction, scratch):
     """Rows for the clipped polygon ``poly[src, :count]`` against the reference plane ``ref_n . x = ref_d``
-    (depth ``ref_d - ref_n . x``), reduced to four; ``on_triangle``: the polygon lies on the triangle (else
-    it lies on the hull and its points are moved onto the triangle's plane).  Returns the number of rows."""
-    t1 = any_perpendicular(ref_n)
-    t2 = cross(ref_n, t1)
-    pts = np.empty((count, 3))
-    keep = np.empty(count, np.int64)
-    chosen = np.empty(EDGE_PAIR - CLIP_FIRST, np.int64)    # (feature codes CLIP_FIRST + k stay below EDGE_PAIR)
-    kept = 0
-    for q in range(count):
-        x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
-        pts[q, 0] = dot(x, t1)
-        pts[q, 1] = dot(x, t2)
-        pts[q, 2] = dot(x, ref_n) - ref_d
-        if pts[q, 2] <= prediction:
-            keep[kept] = q
-            kept += 1
-    kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
+    (depth ``ref_d - ref_n . x``), those within ``prediction``, touching first, seven at most; ``on_triangle``:
+    the polygon lies on the triangle (else on the hull, and its points are moved onto the triangle's plane).
+    Returns the number of rows."""
+    # (feature codes CLIP_FIRST + k stay below EDGE_PAIR)
+    heights, chosen, kept = reduce_on_plane(poly[src], count, ref_n, ref_d, prediction, EDGE_PAIR - CLIP_FIRST)
     for k in range(min(kept, scratch.shape[0])):
         q = chosen[k]
         x = (poly[src, q, 0], poly[src, q, 1], poly[src, q, 2])
-        depth = -pts[q, 2]
+        depth = -heights[q]
         on = x if on_triangle else madd(x, depth, ref_n)
         write_row(scratch, k, on, normal_out, depth, CLIP_FIRST + k, x)
     return min(kept, scratch.shape[0])
