@@ -27,7 +27,7 @@ import numpy as np
 
 from ..._numba.jit import njit
 from ..pairs.contact_output import add_contact
-from ..pairs.manifold import reduce_on_plane
+from ..pairs.manifold import clip_polygon, reduce_on_plane
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import cross, dot, madd, scale, sub
@@ -98,36 +98,6 @@ def _best_edge_pair(va, pa, ea, vb, pb, eb, prediction):
                 if s > prediction:
                     return best, best_i, best_j, best_l
     return best, best_i, best_j, best_l
-
-
-@njit
-def clip_polygon(poly, labels, src, count, side, offset, label):
-    """Sutherland-Hodgman: keep the part of polygon ``poly[src, :count]`` with ``side . x <= offset``,
-    writing it into ``poly[1 - src]``; a new vertex is named by the polygon edge it cuts and ``label``.
-    Returns the new count."""
-    dst = 1 - src
-    out = 0
-    prev = count - 1
-    cap = poly.shape[1]
-    for cur in range(count):
-        dp = side[0] * poly[src, prev, 0] + side[1] * poly[src, prev, 1] + side[2] * poly[src, prev, 2] - offset
-        dc = side[0] * poly[src, cur, 0] + side[1] * poly[src, cur, 1] + side[2] * poly[src, cur, 2] - offset
-        edge = labels[src, prev, 1]
-        if (dc <= 0.0) != (dp <= 0.0) and out < cap:
-            f = dp / (dp - dc)
-            for m in range(3):
-                poly[dst, out, m] = poly[src, prev, m] + f * (poly[src, cur, m] - poly[src, prev, m])
-            labels[dst, out, 0] = label if dc <= 0.0 else edge
-            labels[dst, out, 1] = edge if dc <= 0.0 else label
-            out += 1
-        if dc <= 0.0 and out < cap:
-            for m in range(3):
-                poly[dst, out, m] = poly[src, cur, m]
-            labels[dst, out, 0] = labels[src, cur, 0]
-            labels[dst, out, 1] = labels[src, cur, 1]
-            out += 1
-        prev = cur
-    return out
 
 
 @njit

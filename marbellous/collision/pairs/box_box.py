@@ -30,7 +30,7 @@ from ..._numba.jit import njit
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import column, cross, dot, length, load, madd, scale, sub
 from .contact_output import add_contact
-from .manifold import reduce_to_four
+from .manifold import clip_polygon, reduce_to_four
 from .segment import closest_segment_params
 
 _EDGE_ID_BASE = 4608
@@ -73,7 +73,8 @@ def _clip_incident_face(ref_h, axis, slop, poly, labels):
     """Clip the incident quad ``poly[0, :4]`` against the reference face's side planes.
 
     ``poly[b, v] = (u_1, u_2, height)`` in the reference face frame, ``labels[b, v] = (edge in,
-    edge out)``.  Returns ``(buffer, count)`` of the clipped polygon.
+    edge out)``; side plane ``p`` (labelled ``4 + p``) is ``+-u_1 <= h_j + slop`` or ``+-u_2 <= h_k + slop``.
+    Returns ``(buffer, count)`` of the clipped polygon.
     """
     j = (axis + 1) % 3
     k = (axis + 2) % 3
@@ -83,33 +84,9 @@ def _clip_incident_face(ref_h, axis, slop, poly, labels):
         coord = plane >> 1
         sgn = 1.0 - 2.0 * (plane & 1)
         lim = (ref_h[j] if coord == 0 else ref_h[k]) + slop
-        dst = 1 - src
-        out = 0
-        prev = count - 1
-        for cur in range(count):
-            dp = sgn * poly[src, prev, coord] - lim
-            dc = sgn * poly[src, cur, coord] - lim
-            edge = labels[src, prev, 1]
-            if (dc <= 0.0) != (dp <= 0.0) and out < 8:
-                f = dp / (dp - dc)
-                for m in range(3):
-                    poly[dst, out, m] = poly[src, prev, m] + f * (poly[src, cur, m] - poly[src, prev, m])
-                if dc <= 0.0:
-                    labels[dst, out, 0] = 4 + plane
-                    labels[dst, out, 1] = edge
-                else:
-                    labels[dst, out, 0] = edge
-                    labels[dst, out, 1] = 4 + plane
-                out += 1
-            if dc <= 0.0 and out < 8:
-                for m in range(3):
-                    poly[dst, out, m] = poly[src, cur, m]
-                labels[dst, out, 0] = labels[src, cur, 0]
-                labels[dst, out, 1] = labels[src, cur, 1]
-                out += 1
-            prev = cur
-        src = dst
-        count = out
+        side = (sgn, 0.0, 0.0) if coord == 0 else (0.0, sgn, 0.0)
+        count = clip_polygon(poly, labels, src, count, side, lim, 4 + plane)
+        src = 1 - src
         if count == 0:
             break
     return src, count

@@ -1,4 +1,5 @@
-"""Reducing a clipped contact polygon to the four points that keep a body resting on it.
+"""Contact manifolds of faces: clipping an incident face against a reference face's side planes, and reducing
+the clipped polygon to the points that keep a body resting on it.
 
 A face contact (box on box, hull on hull, hull on a plane) can have many points; the solver needs no more
 than four to hold a body flat: the deepest, the one farthest from it, the one spanning the largest triangle
@@ -123,3 +124,33 @@ def reduce_on_plane(xs, count, normal, offset, prediction, most):
             kept += 1
     kept = reduce_touching_first(pts, keep, kept, chosen, np.empty(kept, np.int64))
     return pts[:, 2], chosen, kept
+
+
+@njit
+def clip_polygon(poly, labels, src, count, side, offset, label):
+    """Sutherland-Hodgman: keep the part of polygon ``poly[src, :count]`` with ``side . x <= offset``,
+    writing it into ``poly[1 - src]``; a new vertex is named by the polygon edge it cuts and ``label``.
+    Returns the new count."""
+    dst = 1 - src
+    out = 0
+    prev = count - 1
+    cap = poly.shape[1]
+    for cur in range(count):
+        dp = side[0] * poly[src, prev, 0] + side[1] * poly[src, prev, 1] + side[2] * poly[src, prev, 2] - offset
+        dc = side[0] * poly[src, cur, 0] + side[1] * poly[src, cur, 1] + side[2] * poly[src, cur, 2] - offset
+        edge = labels[src, prev, 1]
+        if (dc <= 0.0) != (dp <= 0.0) and out < cap:
+            f = dp / (dp - dc)
+            for m in range(3):
+                poly[dst, out, m] = poly[src, prev, m] + f * (poly[src, cur, m] - poly[src, prev, m])
+            labels[dst, out, 0] = label if dc <= 0.0 else edge
+            labels[dst, out, 1] = edge if dc <= 0.0 else label
+            out += 1
+        if dc <= 0.0 and out < cap:
+            for m in range(3):
+                poly[dst, out, m] = poly[src, cur, m]
+            labels[dst, out, 0] = labels[src, cur, 0]
+            labels[dst, out, 1] = labels[src, cur, 1]
+            out += 1
+        prev = cur
+    return out

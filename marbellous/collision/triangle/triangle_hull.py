@@ -21,8 +21,7 @@ import numpy as np
 
 from ..._numba.jit import njit
 from ..hull.polytope import edge_arc, edge_segment, highest, lowest, most_opposed_face, normal, on_edge_arc, vertex
-from ..hull.polytope_polytope import clip_polygon
-from ..pairs.manifold import reduce_on_plane
+from ..pairs.manifold import clip_polygon, reduce_on_plane
 from ..pairs.segment import closest_segment_params
 from ..tolerances import CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import cross, dot, madd, scale, sub
