@@ -108,6 +108,22 @@ def on_edge_arc(axis, a, b):
 
 
 @njit
+def arcs_cross(a, b, c, d):
+    """True if the Gauss-map arc of an edge of A (face normals ``a`` to ``b``) crosses the arc of an edge of B
+    (``c`` to ``d``) negated: the two edges then support A and B along the cross product of their directions,
+    and that axis is a face of the Minkowski difference A - B (Gregorius, GDC 2013): with ``b x a`` and
+    ``d x c`` square to the arcs' planes, ``(c.(b x a)) (d.(b x a)) < 0``, ``(a.(d x c)) (b.(d x c)) < 0``, and
+    the arcs on one hemisphere, ``(c.(b x a)) (b.(d x c)) < 0``.  Four dot products, no square root."""
+    bxa = cross(b, a)
+    dxc = cross(d, c)
+    cba = -dot(c, bxa)
+    dba = -dot(d, bxa)
+    adc = dot(a, dxc)
+    bdc = dot(b, dxc)
+    return cba * dba < 0.0 and adc * bdc < 0.0 and cba * bdc > 0.0
+
+
+@njit
 def edge_arc(planes, edges, e):
     """The normals ``(a, b)`` of the faces left and right of edge ``e``."""
     return normal(planes, edges[4 * e + 2]), normal(planes, edges[4 * e + 3])

@@ -4,9 +4,10 @@ Axes (``polytope`` has the placed polytopes and the Gauss map):
 
 - a face ``f`` of A (normal ``n``, plane ``d``): ``sep = min_{v in B} n . v - d``; likewise B's faces;
 - an edge of A and an edge of B: ``L = e_A x e_B`` (unit), only when the two edges' Gauss-map arcs cross
-  (``L`` on A's arc and ``-L`` on B's), which is exactly when both edges support their polytopes along
-  ``L``; then ``sep = L . (p_B - p_A)`` for points ``p`` on the edges (Gregorius, "The Separating Axis Test
-  between Convex Polyhedra", GDC 2013).  Pruned this way, edge pairs cost no support search.
+  (``L`` on A's arc and ``-L`` on B's, ``polytope.arcs_cross``: four dot products), which is exactly when both
+  edges support their polytopes along ``L``; then ``sep = L . (p_B - p_A)`` for points ``p`` on the edges
+  (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013).  Pruned this way, edge pairs
+  cost no support search.
 
 Any ``sep > prediction`` separates them.  Otherwise the axis of largest ``sep`` is the contact normal, with
 ``tolerances.FACE_BIAS`` times the smaller inner radius in favour of A's faces, then B's, over edges (so a
@@ -32,7 +33,7 @@ from ..pairs.segment import closest_segment_params
 from ..tolerances import CLIP_SLOP, CROSS_AXIS_MIN, FACE_BIAS
 from ..vec3 import cross, dot, madd, scale, sub
 from .hull_plane import MOST_CONTACTS
-from .polytope import edge_arc, edge_segment, lowest, most_opposed_face, normal, on_edge_arc, vertex
+from .polytope import arcs_cross, edge_arc, edge_segment, lowest, most_opposed_face, normal, vertex
 
 #: Most vertices of a hull (and of one face's loop).
 MAX_VERTICES = 512
@@ -77,21 +78,18 @@ def _best_edge_pair(va, pa, ea, vb, pb, eb, prediction):
         p, d = edge_segment(va, ea, i)
         a, b = edge_arc(pa, ea, i)
         ld = math.sqrt(dot(d, d))
+        ab = (a[0] + b[0], a[1] + b[1], a[2] + b[2])
         for j in range(eb.shape[0] // 4):
-            q, e = edge_segment(vb, eb, j)
             c, g = edge_arc(pb, eb, j)
+            if not arcs_cross(a, b, c, g):
+                continue
+            q, e = edge_segment(vb, eb, j)
             axis = cross(d, e)
             la = math.sqrt(dot(axis, axis))
             if la < CROSS_AXIS_MIN * ld * math.sqrt(dot(e, e)):
                 continue
-            axis = scale(axis, 1.0 / la)
-            neg = scale(axis, -1.0)
-            if on_edge_arc(axis, a, b) and on_edge_arc(neg, c, g):
-                l_ab = axis
-            elif on_edge_arc(neg, a, b) and on_edge_arc(axis, c, g):
-                l_ab = neg
-            else:
-                continue
+            # on A's arc (which spans less than half a turn), the axis points to the side of a + b
+            l_ab = scale(axis, (1.0 if dot(axis, ab) >= 0.0 else -1.0) / la)
             s = dot(l_ab, sub(q, p))
             if s > best:
                 best, best_i, best_j, best_l = s, i, j, l_ab
