@@ -47,7 +47,7 @@ from bench.peers.axes import R as PEER_AXES  # noqa: E402
 from bench.peers.axes import quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
 from bench.peers.pybullet_world import direct_client  # noqa: E402
-from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco, time_pybullet  # noqa: E402
 
 DT = 1.0 / 60.0
 SEED = 20261202
@@ -159,12 +159,7 @@ def run_pybullet(count, steps):
                          **kw)
         ids.append(bid)
         frames.append(e)
-    p.stepSimulation(**kw)
-    seconds = 0.0
-    for _ in range(steps):
-        t = time.perf_counter()
-        p.stepSimulation(**kw)
-        seconds += time.perf_counter() - t
+    ms = time_pybullet(p, kw, steps)
     xs, rots, vs, ws = [], [], [], []
     for bid, e in zip(ids, frames):
         x, r = p.getBasePositionAndOrientation(bid, **kw)
@@ -174,7 +169,7 @@ def run_pybullet(count, steps):
         vs.append(PEER_AXES.T @ np.array(v))
         ws.append(PEER_AXES.T @ np.array(w))
     p.disconnect(**kw)
-    return (1e3 * seconds / steps, *measures(shapes, xs, rots, vs, ws))
+    return (ms, *measures(shapes, xs, rots, vs, ws))
 
 
 def mujoco_model(shapes, integrator="Euler"):

@@ -42,7 +42,7 @@ from bench.peers import version  # noqa: E402
 from bench.peers.axes import from_peer, quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
 from bench.peers.pybullet_world import direct_client  # noqa: E402
-from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
+from bench.peers.timing import bench_arguments, best_results, time_mujoco, time_pybullet  # noqa: E402
 
 DT = 1.0 / 60.0
 HALF = 0.25                 # half extent of a cube (m)
@@ -126,15 +126,10 @@ def run_pybullet(count, steps):
         p.changeDynamics(bid, -1, lateralFriction=mu, linearDamping=0.0, angularDamping=0.0,
                          activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)
         ids.append(bid)
-    p.stepSimulation(**kw)
-    seconds = 0.0
-    for _ in range(steps):
-        t = time.perf_counter()
-        p.stepSimulation(**kw)
-        seconds += time.perf_counter() - t
+    ms = time_pybullet(p, kw, steps)
     top = from_peer(p.getBasePositionAndOrientation(ids[-1], **kw)[0])
     p.disconnect(**kw)
-    return 1e3 * seconds / steps, *measures(count, top), None
+    return ms, *measures(count, top), None
 
 
 def run_mujoco(count, steps):

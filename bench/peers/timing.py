@@ -29,6 +29,17 @@ def best_results(runs, repeats, *scene):
     return results
 
 
+def time_pybullet(p, kw, steps):
+    """Milliseconds per ``stepSimulation`` of the PyBullet client ``kw`` over ``steps`` steps after a first one."""
+    p.stepSimulation(**kw)
+    seconds = 0.0
+    for _ in range(steps):
+        t = time.perf_counter()
+        p.stepSimulation(**kw)
+        seconds += time.perf_counter() - t
+    return 1e3 * seconds / steps
+
+
 def time_mujoco(model, data, steps, what):
     """Milliseconds per ``mj_step`` over ``steps`` steps after a first one; raises RuntimeError naming
     ``what`` if MuJoCo flagged the run unstable (NaN or huge accelerations, after which it resets it)."""
