@@ -87,3 +87,10 @@ def iteration_cap(base, adaptive, depth):
     if not adaptive:
         return base
     return max(base, min(MAX_ADAPTIVE, DEPTH_PASSES * depth))
+
+
+@njit
+def stop_change(passes, base, tolerance):
+    """The velocity change (m/s) below which the passes stop after ``passes`` of them: ``tolerance`` within
+    the world's ``base`` count, at least ``EXTRA_TOLERANCE`` past it."""
+    return tolerance if passes < base else max(tolerance, EXTRA_TOLERANCE)

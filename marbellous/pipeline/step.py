@@ -52,7 +52,7 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..dynamics.support_depth import EXTRA_TOLERANCE, iteration_cap, support_depth
+from ..dynamics.support_depth import iteration_cap, stop_change, support_depth
 from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP, K_IMPULSE,
                             LCP, MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
                             PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
@@ -485,8 +485,7 @@ def _push_out(ctx, contacts):
         return
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
-    while change >= (tolerance if passes < ctx.params_i[PI_ITERATIONS] else max(tolerance, EXTRA_TOLERANCE)) \
-            and passes < ctx.iteration_cap:
+    while change >= stop_change(passes, ctx.params_i[PI_ITERATIONS], tolerance) and passes < ctx.iteration_cap:
         change = _push_pass(ctx, contacts, False, passes < JOINT_PUSH_PASSES)
         passes += 1
     if contacts:
@@ -508,7 +507,7 @@ def stage_solve(ctx, contacts):
         change = _joint_pass(ctx, True)
         if contacts:
             change = max(change, _contact_pass(ctx, False, False, True))
-        if change < (tolerance if k < base else max(tolerance, EXTRA_TOLERANCE)):
+        if change < stop_change(k, base, tolerance):
             break
     if contacts:
         _supported_pass(ctx, False, True)
