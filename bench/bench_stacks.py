@@ -7,7 +7,9 @@ steps (5 s), every body awake throughout.
 - Marbellous: sequential impulses, its defaults (4 sub-steps) but ``sleeping=False``, once as
   ``marbellous-4`` (its default: at most 4 passes per sub-step) and once as ``marbellous-adaptive`` with
   ``adaptive_iterations = True`` (up to two passes per body of the stack's support depth, 4 to 128 per
-  sub-step, passes beyond the first 4 only while a velocity still changes by 1e-3 m/s);
+  sub-step, passes beyond the first 4 only while a velocity still changes by 1e-3 m/s), and once as
+  ``marbellous-bottom-up`` with ``solve_order = "bottom_up"`` (4 passes, the contacts one by one from the
+  ground up instead of in coloured bundles);
 - PyBullet: ``GEOM_BOX`` maximal-coordinate rigid bodies (Bullet's own box inertia), its default solver
   (10 iterations), no damping (its default 0.04 off, as Marbellous has none), sleeping off; Bullet multiplies
   two bodies' friction, so each cube and the ground get ``sqrt(0.6)``;
@@ -75,18 +77,20 @@ def standing(count, drift, sink):
     return drift < STANDING_DRIFT and ideal_top(count) - sink > STANDING_HEIGHT * ideal_top(count)
 
 
-def marbellous_tower(count, adaptive):
-    """``(world, cubes)``: the tower in a Marbellous world, with ``adaptive_iterations`` on or off."""
+def marbellous_tower(count, adaptive, order):
+    """``(world, cubes)``: the tower in a Marbellous world, with ``adaptive_iterations`` on or off, the contacts
+    solved in ``order`` (``World.solve_order``)."""
     w = mb.World(sleeping=False)
     w.adaptive_iterations = adaptive
+    w.solve_order = order
     w.add_static(mb.Plane(), friction=FRICTION)
     cubes = [w.add_body(mb.Box((HALF, HALF, HALF)), position=x, density=DENSITY, friction=FRICTION)
              for x in centres(count)]
     return w, cubes
 
 
-def run_marbellous(count, steps, adaptive):
-    w, cubes = marbellous_tower(count, adaptive)
+def run_marbellous(count, steps, adaptive, order="coloured"):
+    w, cubes = marbellous_tower(count, adaptive, order)
     w.step(DT)
     seconds = 0.0
     for _ in range(steps):
@@ -95,7 +99,7 @@ def run_marbellous(count, steps, adaptive):
         seconds += time.perf_counter() - t
     top = cubes[-1].position
     # The passes from a profiled replay, so that the timed steps carry no profiling at all.
-    w, cubes = marbellous_tower(count, adaptive)
+    w, cubes = marbellous_tower(count, adaptive, order)
     w.step(DT)
     w.profiling = True
     for _ in range(steps):
@@ -111,6 +115,10 @@ def run_marbellous_4(count, steps):
 
 def run_marbellous_adaptive(count, steps):
     return run_marbellous(count, steps, True)
+
+
+def run_marbellous_bottom_up(count, steps):
+    return run_marbellous(count, steps, False, "bottom_up")
 
 
 def run_pybullet(count, steps):
@@ -147,8 +155,8 @@ def run_mujoco(count, steps):
     return ms, *measures(count, from_peer(data.qpos[a:a + 3])), None
 
 
-RUNS = {"marbellous-4": run_marbellous_4, "marbellous-adaptive": run_marbellous_adaptive, "pybullet": run_pybullet,
-        "mujoco": run_mujoco}
+RUNS = {"marbellous-4": run_marbellous_4, "marbellous-adaptive": run_marbellous_adaptive,
+        "marbellous-bottom-up": run_marbellous_bottom_up, "pybullet": run_pybullet, "mujoco": run_mujoco}
 
 
 def main():

@@ -81,6 +81,34 @@ def support_depth(bi, ci, nc, nb, level, start, adjacent, queue):
 
 
 @njit
+def order_bottom_up(bi, ci, nc, level, depth, count, order):
+    """Write ``order[0:nc]``: the contacts sorted by their level, the lowest level of their movable bodies
+    (``level`` and ``depth`` from ``support_depth``; contacts of bodies out of reach of anything that cannot
+    move last), ascending contact index within a level.  Scratch: ``count`` (>= depth + 2 ints)."""
+    for k in range(depth + 2):
+        count[k] = 0
+    for c in range(nc):
+        count[_contact_level(bi, ci, c, level, depth)] += 1
+    total = 0
+    for k in range(depth + 2):
+        total, count[k] = total + count[k], total
+    for c in range(nc):
+        k = _contact_level(bi, ci, c, level, depth)
+        order[count[k]] = c
+        count[k] += 1
+
+
+@njit
+def _contact_level(bi, ci, c, level, depth):
+    """Level of contact ``c``: its movable bodies' lowest level, ``depth + 1`` when neither is reached."""
+    lowest = depth + 1
+    for body in (ci[c, C_BODY_A], ci[c, C_BODY_B]):
+        if is_moving(bi, body) and level[body] > 0:
+            lowest = min(lowest, level[body])
+    return lowest
+
+
+@njit
 def iteration_cap(base, adaptive, depth):
     """Most velocity passes per sub-step: ``base``, or with ``adaptive`` up to ``DEPTH_PASSES * depth``
     (at most ``MAX_ADAPTIVE``)."""

@@ -52,17 +52,17 @@ from ..dynamics.sleep import update_sleep, wake_touched_islands
 from ..dynamics.soft import soft_coefficients, soft_depth
 from ..dynamics.solver_bodies import prepare_solver_bodies, store_velocities
 from ..dynamics.springs import clear_spring_forces
-from ..dynamics.support_depth import iteration_cap, stop_change, support_depth
-from ..state.layout import (BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP, K_IMPULSE,
-                            LCP, MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
+from ..dynamics.support_depth import iteration_cap, order_bottom_up, stop_change, support_depth
+from ..state.layout import (BOTTOM_UP, BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORCE, F_ALIVE, F_JOINTED, F_SENSOR, GROUP,
+                            K_IMPULSE, LCP, MASK, OMEGA, PENALTY, PF_CONTACT_HERTZ, PF_CONTACT_ZETA, PF_DT, PF_GRAVITY,
                             PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
                             PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE,
                             PF_STEP_DT, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR,
-                            PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVER, PI_SUBSTEPS, PI_THREADS,
-                            PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT, SHAPE_START, STAT_CACHED,
-                            STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES, STAT_ITERATIONS, STAT_PAIRS,
-                            STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE,
-                            W_PREV_DT, W_TIME)
+                            PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVE_ORDER, PI_SOLVER,
+                            PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT,
+                            SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES,
+                            STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS,
+                            STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .impacts import stage_time_of_impact
@@ -265,7 +265,8 @@ def _rescale_warm_start(ctx):
 def stage_prepare(ctx, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
     and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle``, the
-    sequential-impulse scheme, and enough contacts, in regions when ``threads`` > 1) or one scalar pass.
+    sequential-impulse scheme, and enough contacts, in regions when ``threads`` > 1) or one scalar pass
+    (from the ground up with ``World.solve_order = "bottom_up"``).
     With ``may_turn`` the contacts of turning bodies are marked for fresh effective masses after each
     position update; with ``shock`` the contacts of a heavy body on a light one are found for the passes
     with the light one held.  Also the soft-constraint coefficients of the sub-step, the springs too
@@ -297,7 +298,8 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     # (The context has bundle tables once the contact table has grown past its first rows, sized for the
     # world's threads: pipeline/context.py.)
     wide_i = ctx.wide_i
-    bundled = (may_bundle and nc >= MIN_BUNDLED_CONTACTS
+    bottom_up = ctx.params_i[PI_SOLVE_ORDER] == BOTTOM_UP
+    bundled = (may_bundle and not bottom_up and nc >= MIN_BUNDLED_CONTACTS
                and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
     threads = 1
     if bundled:
@@ -321,9 +323,11 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     ctx.bundles = bundles
     adaptive = ctx.params_i[PI_ADAPTIVE] == 1
     depth = 0
-    if adaptive and nc > 0:
+    if (adaptive or bottom_up) and nc > 0:
         depth = support_depth(bi, ctx.ci, nc, nb, ctx.support_level, ctx.support_start, ctx.support_adjacent,
                               ctx.support_queue)
+        if bottom_up:
+            order_bottom_up(bi, ctx.ci, nc, ctx.support_level, depth, ctx.support_start, ctx.contact_order)
     ctx.iteration_cap = iteration_cap(ctx.params_i[PI_ITERATIONS], adaptive, depth)
     ctx.n_overflow = ctx.part_overflow[regions + 1] if bundled else 0
     # contacts on bodies whose world inertia turns get their effective masses again after each position

@@ -206,7 +206,12 @@ PI_TOI_SPLIT = 9        # 1: the step may stop before solving and ask for a shor
 PI_DETECT = 10          # 1: the step only detects contacts (no prediction) and returns (retroactive mode)
 PI_TURN_SUBSTEPS = 11   # most sub-steps a fast-turning body may ask for (automatic sub-steps); 0: PI_SUBSTEPS exactly
 PI_ADAPTIVE = 12        # 1: deep stacks may take more than PI_ITERATIONS passes (World.adaptive_iterations)
-PI_LEN = 13
+PI_SOLVE_ORDER = 13     # index into state.params.SOLVE_ORDERS: the contacts' order in the passes (World.solve_order)
+PI_LEN = 14
+
+# solve orders (PI_SOLVE_ORDER), as listed in state.params.SOLVE_ORDERS
+COLOURED = 0            # colour bundles (dynamics/contact_bundles.py) when there are enough contacts
+BOTTOM_UP = 1           # one by one, level by level of the support depth (dynamics/support_depth.py)
 
 # time-of-impact modes (PI_TOI_MODE); every mode drops speculative contacts that no motion can reach
 TOI_NONE = 0            # fixed steps, continuous collision off: nothing more

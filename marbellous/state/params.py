@@ -16,6 +16,9 @@ from . import layout as L
 
 #: the collision-handling schemes, in the order of their codes (layout.SEQUENTIAL_IMPULSE, PENALTY, LCP)
 SOLVERS = ("sequential_impulse", "penalty", "lcp")
+#: the orders of the sequential-impulse passes over the contacts, in the order of their codes
+#: (``layout.PI_SOLVE_ORDER``): coloured bundles, or one by one from the ground up (dynamics/support_depth.py)
+SOLVE_ORDERS = ("coloured", "bottom_up")
 
 
 #: the longest sub-step (s) of the automatic sub-steps (``World.substeps = None``, the default): a step of
@@ -106,6 +109,7 @@ def write_params(world, dt, params_f, params_i, step_dt=None):
     pi[L.PI_TURN_SUBSTEPS] = MAX_TURN_SUBSTEPS if world._substeps_auto else 0
     pi[L.PI_ITERATIONS] = world.iterations
     pi[L.PI_ADAPTIVE] = int(world.adaptive_iterations)
+    pi[L.PI_SOLVE_ORDER] = SOLVE_ORDERS.index(world.solve_order)
     pi[L.PI_BROADPHASE] = BROADPHASE_CODES[world.broadphase]
     pi[L.PI_SOLVER] = SOLVERS.index(world.solver)
     pi[L.PI_THREADS] = world.threads
