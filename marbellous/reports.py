@@ -9,12 +9,22 @@ from .body import Body
 
 @dataclass(frozen=True)
 class RayHit:
-    """The nearest surface a ray hit: ``body``, ``point`` (m), unit ``normal`` there, ``distance`` (m)."""
+    """The nearest surface a ray hit: ``body``, ``point`` (m), unit ``normal`` there, ``distance`` (m).
 
-    body: Body
+    ``object`` is what was hit: the body, or a set of ``Particles``, whose particle ``index`` it was (``body``
+    is then None; ``index`` is None for a body)."""
+
+    body: Body | None
     point: np.ndarray
     normal: np.ndarray
     distance: float
+    hit: object = None
+    index: int | None = None
+
+    @property
+    def object(self):
+        """What was hit: a ``Body`` or ``Particles``."""
+        return self.body if self.hit is None else self.hit
 
 
 @dataclass(frozen=True)

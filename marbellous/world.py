@@ -18,6 +18,8 @@ from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_HE
 from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, Slider, Spring
+from .deformables.particle_queries import raycast_particles
+from .particles import Network, Particles, edge_rows, particle_rows
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
 from .dynamics.rigid import inverse_inertia_np
@@ -44,6 +46,8 @@ ShapeArg = Shape | Sequence[Shape | tuple]
 DEFAULT_DENSITY = 1000.0
 DEFAULT_SUBSTEPS = 4
 DEFAULT_ITERATIONS = 4
+#: sub-steps of the particles' step per world step (World.particle_substeps)
+DEFAULT_PARTICLE_SUBSTEPS = 16
 #: ``World.advance`` with ``max_steps=None`` takes at most this much simulated time (s) per call.
 MAX_ADVANCE_TIME = 0.25
 #: Most steps one ``World.advance`` call may be asked to take.
@@ -141,7 +145,8 @@ class World:
                  "_adaptive_iterations", "_solve_order", "_substeps", "_substeps_auto", "_threads", "_ccd",
                  "_sleeping", "_state", "_body_at", "_constraint_at", "_living", "_living_constraints",
                  "_accumulator", "_time_stepping",
-                 "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "__weakref__")
+                 "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "_living_particles",
+                 "_living_networks", "_particle_substeps", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -160,6 +165,9 @@ class World:
         self._constraint_at = []       # the constraint handle of each constraint row
         self._living = {}              # live bodies in creation order (a dict used as an ordered set)
         self._living_constraints = {}
+        self._living_particles = {}    # live Particles handles in creation order
+        self._living_networks = {}     # live Network handles in creation order
+        self._particle_substeps = DEFAULT_PARTICLE_SUBSTEPS
         self._accumulator = 0.0
         self.gravity = gravity
         self.solver = solver
@@ -408,9 +416,60 @@ class World:
         return list(self._living)
 
     @property
-    def constraints(self) -> list[Constraint]:
-        """The live springs, rods, cables and joints, in creation order."""
-        return list(self._living_constraints)
+    def constraints(self) -> list[Constraint | Network]:
+        """The live springs, rods, cables and joints, in creation order, then the live particle networks."""
+        return list(self._living_constraints) + list(self._living_networks)
+
+    @property
+    def particles(self) -> list[Particles]:
+        """The live sets of particles, in creation order."""
+        return list(self._living_particles)
+
+    @property
+    def particle_substeps(self) -> int:
+        """Sub-steps of the particles' step per world step (default 16, 1 to 1000): more make springs and
+        rods stiffer and contacts tighter, at proportional cost (deformables/particle_step.py)."""
+        return self._particle_substeps
+
+    @particle_substeps.setter
+    def particle_substeps(self, value: int) -> None:
+        self._particle_substeps = as_int("particle_substeps", value, lo=1, hi=1000)
+
+    # --- particles and networks ----------------------------------------------------------------------------
+    def add_particles(self, positions: ArrayLike, *, mass: float | ArrayLike = 1.0,
+                      radius: float | ArrayLike = 0.01, velocity: ArrayLike = (0.0, 0.0, 0.0), friction: float = 0.5,
+                      static_friction: float | None = None, restitution: float = 0.0, damping: float = 0.0,
+                      collide_particles: bool = False) -> Particles:
+        """Add a set of particles: point masses with a radius, at ``positions`` (m, ``(N, 3)``).
+
+        ``mass`` (kg, each particle's) and ``radius`` (m) a number or one per particle; ``velocity`` (m/s) a
+        3-vector or ``(N, 3)``; ``friction`` (dynamic) and ``static_friction`` (None: ``friction``) Coulomb
+        coefficients and ``restitution`` combine with a body's as two bodies' do; ``damping`` (1/s): the rate
+        at which each particle's velocity relative to the set's mean decays (internal motion is damped, the
+        set's motion is not).  Particles collide with every shape of the world's bodies, pushing them back;
+        with ``collide_particles`` also with the other particles that have it.
+        """
+        f, i = particle_rows(positions, mass, radius, velocity, friction, static_friction, restitution, damping,
+                             collide_particles)
+        handle = Particles(self, self._state.particles.add_set(f, i))
+        self._living_particles[handle] = None
+        return handle
+
+    def add_network(self, particles: Particles, edges: ArrayLike, *, kind: str = "spring",
+                    stiffness: float | None = None, damping: float = 0.0, rest_length: float | ArrayLike | None = None,
+                    breaking_force: float | None = None) -> Network:
+        """Join pairs of ``particles`` by springs, rods or cables (``kind``): ``edges`` ``(E, 2)`` particle
+        indices.  ``rest_length`` (m; a number or one per edge; None: the distances now) is a spring's rest
+        length, a rod's length, a cable's largest length; ``stiffness`` (N/m) is required for springs and
+        unused otherwise; ``damping`` (N s/m) damps a spring's stretching; an edge whose tension passes
+        ``breaking_force`` (N; None: never) breaks.
+        """
+        if not isinstance(particles, Particles) or particles._world is not self:
+            raise TypeError(f"particles must be a Particles of this world, got {particles!r}")
+        f, i, kind = edge_rows(particles, edges, kind, stiffness, damping, rest_length, breaking_force)
+        handle = Network(self, self._state.particles.add_network(particles._group, f, i), particles, kind)
+        self._living_networks[handle] = None
+        return handle
 
     # --- bodies -------------------------------------------------------------------------------------
     def add_body(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
@@ -547,13 +606,16 @@ class World:
 
         The removed object's handle raises on any later use; bodies that rested on a removed body wake."""
         obj = body_or_constraint
-        if isinstance(obj, Body):
+        if isinstance(obj, (Particles, Network)):
+            self._remove_particles_or_network(obj)
+        elif isinstance(obj, Body):
             i = self._check_body(obj, "body_or_constraint")
             for c in self.constraints:
                 if c.body_a is obj or c.body_b is obj:
                     self.remove(c)
             self._wake_neighbours(i)
             self._gone.append(i)
+            self._state.particles.forget_body(i)
             self._state.free_body(i)
             self._body_at[i] = None
             del self._living[obj]
@@ -568,7 +630,22 @@ class World:
             del self._living_constraints[obj]
             obj._world = None
         else:
-            raise TypeError(f"body_or_constraint must be a Body or a constraint, got {obj!r}")
+            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles or a Network, got {obj!r}")
+
+    def _remove_particles_or_network(self, obj):
+        """Remove a set of particles (with its networks) or a network."""
+        if obj._world is not self or not obj._group.alive:
+            raise ValueError("body_or_constraint does not belong to this world (or was removed)")
+        ps = self._state.particles
+        if isinstance(obj, Particles):
+            ps.remove_set(obj._group)
+            del self._living_particles[obj]
+        else:
+            ps.remove_network(obj._group)
+        for net in [n for n in self._living_networks if not n._group.alive]:
+            del self._living_networks[net]
+            net._world = None
+        obj._world = None
 
     def _wake_neighbours(self, i):
         """Wake the sleeping bodies that may rest on body row ``i``: those whose boxes touch its box, and the
@@ -768,6 +845,8 @@ class World:
             self._step_in_intervals(dt, status)
         elif self._last is not None:
             self._last = None
+        if self._living_particles:
+            self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps)
 
     def _step_in_intervals(self, dt, status):
         """The step of ``dt`` seconds in several intervals (``pipeline/time_stepping.py``): after a first
@@ -876,6 +955,14 @@ class World:
         candidates = np.zeros(max(nb, 1), dtype=np.int64)
         found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
                               st.broadphase_code, nb, o, d, max_distance, mask, candidates, hit)
+        ps = st.particles
+        if ps.n:
+            nearest = hit[0] if found else max_distance
+            row = raycast_particles(ps.pf, ps.n, o, d, nearest, hit)
+            if row >= 0:
+                group = next(g for g in ps.sets if g.start <= row < g.start + g.count)
+                handle = next(h for h in self._living_particles if h._group is group)
+                return RayHit(None, hit[2:5].copy(), hit[5:8].copy(), float(hit[0]), handle, row - group.start)
         if not found:
             return None
         return RayHit(self._body_at[int(hit[1])], hit[2:5].copy(), hit[5:8].copy(), float(hit[0]))
@@ -949,6 +1036,10 @@ class World:
                     at[row] = None
                     del living[handle]
             del at[slots.end:]
+        for living in (self._living_particles, self._living_networks):
+            for handle in [h for h in living if not h._group.alive]:
+                handle._world = None
+                del living[handle]
         self._accumulator = float(snapshot.accumulator)
         self._stepped = False
 

@@ -96,6 +96,7 @@ KINDS = {
     "coord": scalar_kind(lo=-1e12, hi=1e12),
     "length": scalar_kind(positive=True, hi=2e12),
     "length0": scalar_kind(nonneg=True, hi=2e12),
+    "rest_length": scalar_kind(nonneg=True, hi=1e6, none_ok=True),
     "rod_length": scalar_kind(positive=True, hi=2e12, none_ok=True),
     "mass": scalar_kind(lo=1e-30, hi=1e30, positive=True, none_ok=True) + [("tiny", 1e-300)],
     "density": scalar_kind(lo=1e-6, hi=1e6, positive=True, none_ok=True),
@@ -188,6 +189,21 @@ KINDS = {
                   ("complex", [[0, 1, 2j]]), ("nested", [[0, 1, 2], [0, 1]]), ("zero", np.zeros((0, 3), int)),
                   ("degenerate", [[0, 1, 1]]), ("degenerate", [[0, 0, 0], [1, 1, 2]]), ("huge", [[0, 1, BIG_INT]])],
     "accel": [("str", "octree"), ("none", None), ("number", 1), ("bool", True)],
+    "positions": [("str", "abc"), ("none", None), ("shape", [0.0, 0.0, 0.0, 0.0]), ("shape", [[0.0, 0.0]]),
+                  ("shape", np.zeros((2, 3, 1))), ("zero", np.zeros((0, 3))), ("nan", [[0.0, NAN, 0.0]]),
+                  ("inf", [[0.0, 0.0, INF]]), ("huge", [[1e300, 0.0, 0.0]]), ("huge", [[BIG_INT, 0.0, 0.0]]),
+                  ("bool", np.ones((2, 3), bool)), ("complex", np.ones((2, 3), complex)),
+                  ("str", [["a"] * 3]), ("nested", [[0, 0, 0], [1, 0]]), ("object", object())],
+    "particle_rows": [("shape", np.zeros((2, 3))), ("shape", np.zeros((5, 3))), ("nan", np.full((3, 3), NAN)),
+                      ("inf", np.full((3, 3), INF)), ("huge", np.full((3, 3), 1e300)), ("str", "abc"),
+                      ("none", None), ("bool", np.ones((3, 3), bool)), ("object", object())],
+    "edges": [("str", "abc"), ("none", None), ("shape", [0, 1]), ("shape", [[0, 1, 2]]),
+              ("zero", np.zeros((0, 2), int)), ("negative", [[0, -1]]), ("huge", [[0, 3]]),
+              ("huge", [[0, 2 ** 62]]), ("float", [[0.0, 1.0]]),
+              ("nan", [[0, NAN]]), ("bool", [[True, False]]), ("complex", [[0, 1j]]), ("degenerate", [[1, 1]]),
+              ("nested", [[0, 1], [2]]), ("object", object())],
+    "indices": [("str", "abc"), ("float", [0.5]), ("huge", [3]), ("negative", [-4]), ("bool", [True]),
+                ("complex", [1j]), ("object", object()), ("huge", [2 ** 62])],
     "cell_size": [v for v in scalar_kind(positive=True, none_ok=True)],
     "weld": [v for v in scalar_kind(positive=True, none_ok=True)] + [("huge", 1e9)],
     "action": _vector_types(2) + _vector_values(2, 1e300)[:3],
@@ -210,9 +226,11 @@ def make_world():
     cart = w.add_body(mb.Box((0.1, 0.1, 0.1)), position=(-4, 1, 0))
     slider = w.add_slider(cart, None, anchor=(-4, 1, 0), axis=(1, 0, 0), limits=(-1.0, 1.0))
     platform = w.add_kinematic(mb.Box((0.5, 0.1, 0.5)), position=(0, 2, 3), velocity=(0.1, 0, 0))
+    beads = w.add_particles([(2, 1, 2), (2.2, 1, 2), (2.4, 1, 2)], radius=0.05, collide_particles=True)
+    network = w.add_network(beads, [(0, 1), (1, 2)], kind="spring", stiffness=100.0)
     w.step(1 / 60)
     return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
-                           slider=slider, platform=platform)
+                           slider=slider, platform=platform, beads=beads, network=network)
 
 
 def _setter(obj_name, attr):
@@ -361,6 +379,37 @@ _add("Body.apply_force", "point", "point3", lambda ns, v: ns.ball.apply_force((1
 _add("Body.apply_torque", "torque", "force3", lambda ns, v: ns.ball.apply_torque(v))
 _add("Body.apply_impulse", "impulse", "force3", lambda ns, v: ns.ball.apply_impulse(v))
 _add("Body.apply_impulse", "point", "point3", lambda ns, v: ns.ball.apply_impulse((1, 0, 0), point=v))
+
+# (four particles: a list of one to three masses or radii, a wrong-type value of the fuzz, is never one each)
+_particles = _kw("w.add_particles", fixed=["positions"], positions=[(0, 3, 0), (0.1, 3, 0), (0.2, 3, 0), (0.3, 3, 0)])
+for _arg, _kind in (("positions", "positions"), ("mass", "mass"), ("mass", "particle_rows"), ("radius", "size"),
+                    ("velocity", "speed3"), ("friction", "friction"), ("static_friction", "static_friction"),
+                    ("restitution", "restitution"), ("damping", "damping"), ("collide_particles", "flag")):
+    _add("World.add_particles", _arg, _kind, _particles(_arg))
+
+
+def _network(arg):
+    """A call of ``ns.w.add_network(ns.beads, ...)`` with ``arg`` replaced."""
+    def call(ns, v):
+        # (four edges: a list of one to three rest lengths, a wrong-type value of the fuzz, is never one each)
+        kw = dict(edges=[(0, 2), (0, 1), (1, 2), (0, 2)], kind="spring", stiffness=10.0)
+        kw[arg] = v
+        return ns.w.add_network(ns.beads, kw.pop("edges"), **kw)
+    return call
+
+
+for _arg, _kind in (("edges", "edges"), ("kind", "choice"), ("stiffness", "stiffness"), ("damping", "damping"),
+                    ("rest_length", "rest_length"), ("breaking_force", "breaking")):
+    _add("World.add_network", _arg, _kind, _network(_arg))
+_add("World.add_network", "particles", "body", lambda ns, v: ns.w.add_network(v, [(0, 1)], kind="rod"))
+_add("World setter", "particle_substeps", "substeps", _setter("w", "particle_substeps"))
+_add("Particles setter", "positions", "particle_rows", _setter("beads", "positions"))
+_add("Particles setter", "velocities", "particle_rows", _setter("beads", "velocities"))
+_add("Particles.pin", "indices", "indices", lambda ns, v: ns.beads.pin(v))
+_add("Particles.pin", "body", "body", lambda ns, v: ns.beads.pin([0], body=v))
+_add("Particles.unpin", "indices", "indices", lambda ns, v: ns.beads.unpin(v))
+_add("Particles.apply_force", "force", "force3", lambda ns, v: ns.beads.apply_force(v))
+_add("Particles.apply_force", "indices", "indices", lambda ns, v: ns.beads.apply_force((1, 0, 0), v))
 
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)

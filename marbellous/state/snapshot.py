@@ -1,9 +1,9 @@
 """Snapshots: the whole mutable state of a world as plain arrays, and a restore that checks every value.
 
-A snapshot holds what a step can change or a user can set: the body and constraint rows, the world's
-clock, the contact cache (so that warm starting repeats bit for bit), the slots' allocation and the
-game-loop accumulator.  Shapes and their bulk geometry cannot change after they are added, so a snapshot
-keeps only their rows' descriptions, which must match the world it is restored into.
+A snapshot holds what a step can change or a user can set: the body and constraint rows, the particles and
+the networks' edges, the world's clock, the contact cache (so that warm starting repeats bit for bit), the
+slots' allocation and the game-loop accumulator.  Shapes and their bulk geometry cannot change after they
+are added, so a snapshot keeps only their rows' descriptions, which must match the world it is restored into.
 
 A snapshot is a plain object that can be pickled, sent to another process and edited, so restoring
 trusts nothing in it: every array's type, shape and values are checked against the world (indices in
@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..deformables.particle_state import TABLES as PARTICLE_TABLES
 from . import layout as L
 
 #: the flag bits a body row may carry
@@ -30,7 +31,7 @@ TABLES = {"bf": (np.float64, L.BF_COLS), "bi": (np.int64, L.BI_COLS), "kf": (np.
           "ki": (np.int64, L.KI_COLS), "ws": (np.float64, None), "cache_f": (np.float64, L.CF_COLS),
           "cache_i": (np.int64, L.CI_COLS), "si": (np.int64, L.SI_COLS), "sf": (np.float64, L.SF_COLS),
           "body_slots": (np.int64, None), "shape_slots": (np.int64, None), "constraint_slots": (np.int64, None),
-          "body_revisions": (np.int64, None), "constraint_revisions": (np.int64, None)}
+          "body_revisions": (np.int64, None), "constraint_revisions": (np.int64, None), **PARTICLE_TABLES}
 #: tables that identify the objects (which handles are valid) rather than describe the physical state
 _BOOKKEEPING = ("body_revisions", "constraint_revisions")
 
@@ -73,7 +74,7 @@ def take(state, accumulator):
               "body_slots": _slots_array(state.bodies), "shape_slots": _slots_array(state.shapes),
               "constraint_slots": _slots_array(state.constraints),
               "body_revisions": state.bodies.revision[:nb].copy(),
-              "constraint_revisions": state.constraints.revision[:nk].copy()}
+              "constraint_revisions": state.constraints.revision[:nk].copy(), **state.particles.tables()}
     return Snapshot(tables, float(accumulator))
 
 
@@ -195,6 +196,8 @@ def validate(state, snapshot):
             _refuse("holds a contact of bodies or shapes it does not have")
         if not np.all(np.isfinite(cf)):
             _refuse("holds a NaN or infinite contact value")
+    # --- particles and networks
+    state.particles.check(arrays, bodies, _refuse)
     return arrays
 
 
@@ -226,5 +229,6 @@ def restore(state, arrays):
     state.cache_f[:npc] = arrays["cache_f"]
     state.cache_i[:npc] = arrays["cache_i"]
     state.stats[L.STAT_CACHED] = npc
+    state.particles.load(arrays)
     # the broad phase rebuilds from a fresh state
     state.set_broadphase(state.broadphase_code)

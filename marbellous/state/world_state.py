@@ -16,6 +16,7 @@ from .._numba.progress import install as install_compile_progress
 from .._numba.record import compiled_entry, record_address
 from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
+from ..deformables.particle_state import ParticleState
 from ..pipeline.context import pack_context
 from ..pipeline.stages import STAGES
 from ..pipeline.step import GROW_CONTACTS, GROW_PAIRS, STEPS
@@ -96,6 +97,7 @@ class WorldState:
         self.impact_f = np.zeros((64, L.IMPACT_COLS))
         self.threads = 1
         self.solver = L.SEQUENTIAL_IMPULSE
+        self.particles = ParticleState()     # particles and networks (deformables/particle_state.py)
         # The step context of the current tables (None whenever one of them is replaced), the address the
         # compiled step takes, and that step's entry point.
         self.context = self._entry = self._address = None

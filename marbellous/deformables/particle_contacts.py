@@ -1,0 +1,239 @@
+"""Particles against the bodies' shapes (every shape: planes, boxes, spheres, capsules, hulls, meshes, height
+fields), and the contacts' friction and restitution, two ways with the bodies.
+
+A particle is a sphere of its radius: its contacts with a shape are the narrow phase's sphere pair tests
+(``collide_pair``), ghost-free on meshes as for bodies.  Once per step, the shapes whose boxes the particle's
+swept box meets are listed as candidates; in each sub-step, each candidate is tested at the poses the bodies
+have then (``body_motion``), and every overlap ``d`` along the unit normal ``n`` (from the shape to the
+particle) is removed in position, split by the generalised inverse masses:
+
+    dlambda = d / (w_p + w_b),     x_p += w_p dlambda n,    the body gets the positional impulse -dlambda n
+
+Static friction (Coulomb's cone in position, Mueller et al. 2020): the particle's motion across the surface
+in this sub-step, relative to the surface, is undone when it is shorter than ``mu_s d``.  After the
+velocities are taken from the positions, the velocity pass applies dynamic friction to the contacts that
+slid, a change of at most ``mu_d d / h`` against the sliding velocity (the same impulse bound as
+Coulomb's law, ``|f_t| <= mu_d f_n``), and restitution: a contact that approached faster than gravity
+makes in a sub-step leaves with ``-e`` times its approach speed; any other leaves no faster than it came
+(an overlap, say of particles made overlapping a shape, is removed in position but launches nothing).
+Materials combine as for bodies: friction by geometric mean, restitution by maximum.
+"""
+import math
+
+import numpy as np
+
+from .._numba.jit import njit
+from ..collision import shape_types as st
+from ..collision.pairs.dispatch import collide_pair_covering
+from ..collision.shape_types import COVER_ALL, N_SHAPE_PARAMS
+from ..math3d import quat_product, quat_to_matrix
+from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, RESTITUTION, S_BODY, S_LOCAL_POS, S_LOCAL_QUAT,
+                            S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START, STATIC_FRICTION)
+from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, to_world
+from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
+                              KK_BODY, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV, P_RADIUS,
+                              P_RESTITUTION, P_STATIC_FRICTION, P_VEL, P_VEL0, PP_PINNED)
+
+
+@njit
+def swept_box(pf, p, dt, reach):
+    """``(lo, hi)``: the box particle row ``p`` can reach in a step of ``dt`` s at its velocity, grown by its
+    radius and ``reach`` (m)."""
+    lo = np.empty(3)
+    hi = np.empty(3)
+    grow = pf[p, P_RADIUS] + reach
+    for k in range(3):
+        x = pf[p, P_POS + k]
+        y = x + pf[p, P_VEL + k] * dt
+        lo[k] = min(x, y) - grow
+        hi[k] = max(x, y) + grow
+    return lo, hi
+
+
+@njit
+def shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, out):
+    """List ``(particle, shape)`` rows into ``out`` for every unpinned particle whose swept box meets a body's
+    box (sensors left out); returns how many there are (the rows past ``out``'s end are not written)."""
+    n = 0
+    cap = out.shape[0]
+    for p in range(n_particles):
+        if (pi[p, P_FLAGS] & PP_PINNED) != 0:
+            continue                        # (held: by the world, or as a point of a body)
+        lo, hi = swept_box(pf, p, dt, reach)
+        for b in range(nb):
+            f = bi[b, FLAGS]
+            if (f & F_ALIVE) == 0 or (f & F_SENSOR) != 0:
+                continue
+            if aabbs[b, 0] > hi[0] or aabbs[b, 1] > hi[1] or aabbs[b, 2] > hi[2] \
+                    or aabbs[b, 3] < lo[0] or aabbs[b, 4] < lo[1] or aabbs[b, 5] < lo[2]:
+                continue
+            s0 = bi[b, SHAPE_START]
+            for s in range(s0, s0 + bi[b, SHAPE_COUNT]):
+                if n < cap:
+                    out[n, 0] = p
+                    out[n, 1] = s
+                n += 1
+    return n
+
+
+@njit
+def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
+    """Velocity (m/s) of particle row ``p`` relative to the other side at ``point`` (a body's material point,
+    the body's centre at ``x_b``; or another particle)."""
+    if kind == KK_PARTICLE:
+        return (pf[p, P_VEL] - pf[other, P_VEL], pf[p, P_VEL + 1] - pf[other, P_VEL + 1],
+                pf[p, P_VEL + 2] - pf[other, P_VEL + 2])
+    u = point_velocity(bf, bi, bx, other, x_b, point)
+    return pf[p, P_VEL] - u[0], pf[p, P_VEL + 1] - u[1], pf[p, P_VEL + 2] - u[2]
+
+
+@njit
+def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move):
+    """Move particle row ``p`` and the other side apart by ``amount`` along the unit ``u`` (positions and
+    velocities when ``move``, velocities only (``amount`` a velocity, m/s) otherwise), split by their
+    generalised inverse masses; returns what the particle moved (m or m/s)."""
+    wp = pf[p, P_INV_MASS]
+    if kind == KK_PARTICLE:
+        wo = pf[other, P_INV_MASS]
+    else:
+        wo = inverse_mass_along(bf, bi, other, x_b, q_b, point, u)
+    w = wp + wo
+    if w <= 0.0:
+        return 0.0
+    dlambda = amount / w
+    column = P_POS if move else P_VEL
+    for k in range(3):
+        pf[p, column + k] += wp * dlambda * u[k]
+    if kind == KK_PARTICLE:
+        for k in range(3):
+            pf[other, column + k] -= wo * dlambda * u[k]
+    else:
+        scale = 1.0 if move else h      # (push_body takes positional impulses)
+        push_body(bf, bi, bx, other, x_b, q_b, point,
+                  (-dlambda * u[0] * scale, -dlambda * u[1] * scale, -dlambda * u[2] * scale), h, move)
+    return wp * dlambda
+
+
+@njit
+def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h):
+    """Static friction of a contact whose overlap ``depth`` (m) was just removed along ``n``: undo the
+    particle's motion across the surface in this sub-step if it is shorter than ``mu_s depth``; returns
+    1.0 if it held."""
+    if kind == KK_PARTICLE:
+        u = ((pf[other, P_POS] - pf[other, P_PREV]) / h, (pf[other, P_POS + 1] - pf[other, P_PREV + 1]) / h,
+             (pf[other, P_POS + 2] - pf[other, P_PREV + 2]) / h)
+    else:
+        u = point_velocity(bf, bi, bx, other, x_b, point)
+    dx = (pf[p, P_POS] - pf[p, P_PREV] - u[0] * h, pf[p, P_POS + 1] - pf[p, P_PREV + 1] - u[1] * h,
+          pf[p, P_POS + 2] - pf[p, P_PREV + 2] - u[2] * h)
+    along = dx[0] * n[0] + dx[1] * n[1] + dx[2] * n[2]
+    t = (dx[0] - along * n[0], dx[1] - along * n[1], dx[2] - along * n[2])
+    slip = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    if slip >= mu_s * depth:
+        return 0.0
+    if slip > 0.0:
+        separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (-t[0] / slip, -t[1] / slip, -t[2] / slip),
+                 slip, h, True)
+    return 1.0
+
+
+@njit
+def record_contact(kf, ki, nk, p, other, kind, n, point, depth, vn0, mu, e, stuck):
+    """Append a contact of the sub-step to ``kf`` / ``ki`` (if there is room); returns the new count."""
+    if nk < kf.shape[0]:
+        for k in range(3):
+            kf[nk, K_NORMAL + k] = n[k]
+            kf[nk, K_POINT + k] = point[k]
+        kf[nk, K_DEPTH] = depth
+        kf[nk, K_VN0] = vn0
+        kf[nk, K_MU] = mu
+        kf[nk, K_E] = e
+        kf[nk, K_STUCK] = stuck
+        ki[nk, K_PARTICLE] = p
+        ki[nk, K_OTHER] = other
+        ki[nk, K_KIND] = kind
+    return nk + 1
+
+
+@njit
+def shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk, scratch_f,
+                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """The position pass of the sub-step ending ``back`` s before the step's end over the candidate pairs:
+    overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  Returns the
+    new count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
+    (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
+    for c in range(n_candidates):
+        p, s = candidates[c, 0], candidates[c, 1]
+        b = si[s, S_BODY]
+        x_b, q_b = body_pose(bf, bi, bx, b, back)
+        centre = to_world(x_b, q_b, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]))
+        quat_product_into(q_b, sf, s, q_s)
+        quat_to_matrix(q_s, rot_s)
+        for k in range(3):
+            pos_s[k] = centre[k]
+            pos_a[k] = pf[p, P_POS + k]
+        sphere[0] = pf[p, P_RADIUS]
+        m = collide_pair_covering(COVER_ALL, st.SPHERE, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
+                                  sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], geom_f, geom_i, 0, 0, si[s, S_OFF_F],
+                                  si[s, S_OFF_I], 0.0, scratch_f, scratch_i, 0)
+        moved0, moved1, moved2 = 0.0, 0.0, 0.0
+        for j in range(min(m, scratch_f.shape[0])):
+            # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
+            n = (-scratch_f[j, 3], -scratch_f[j, 4], -scratch_f[j, 5])
+            depth = scratch_f[j, 6] - (moved0 * n[0] + moved1 * n[1] + moved2 * n[2])
+            if depth <= 0.0:
+                continue
+            half = 0.5 * scratch_f[j, 6]
+            point = (scratch_f[j, 0] + n[0] * half, scratch_f[j, 1] + n[1] * half, scratch_f[j, 2] + n[2] * half)
+            before = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
+            u = point_velocity(bf, bi, bx, b, x_b, point)
+            vn0 = (pf[p, P_VEL0] - u[0]) * n[0] + (pf[p, P_VEL0 + 1] - u[1]) * n[1] + (pf[p, P_VEL0 + 2] - u[2]) * n[2]
+            separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True)
+            mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
+            stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, mu_s, h)
+            moved0 += pf[p, P_POS] - before[0]
+            moved1 += pf[p, P_POS + 1] - before[1]
+            moved2 += pf[p, P_POS + 2] - before[2]
+            nk = record_contact(kf, ki, nk, p, b, KK_BODY, n, point, depth, vn0,
+                                math.sqrt(pf[p, P_FRICTION] * bf[b, FRICTION]),
+                                max(pf[p, P_RESTITUTION], bf[b, RESTITUTION]), stuck)
+    return nk
+
+
+@njit
+def quat_product_into(q_b, sf, s, out):
+    """``out = q_b q_local``: the world orientation of shape row ``s`` on a body at orientation ``q_b``."""
+    r = quat_product(q_b, (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2],
+                           sf[s, S_LOCAL_QUAT + 3]))
+    for k in range(4):
+        out[k] = r[k]
+
+
+@njit
+def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed):
+    """Dynamic friction and restitution of the sub-step's contacts ``0 .. nk - 1`` (module docstring), on
+    the velocities taken from the positions."""
+    for c in range(min(nk, kf.shape[0])):
+        p, other, kind = ki[c, K_PARTICLE], ki[c, K_OTHER], ki[c, K_KIND]
+        n = (kf[c, K_NORMAL], kf[c, K_NORMAL + 1], kf[c, K_NORMAL + 2])
+        point = (kf[c, K_POINT], kf[c, K_POINT + 1], kf[c, K_POINT + 2])
+        x_b, q_b = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)
+        if kind == KK_BODY:
+            x_b, q_b = body_pose(bf, bi, bx, other, back)
+        v = relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point)
+        vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2]
+        cut = 0.0
+        t = (v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2])
+        vt = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+        if kf[c, K_STUCK] == 0.0 and vt > 0.0:
+            cut = min(kf[c, K_MU] * kf[c, K_DEPTH] / h, vt) / vt
+        vn0 = kf[c, K_VN0]
+        if vn0 < -resting_speed:
+            dvn = -kf[c, K_E] * vn0 - vn
+        else:
+            dvn = min(0.0, max(vn0, 0.0) - vn)
+        dv = (dvn * n[0] - cut * t[0], dvn * n[1] - cut * t[1], dvn * n[2] - cut * t[2])
+        size = math.sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2])
+        if size > 0.0:
+            separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (dv[0] / size, dv[1] / size, dv[2] / size),
+                     size, h, False)

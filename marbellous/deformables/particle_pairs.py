@@ -1,0 +1,148 @@
+"""Particles against particles (``collide_particles=True``): a spatial hash over the step, and the overlaps
+of the listed pairs removed in each sub-step with the same friction and restitution as against shapes.
+
+The hash: cubic cells of side ``cell`` (at least the largest diameter plus how far a particle may travel in
+the step), keyed ``(73856093 i ^ 19349663 j ^ 83492791 k) mod table`` (Teschner et al. 2003) and sorted by key
+with a counting sort, so that the pairs are found in a fixed order.  Two particles whose distance is below
+their radii's sum plus the travel margin become a candidate pair for the step, unless an edge of a network
+joins them (a rope's neighbours overlap by design).  Two particles of two different collide-sets and of the
+same set meet alike.
+"""
+import math
+
+import numpy as np
+
+from .._numba.jit import njit
+from .particle_contacts import hold_or_slip, record_contact, separate
+from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_RADIUS,
+                              P_RESTITUTION, P_STATIC_FRICTION, P_VEL0, PP_COLLIDE)
+
+
+@njit
+def _cell_key(x, y, z, cell, table):
+    i, j, k = math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)
+    return ((int(i) * 73856093) ^ (int(j) * 19349663) ^ (int(k) * 83492791)) % table
+
+
+@njit
+def _joined(adjacent_start, adjacent, a, b):
+    """Whether an edge joins particle rows ``a`` and ``b``."""
+    for k in range(adjacent_start[a], adjacent_start[a + 1]):
+        if adjacent[k] == b:
+            return True
+    return False
+
+
+@njit
+def edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent):
+    """Each particle's neighbours along the edges (broken ones too): ``adjacent[adjacent_start[p]:
+    adjacent_start[p + 1]]``.  Scratch sizes: ``n_particles + 1`` and ``2 ne``."""
+    for p in range(n_particles + 1):
+        adjacent_start[p] = 0
+    for e in range(ne):
+        adjacent_start[ei[e, E_A] + 1] += 1
+        adjacent_start[ei[e, E_B] + 1] += 1
+    for p in range(n_particles):
+        adjacent_start[p + 1] += adjacent_start[p]
+    fill = adjacent_start[:n_particles].copy()
+    for e in range(ne):
+        a, b = ei[e, E_A], ei[e, E_B]
+        adjacent[fill[a]] = b
+        fill[a] += 1
+        adjacent[fill[b]] = a
+        fill[b] += 1
+
+
+@njit
+def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent, out):
+    """List the candidate pairs ``(a, b)``, ``a < b``, of the colliding particles into ``out``; returns how
+    many there are (rows past ``out``'s end are not written).  ``margin`` (m): how far two particles may close
+    in the step.  Scratch: ``cell_start`` (table + 1 ints; the table size is its length - 1) and
+    ``cell_entries`` (n_particles ints)."""
+    table = cell_start.shape[0] - 1
+    largest = 0.0
+    for p in range(n_particles):
+        if (pi[p, P_FLAGS] & PP_COLLIDE) != 0:
+            largest = max(largest, pf[p, P_RADIUS])
+    cell = 2.0 * largest + margin
+    if cell <= 0.0:
+        return 0
+    for k in range(table + 1):
+        cell_start[k] = 0
+    for p in range(n_particles):
+        if (pi[p, P_FLAGS] & PP_COLLIDE) != 0:
+            cell_start[_cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table) + 1] += 1
+    for k in range(table):
+        cell_start[k + 1] += cell_start[k]
+    fill = cell_start[:table].copy()
+    for p in range(n_particles):
+        if (pi[p, P_FLAGS] & PP_COLLIDE) != 0:
+            key = _cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table)
+            cell_entries[fill[key]] = p
+            fill[key] += 1
+    n = 0
+    cap = out.shape[0]
+    keys = np.empty(27, np.int64)
+    for a in range(n_particles):
+        if (pi[a, P_FLAGS] & PP_COLLIDE) == 0:
+            continue
+        xa, ya, za = pf[a, P_POS], pf[a, P_POS + 1], pf[a, P_POS + 2]
+        # the 27 cells around a's, each key once (two cells may share a key: their particles are seen once)
+        n_keys = 0
+        for di in range(-1, 2):
+            for dj in range(-1, 2):
+                for dk in range(-1, 2):
+                    key = _cell_key(xa + di * cell, ya + dj * cell, za + dk * cell, cell, table)
+                    new = True
+                    for k in range(n_keys):
+                        if keys[k] == key:
+                            new = False
+                    if new:
+                        keys[n_keys] = key
+                        n_keys += 1
+        for k in range(n_keys):
+            for slot in range(cell_start[keys[k]], cell_start[keys[k] + 1]):
+                b = cell_entries[slot]
+                if b <= a:
+                    continue
+                d0, d1, d2 = pf[b, P_POS] - xa, pf[b, P_POS + 1] - ya, pf[b, P_POS + 2] - za
+                reach = pf[a, P_RADIUS] + pf[b, P_RADIUS] + margin
+                if d0 * d0 + d1 * d1 + d2 * d2 > reach * reach or _joined(adjacent_start, adjacent, a, b):
+                    continue
+                if n < cap:
+                    out[n, 0] = a
+                    out[n, 1] = b
+                n += 1
+    return n
+
+
+@njit
+def particle_contacts(pf, bf, bi, bx, pairs, n_pairs, h, kf, ki, nk):
+    """The position pass over the candidate pairs: overlaps removed (split by the inverse masses), static
+    friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``; returns the new count.  (The body
+    tables ``bf``, ``bi``, ``bx`` are passed through to the pair code shared with the shapes' contacts, which
+    reads no body for a pair of particles.)"""
+    none = (0.0, 0.0, 0.0)
+    for c in range(n_pairs):
+        a, b = pairs[c, 0], pairs[c, 1]
+        d0 = pf[a, P_POS] - pf[b, P_POS]
+        d1 = pf[a, P_POS + 1] - pf[b, P_POS + 1]
+        d2 = pf[a, P_POS + 2] - pf[b, P_POS + 2]
+        distance = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        depth = pf[a, P_RADIUS] + pf[b, P_RADIUS] - distance
+        if depth <= 0.0 or distance < 1e-12 or pf[a, P_INV_MASS] + pf[b, P_INV_MASS] <= 0.0:
+            continue
+        n = (d0 / distance, d1 / distance, d2 / distance)
+        # the point on b's surface towards a
+        point = (pf[b, P_POS] + n[0] * pf[b, P_RADIUS], pf[b, P_POS + 1] + n[1] * pf[b, P_RADIUS],
+                 pf[b, P_POS + 2] + n[2] * pf[b, P_RADIUS])
+        vn0 = ((pf[a, P_VEL0] - pf[b, P_VEL0]) * n[0] + (pf[a, P_VEL0 + 1] - pf[b, P_VEL0 + 1]) * n[1]
+               + (pf[a, P_VEL0 + 2] - pf[b, P_VEL0 + 2]) * n[2])
+        separate(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth, h, True)
+        mu_s = math.sqrt(pf[a, P_STATIC_FRICTION] * pf[b, P_STATIC_FRICTION])
+        stuck = hold_or_slip(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth,
+                             mu_s, h)
+        nk = record_contact(kf, ki, nk, a, b, KK_PARTICLE, n, point, depth, vn0,
+                            math.sqrt(pf[a, P_FRICTION] * pf[b, P_FRICTION]),
+                            max(pf[a, P_RESTITUTION], pf[b, P_RESTITUTION]), stuck)
+    return nk

@@ -1,0 +1,258 @@
+"""The particle tables of a world: the sets of particles and the networks' edges, their growth and removal,
+their snapshots, and the call of the compiled step.
+
+The particles of a set are contiguous rows of ``pf`` / ``pi``, the edges of a network contiguous rows of
+``ef`` / ``ei``; removing a set or a network closes the gap (the rows after it move down, and the edges'
+particle rows with them).  Each set and network has a serial number, never reused: a handle holds its
+record, and a snapshot names the sets and networks it holds by their serials.
+"""
+import numpy as np
+
+from . import particle_layout as P
+from .body_motion import BX_COLS
+from .particle_step import find_candidates, step_particles
+
+
+class Group:
+    """The record of one set of particles or one network: its serial number and its rows (``start``,
+    ``count``); a network also knows the serial of its set.  ``alive`` turns False on removal."""
+
+    __slots__ = ("serial", "start", "count", "owner", "alive")
+
+    def __init__(self, serial, start, count, owner=-1):
+        self.serial, self.start, self.count, self.owner, self.alive = serial, start, count, owner, True
+
+
+def _grown(arr, rows):
+    """``arr`` with room for at least ``rows`` rows (doubling), the new rows zero."""
+    if arr.shape[0] >= rows:
+        return arr
+    out = np.zeros((max(rows, 2 * arr.shape[0]),) + arr.shape[1:], dtype=arr.dtype)
+    out[:arr.shape[0]] = arr
+    return out
+
+
+class ParticleState:
+    """Particle and edge tables with their sets and networks, and the step's scratch."""
+
+    def __init__(self):
+        self.pf = np.zeros((0, P.PF_COLS))
+        self.pi = np.zeros((0, P.PI_COLS), dtype=np.int64)
+        self.ef = np.zeros((0, P.EF_COLS))
+        self.ei = np.zeros((0, P.EI_COLS), dtype=np.int64)
+        self.n = 0                       # particle rows in use
+        self.ne = 0                      # edge rows in use
+        self.sets = []                   # Group records of the live sets, in row order
+        self.networks = []               # Group records of the live networks, in row order
+        self.serial = 0
+        self.params = np.zeros(P.Q_LEN)
+        self.shape_pairs = np.zeros((64, 2), dtype=np.int64)
+        self.particle_pairs = np.zeros((64, 2), dtype=np.int64)
+        self.kf = np.zeros((64, P.KF_COLS))
+        self.ki = np.zeros((64, P.KI_COLS), dtype=np.int64)
+        self.scratch_f = np.zeros((16, 7))
+        self.scratch_i = np.zeros(16, dtype=np.int64)
+        self.sphere = np.zeros(8)
+        self.rot_a = np.eye(3)
+        self.vec = np.zeros((3, 3))
+        self.rot_s = np.zeros((3, 3))
+        self.q_s = np.zeros(4)
+        self.broken = 0                  # edges broken in the last step
+
+    # --- sets and networks ----------------------------------------------------------------------------------
+    def _next_serial(self):
+        self.serial += 1
+        return self.serial
+
+    def add_set(self, rows_f, rows_i):
+        """Append a set of particles (its rows of ``pf`` and ``pi``); returns its record."""
+        n = rows_f.shape[0]
+        self.pf = _grown(self.pf, self.n + n)
+        self.pi = _grown(self.pi, self.n + n)
+        group = Group(self._next_serial(), self.n, n)
+        rows_i[:, P.P_SET] = len(self.sets)
+        self.pf[self.n:self.n + n] = rows_f
+        self.pi[self.n:self.n + n] = rows_i
+        self.n += n
+        self.sets.append(group)
+        return group
+
+    def add_network(self, owner, rows_f, rows_i):
+        """Append a network's edges (rows of ``ef`` and ``ei``, particle rows already global) on the set
+        ``owner``; returns its record."""
+        n = rows_f.shape[0]
+        self.ef = _grown(self.ef, self.ne + n)
+        self.ei = _grown(self.ei, self.ne + n)
+        group = Group(self._next_serial(), self.ne, n, owner.serial)
+        rows_i[:, P.E_NETWORK] = group.serial
+        self.ef[self.ne:self.ne + n] = rows_f
+        self.ei[self.ne:self.ne + n] = rows_i
+        self.ne += n
+        self.networks.append(group)
+        return group
+
+    def remove_network(self, group):
+        """Remove a network's edges; the later edges move down."""
+        a, n = group.start, group.count
+        for table in (self.ef, self.ei):
+            table[a:self.ne - n] = table[a + n:self.ne]
+            table[self.ne - n:self.ne] = 0
+        self.ne -= n
+        self.networks.remove(group)
+        for g in self.networks:
+            if g.start > a:
+                g.start -= n
+        group.alive = False
+
+    def remove_set(self, group):
+        """Remove a set (and the networks on it); the later particles move down, their edges with them."""
+        for net in [g for g in self.networks if g.owner == group.serial]:
+            self.remove_network(net)
+        a, n = group.start, group.count
+        for table in (self.pf, self.pi):
+            table[a:self.n - n] = table[a + n:self.n]
+            table[self.n - n:self.n] = 0
+        self.n -= n
+        self.sets.remove(group)
+        for g in self.sets:
+            if g.start > a:
+                g.start -= n
+        for k, g in enumerate(self.sets):
+            self.pi[g.start:g.start + g.count, P.P_SET] = k
+        ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
+        ends[ends > a] -= n
+        group.alive = False
+
+    def forget_body(self, row):
+        """Body row ``row`` is gone: particles pinned to it are free again."""
+        held = (self.pi[:self.n, P.P_FLAGS] & P.PP_PINNED != 0) & (self.pi[:self.n, P.P_PIN_BODY] == row)
+        self.pi[:self.n, P.P_FLAGS][held] &= ~P.PP_PINNED
+        self.pi[:self.n, P.P_PIN_BODY][held] = -1
+
+    def set_table(self):
+        """The set table the kernel reads (``SETS_COLS`` columns per live set)."""
+        out = np.zeros((max(len(self.sets), 1), P.SETS_COLS), dtype=np.int64)
+        for k, g in enumerate(self.sets):
+            out[k] = (g.start, g.count, g.serial)
+        return out
+
+    # --- the step ---------------------------------------------------------------------------------------------
+    def step(self, st, dt, gravity, substeps):
+        """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``)."""
+        if self.n == 0:
+            return
+        q = self.params
+        q[P.Q_DT] = dt
+        q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
+        q[P.Q_SUBSTEPS] = substeps
+        nb = st.bodies.end
+        n, ne = self.n, self.ne
+        adjacent_start = np.zeros(n + 1, dtype=np.int64)
+        adjacent = np.zeros(max(2 * ne, 1), dtype=np.int64)
+        table = 1 << max(4, int(2 * n - 1).bit_length())
+        cell_start = np.zeros(table + 1, dtype=np.int64)
+        cell_entries = np.zeros(n, dtype=np.int64)
+        aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
+        while True:
+            n_shape, n_pair = find_candidates(q, self.pf, self.pi, n, self.ei, ne, st.bi, st.si, nb, aabbs,
+                                              self.shape_pairs, self.particle_pairs, adjacent_start, adjacent,
+                                              cell_start, cell_entries)
+            if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0]:
+                break
+            self.shape_pairs = _grown(self.shape_pairs, n_shape)
+            self.particle_pairs = _grown(self.particle_pairs, n_pair)
+        self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
+        self.ki = _grown(self.ki, self.kf.shape[0])
+        bx = np.zeros((max(nb, 1), BX_COLS))
+        self.broken, _ = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
+                                        ne, st.bf, st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx,
+                                        self.shape_pairs, n_shape, self.particle_pairs, n_pair, self.kf, self.ki,
+                                        self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
+                                        self.vec[1], self.rot_s, self.q_s)
+
+    # --- snapshots ------------------------------------------------------------------------------------------
+    def tables(self):
+        """The particle tables of a snapshot (copies)."""
+        return {"particle_f": self.pf[:self.n].copy(), "particle_i": self.pi[:self.n].copy(),
+                "edge_f": self.ef[:self.ne].copy(), "edge_i": self.ei[:self.ne].copy(),
+                "particle_sets": np.array([(g.serial, g.start, g.count) for g in self.sets],
+                                          dtype=np.int64).reshape(-1, 3),
+                "networks": np.array([(g.serial, g.start, g.count, g.owner) for g in self.networks],
+                                     dtype=np.int64).reshape(-1, 4)}
+
+    def check(self, t, bodies_alive, refuse):
+        """Check a snapshot's particle tables ``t`` (see ``state/snapshot.py``): every set and network in it
+        still alive here with its size, rows consistent, values finite and in range; ``bodies_alive`` the
+        snapshot's live body rows (bool array); ``refuse(why)`` raises."""
+        sets, nets = t["particle_sets"], t["networks"]
+        pf, pi, ef, ei = t["particle_f"], t["particle_i"], t["edge_f"], t["edge_i"]
+        live = {g.serial: g for g in self.sets}
+        start = 0
+        for serial, first, count in sets:
+            g = live.get(int(serial))
+            if g is None or g.count != count or first != start:
+                refuse("holds a set of particles that was removed since (or that this world never had)")
+            start += int(count)
+        if pf.shape[0] != start or pi.shape[0] != start:
+            refuse("has particle tables of mismatched lengths")
+        live_nets = {g.serial: g for g in self.networks}
+        start = 0
+        for serial, first, count, owner in nets:
+            g = live_nets.get(int(serial))
+            if g is None or g.count != count or first != start or g.owner != owner \
+                    or owner not in set(int(s) for s in sets[:, 0]):
+                refuse("holds a network that was removed since (or that this world never had)")
+            start += int(count)
+        if ef.shape[0] != start or ei.shape[0] != start:
+            refuse("has edge tables of mismatched lengths")
+        finite = np.setdiff1d(np.arange(P.EF_COLS), [P.E_BREAKING])
+        if not np.all(np.isfinite(pf)) or not np.all(np.isfinite(ef[:, finite])) or np.any(np.isnan(ef)):
+            refuse("holds a NaN or infinite particle value")
+        if np.any(pf[:, P.P_MASS] <= 0.0) or np.any(pf[:, P.P_RADIUS] <= 0.0) or np.any(pf[:, P.P_INV_MASS] < 0.0):
+            refuse("holds a particle with a mass or radius out of range")
+        if np.any(pi[:, P.P_FLAGS] & ~(P.PP_PINNED | P.PP_COLLIDE)) or np.any(pi[:, P.P_SET] < 0) \
+                or np.any(pi[:, P.P_SET] >= max(len(sets), 1)):
+            refuse("holds particle rows with unknown flags or sets")
+        pinned_to = pi[:, P.P_PIN_BODY]
+        held = (pi[:, P.P_FLAGS] & P.PP_PINNED) != 0
+        nb = bodies_alive.shape[0]
+        if np.any(pinned_to < -1) or np.any(pinned_to >= nb) \
+                or not np.all(bodies_alive[pinned_to[held & (pinned_to >= 0)]]):
+            refuse("holds a particle pinned to a body it does not have")
+        if ei.shape[0] and (np.any(ei[:, P.E_A:P.E_B + 1] < 0) or np.any(ei[:, P.E_A:P.E_B + 1] >= pf.shape[0])
+                            or np.any(~np.isin(ei[:, P.E_KIND], (P.EK_SPRING, P.EK_ROD, P.EK_CABLE)))
+                            or np.any(ei[:, P.E_FLAGS] & ~P.EB_BROKEN)):
+            refuse("holds edges between particles it does not have")
+
+    def load(self, t):
+        """Write a checked snapshot's particle tables; sets and networks not in it are removed (their
+        records die)."""
+        keep = set(int(s) for s in t["particle_sets"][:, 0])
+        keep_nets = set(int(s) for s in t["networks"][:, 0])
+        for g in self.sets:
+            if g.serial not in keep:
+                g.alive = False
+        for g in self.networks:
+            if g.serial not in keep_nets:
+                g.alive = False
+        self.sets = [g for g in self.sets if g.alive]
+        self.networks = [g for g in self.networks if g.alive]
+        for g, (_, start, count) in zip(self.sets, t["particle_sets"]):
+            g.start, g.count = int(start), int(count)
+        for g, (_, start, count, _) in zip(self.networks, t["networks"]):
+            g.start, g.count = int(start), int(count)
+        self.n, self.ne = t["particle_f"].shape[0], t["edge_f"].shape[0]
+        self.pf = _grown(np.zeros((0, P.PF_COLS)), self.n)
+        self.pi = _grown(np.zeros((0, P.PI_COLS), dtype=np.int64), self.n)
+        self.ef = _grown(np.zeros((0, P.EF_COLS)), self.ne)
+        self.ei = _grown(np.zeros((0, P.EI_COLS), dtype=np.int64), self.ne)
+        self.pf[:self.n] = t["particle_f"]
+        self.pi[:self.n] = t["particle_i"]
+        self.ef[:self.ne] = t["edge_f"]
+        self.ei[:self.ne] = t["edge_i"]
+
+
+#: the particle tables of a snapshot, their dtypes and column counts (for state/snapshot.py)
+TABLES = {"particle_f": (np.float64, P.PF_COLS), "particle_i": (np.int64, P.PI_COLS),
+          "edge_f": (np.float64, P.EF_COLS), "edge_i": (np.int64, P.EI_COLS), "particle_sets": (np.int64, 3),
+          "networks": (np.int64, 4)}

@@ -1,0 +1,161 @@
+"""The particles' step: small sub-steps of extended position-based dynamics, after the rigid bodies' step.
+
+Each step of ``dt`` is taken in ``substeps`` sub-steps of ``h = dt / substeps``, one constraint pass each
+("small steps", Macklin et al. 2019: many short sub-steps with one pass converge better than few with many
+passes).  Before them, once per step (``find_candidates``): the shapes and the particle pairs each particle
+may meet in the step.  Each sub-step, in order:
+
+    drift           pushed bodies go on with the velocity the particles gave them (body_motion.py)
+    integrate       v0 = v;  v += h (g + F / m);  internal motion damped;  x_prev = x;  x += h v;
+                    particles pinned to the world put back on their pins
+    pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
+    edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
+                    body-pinned particle pulls the body (two ways)
+    pins            again, where the edges have moved the bodies
+    contacts        overlaps with the shapes and with other particles removed; static friction
+                    (particle_contacts.py, particle_pairs.py)
+    velocities      v = (x - x_prev) / h
+    velocity pass   dynamic friction and restitution of the sub-step's contacts
+
+and at the end the pushed bodies' poses and velocities are written back, the edges whose force of the step
+passed their breaking force break, and the user forces are cleared.
+Semi-implicit Euler in velocity and position, with the constraints as corrections of the positions: stable at
+60 Hz for any stiffness, with a small numerical damping that shrinks with ``h``.
+
+Damping: each particle's velocity relative to its set's mean velocity (mass-weighted) decays at its rate
+``c`` (1/s), ``v <- v_mean + (v - v_mean) exp(-c h)``: internal motion is damped, rigid motion is not.
+"""
+import math
+
+from .._numba.jit import njit
+from .body_motion import body_pose, clear_motion, drift, to_world, write_back
+from .edge_constraints import break_edges, clear_edge_forces, solve_edges
+from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
+from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
+                              P_PREV, P_VEL, P_VEL0, PP_PINNED, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
+                              SET_COUNT, SET_START)
+from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
+
+
+@njit
+def find_candidates(params, pf, pi, n_particles, ei, ne, bi, si, nb, aabbs, shape_pairs, particle_pairs,
+                    adjacent_start, adjacent, cell_start, cell_entries):
+    """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs`` and the ``(particle, particle)``
+    candidates into ``particle_pairs``; returns both counts (a count past an array's length: grow it and call
+    again).  The reach: how far a particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep."""
+    dt = params[Q_DT]
+    g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
+    reach = g * dt * dt
+    n_shape = shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, shape_pairs)
+    fastest = 0.0
+    for p in range(n_particles):
+        fastest = max(fastest, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2))
+    edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent)
+    n_pair = particle_candidates(pf, pi, n_particles, 2.0 * (fastest * dt + reach), cell_start, cell_entries,
+                                 adjacent_start, adjacent, particle_pairs)
+    return n_shape, n_pair
+
+
+@njit
+def _integrate(params, pf, pi, n_particles, sets, n_sets, h):
+    """Stage "integrate" (module docstring)."""
+    gx, gy, gz = params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]
+    for p in range(n_particles):
+        for k in range(3):
+            pf[p, P_VEL0 + k] = pf[p, P_VEL + k]
+        if pf[p, P_INV_MASS] > 0.0:
+            inv_m = pf[p, P_INV_MASS]
+            pf[p, P_VEL] += h * (gx + pf[p, P_FORCE] * inv_m)
+            pf[p, P_VEL + 1] += h * (gy + pf[p, P_FORCE + 1] * inv_m)
+            pf[p, P_VEL + 2] += h * (gz + pf[p, P_FORCE + 2] * inv_m)
+    for s in range(n_sets):
+        _damp(pf, sets[s, SET_START], sets[s, SET_COUNT], h)
+    for p in range(n_particles):
+        for k in range(3):
+            pf[p, P_PREV + k] = pf[p, P_POS + k]
+        if pf[p, P_INV_MASS] > 0.0:
+            for k in range(3):
+                pf[p, P_POS + k] += h * pf[p, P_VEL + k]
+        elif (pi[p, P_FLAGS] & PP_PINNED) != 0 and pi[p, P_PIN_BODY] < 0:
+            for k in range(3):
+                pf[p, P_POS + k] = pf[p, P_PIN + k]
+                pf[p, P_VEL + k] = 0.0
+
+
+@njit
+def _damp(pf, start, count, h):
+    """Damp the internal motion of the particles ``start .. start + count - 1`` over ``h`` seconds."""
+    mass = 0.0
+    mean = [0.0, 0.0, 0.0]
+    damped = False
+    for p in range(start, start + count):
+        if pf[p, P_INV_MASS] > 0.0:
+            mass += pf[p, P_MASS]
+            for k in range(3):
+                mean[k] += pf[p, P_MASS] * pf[p, P_VEL + k]
+            damped = damped or pf[p, P_DAMPING] > 0.0
+    if not damped or mass <= 0.0:
+        return
+    for p in range(start, start + count):
+        if pf[p, P_INV_MASS] > 0.0 and pf[p, P_DAMPING] > 0.0:
+            keep = math.exp(-pf[p, P_DAMPING] * h)
+            for k in range(3):
+                m = mean[k] / mass
+                pf[p, P_VEL + k] = m + (pf[p, P_VEL + k] - m) * keep
+
+
+@njit
+def _pins(pf, pi, n_particles, bf, bi, bx, back):
+    """Stage "pins": the particles pinned to a body put on its point, where the body is now (a pinned
+    particle is a point of its body: the edges move the body through it, edge_constraints.py)."""
+    for p in range(n_particles):
+        b = pi[p, P_PIN_BODY]
+        if (pi[p, P_FLAGS] & PP_PINNED) == 0 or b < 0:
+            continue
+        x_b, q_b = body_pose(bf, bi, bx, b, back)
+        target = to_world(x_b, q_b, (pf[p, P_PIN], pf[p, P_PIN + 1], pf[p, P_PIN + 2]))
+        for k in range(3):
+            pf[p, P_POS + k] = target[k]
+
+
+@njit
+def _velocities(pf, n_particles, h):
+    """Stage "velocities": ``v = (x - x_prev) / h`` for the particles that move."""
+    for p in range(n_particles):
+        if pf[p, P_INV_MASS] > 0.0:
+            for k in range(3):
+                pf[p, P_VEL + k] = (pf[p, P_POS + k] - pf[p, P_PREV + k]) / h
+
+
+@njit
+def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bf, bi, nb, sf, si, geom_f, geom_i, bx,
+                   shape_pairs, n_shape, particle_pairs, n_pair, kf, ki, scratch_f, scratch_i, sphere, pos_a, rot_a,
+                   pos_s, rot_s, q_s):
+    """The particles' step (module docstring) over the candidates of :func:`find_candidates`; returns
+    ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
+    dt = params[Q_DT]
+    substeps = int(params[Q_SUBSTEPS])
+    h = dt / substeps
+    g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
+    clear_motion(bx, nb)
+    clear_edge_forces(ef, ei, ne)
+    most = 0
+    for step in range(substeps):
+        back = dt - (step + 1) * h
+        drift(bx, nb, h)
+        _integrate(params, pf, pi, n_particles, sets, n_sets, h)
+        _pins(pf, pi, n_particles, bf, bi, bx, back)
+        solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps)
+        _pins(pf, pi, n_particles, bf, bi, bx, back)
+        nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, 0,
+                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+        nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, nk)
+        most = max(most, nk)
+        _velocities(pf, n_particles, h)
+        velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
+    write_back(bf, bi, bx, nb)
+    broke = break_edges(ef, ei, ne)
+    for p in range(n_particles):
+        for k in range(3):
+            pf[p, P_FORCE + k] = 0.0
+    return broke, most
