@@ -141,7 +141,7 @@ class Particles:
             f[rows, P.P_INV_MASS] = 1.0 / f[rows, P.P_MASS]
             i[rows, P.P_PIN_BODY] = b
         i[rows, P.P_FLAGS] |= P.PP_PINNED
-
+        self._world._state.particles.tethers = None
     def unpin(self, indices: ArrayLike) -> None:
         """Let the chosen particles go (they keep their velocity; those pinned to the world start at rest)."""
         f, i = self._rows()
@@ -149,6 +149,7 @@ class Particles:
         i[rows, P.P_FLAGS] &= ~P.PP_PINNED
         i[rows, P.P_PIN_BODY] = -1
         f[rows, P.P_INV_MASS] = 1.0 / f[rows, P.P_MASS]
+        self._world._state.particles.tethers = None
 
     def apply_force(self, force: ArrayLike, indices: ArrayLike = None) -> None:
         """Add the world force ``force`` (N, a 3-vector) on each chosen particle (None: all) for the next

@@ -20,7 +20,7 @@ particles and take nothing back.
 """
 import math
 
-from .._numba.jit import njit
+from .._numba.jit import njit, njit_inline
 from ..dynamics.forces import is_dynamic
 from ..math3d import quat_step, rotate_tensor, rotation_of, rotated, tensor_vec
 from ..state.layout import F_RESTART, F_SLEEPING, F_STATIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, QUAT, SLEEP_TIME, VEL
@@ -51,7 +51,7 @@ def drift(bx, nb, h):
                 bx[i, BX_THETA + k] += bx[i, BX_DW + k] * h
 
 
-@njit
+@njit_inline
 def body_pose(bf, bi, bx, b, back):
     """Body row ``b``'s ``(position, orientation)`` ``back`` seconds before the end of the step (tuples)."""
     q = (bf[b, QUAT], bf[b, QUAT + 1], bf[b, QUAT + 2], bf[b, QUAT + 3])
@@ -65,7 +65,7 @@ def body_pose(bf, bi, bx, b, back):
     return x, q
 
 
-@njit
+@njit_inline
 def point_velocity(bf, bi, bx, b, x_b, p):
     """Velocity (m/s) of body row ``b``'s material point at ``p`` (its centre at ``x_b``)."""
     if (bi[b, FLAGS] & F_STATIC) != 0:
@@ -76,7 +76,7 @@ def point_velocity(bf, bi, bx, b, x_b, p):
     return (v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0])
 
 
-@njit
+@njit_inline
 def world_inverse_inertia(bf, b, q):
     """``R I_body^-1 R^T`` of body row ``b`` at orientation ``q`` (row-major 9-tuple, 1/(kg m^2))."""
     m = (bf[b, INV_I], bf[b, INV_I + 1], bf[b, INV_I + 2], bf[b, INV_I + 3], bf[b, INV_I + 4], bf[b, INV_I + 5],
@@ -84,13 +84,13 @@ def world_inverse_inertia(bf, b, q):
     return rotate_tensor(rotation_of(q), m)
 
 
-@njit
+@njit_inline
 def pushable(bf, bi, b):
     """Whether the particles can move body row ``b`` (dynamic, awake or asleep; not static or kinematic)."""
     return bf[b, INV_MASS] > 0.0 and is_dynamic(bi, b)
 
 
-@njit
+@njit_inline
 def inverse_mass_along(bf, bi, b, x_b, q, p, n):
     """Generalised inverse mass of body row ``b`` at point ``p`` along the unit direction ``n``:
     ``1/m + (r x n) . I^-1 (r x n)`` (0 for a body the particles cannot move)."""
@@ -102,7 +102,7 @@ def inverse_mass_along(bf, bi, b, x_b, q, p, n):
     return bf[b, INV_MASS] + rn[0] * irn[0] + rn[1] * irn[1] + rn[2] * irn[2]
 
 
-@njit
+@njit_inline
 def push_body(bf, bi, bx, b, x_b, q, p, impulse, h, move):
     """Give body row ``b`` the positional impulse ``impulse`` (kg m, a 3-tuple) at ``p``: a velocity change of
     ``impulse / h`` (kg m/s), and, when ``move``, the position change too (see the module docstring)."""

@@ -32,7 +32,7 @@ from .particle_layout import (E_A, E_B, E_BREAKING, E_COMPLIANCE, E_DAMPING, E_F
 
 
 @njit
-def _end_mass(pf, pi, bf, bi, bx, p, back, n):
+def end_mass(pf, pi, bf, bi, bx, p, back, n):
     """Inverse mass of edge end ``p`` along ``n``: the particle's, or its body's at its place when it is
     pinned to one."""
     b = pi[p, P_PIN_BODY]
@@ -43,7 +43,7 @@ def _end_mass(pf, pi, bf, bi, bx, p, back, n):
 
 
 @njit
-def _move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
+def move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
     """Move edge end ``p`` by ``w dlambda n`` (m), and its body with it when it is pinned to one."""
     for k in range(3):
         pf[p, P_POS + k] += w * dlambda * n[k]
@@ -71,8 +71,11 @@ def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share):
         if length < 1e-12 or (kind == EK_CABLE and c <= 0.0):
             continue
         n0, n1, n2 = d0 / length, d1 / length, d2 / length
-        wa = _end_mass(pf, pi, bf, bi, bx, a, back, (n0, n1, n2))
-        wb = _end_mass(pf, pi, bf, bi, bx, b, back, (-n0, -n1, -n2))
+        # (the calls for ends on bodies only: every call passes and reference-counts the tables again)
+        on_a = (pi[a, P_FLAGS] & PP_PINNED) != 0 and pi[a, P_PIN_BODY] >= 0
+        on_b = (pi[b, P_FLAGS] & PP_PINNED) != 0 and pi[b, P_PIN_BODY] >= 0
+        wa = end_mass(pf, pi, bf, bi, bx, a, back, (n0, n1, n2)) if on_a else pf[a, P_INV_MASS]
+        wb = end_mass(pf, pi, bf, bi, bx, b, back, (-n0, -n1, -n2)) if on_b else pf[b, P_INV_MASS]
         alpha = ef[e, E_COMPLIANCE] / (h * h) if kind == EK_SPRING else 0.0
         gamma = ef[e, E_COMPLIANCE] * ef[e, E_DAMPING] / h if kind == EK_SPRING else 0.0
         denominator = (1.0 + gamma) * (wa + wb) + alpha
@@ -80,12 +83,23 @@ def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share):
             continue
         closing = 0.0
         if gamma > 0.0:
-            for k, nk in ((0, n0), (1, n1), (2, n2)):
-                closing += nk * ((pf[a, P_POS + k] - pf[a, P_PREV + k]) - (pf[b, P_POS + k] - pf[b, P_PREV + k]))
+            closing = (n0 * ((pf[a, P_POS] - pf[a, P_PREV]) - (pf[b, P_POS] - pf[b, P_PREV]))
+                       + n1 * ((pf[a, P_POS + 1] - pf[a, P_PREV + 1]) - (pf[b, P_POS + 1] - pf[b, P_PREV + 1]))
+                       + n2 * ((pf[a, P_POS + 2] - pf[a, P_PREV + 2]) - (pf[b, P_POS + 2] - pf[b, P_PREV + 2])))
         dlambda = (-c - gamma * closing) / denominator
         ef[e, E_FORCE] -= share * dlambda / (h * h)
-        _move_end(pf, pi, bf, bi, bx, a, back, wa, dlambda, (n0, n1, n2), h)
-        _move_end(pf, pi, bf, bi, bx, b, back, wb, dlambda, (-n0, -n1, -n2), h)
+        if on_a:
+            move_end(pf, pi, bf, bi, bx, a, back, wa, dlambda, (n0, n1, n2), h)
+        else:
+            pf[a, P_POS] += wa * dlambda * n0
+            pf[a, P_POS + 1] += wa * dlambda * n1
+            pf[a, P_POS + 2] += wa * dlambda * n2
+        if on_b:
+            move_end(pf, pi, bf, bi, bx, b, back, wb, dlambda, (-n0, -n1, -n2), h)
+        else:
+            pf[b, P_POS] -= wb * dlambda * n0
+            pf[b, P_POS + 1] -= wb * dlambda * n1
+            pf[b, P_POS + 2] -= wb * dlambda * n2
 
 
 @njit

@@ -20,15 +20,14 @@ Materials combine as for bodies: friction by geometric mean, restitution by maxi
 """
 import math
 
-import numpy as np
-
-from .._numba.jit import njit
+from .._numba.jit import njit, njit_inline
 from ..collision import shape_types as st
 from ..collision.pairs.dispatch import collide_pair_covering
 from ..collision.shape_types import COVER_ALL, N_SHAPE_PARAMS
 from ..math3d import quat_product, quat_to_matrix
-from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, RESTITUTION, S_BODY, S_LOCAL_POS, S_LOCAL_QUAT,
-                            S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START, STATIC_FRICTION)
+from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTION, S_BODY, S_LOCAL_POS,
+                            S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
+                            STATIC_FRICTION, VEL)
 from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, to_world
 from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
                               KK_BODY, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV, P_RADIUS,
@@ -36,30 +35,53 @@ from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_P
 
 
 @njit
-def swept_box(pf, p, dt, reach):
-    """``(lo, hi)``: the box particle row ``p`` can reach in a step of ``dt`` s at its velocity, grown by its
-    radius and ``reach`` (m)."""
-    lo = np.empty(3)
-    hi = np.empty(3)
-    grow = pf[p, P_RADIUS] + reach
+def _swept_box(pf, p, dt, grow):
+    """``(lo, hi)`` tuples: the box particle row ``p`` sweeps in a step of ``dt`` s at its velocity, grown by
+    ``grow`` (m)."""
+    x0, x1, x2 = pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2]
+    y0, y1, y2 = x0 + pf[p, P_VEL] * dt, x1 + pf[p, P_VEL + 1] * dt, x2 + pf[p, P_VEL + 2] * dt
+    return ((min(x0, y0) - grow, min(x1, y1) - grow, min(x2, y2) - grow),
+            (max(x0, y0) + grow, max(x1, y1) + grow, max(x2, y2) + grow))
+
+
+@njit_inline
+def shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, prediction, scratch_f, scratch_i, sphere,
+                pos_a, rot_a, pos_s, rot_s, q_s):
+    """The contact rows of particle row ``p`` (a sphere of its radius) with shape row ``s``, its body posed
+    ``back`` s before the step's end, gaps up to ``prediction`` (m) included: ``(rows, x_b, q_b)``, the rows in
+    ``scratch_f`` / ``scratch_i`` (``collide_pair``'s layout, normals from the particle to the shape) and the
+    body's pose.  Scratch: ``sphere`` (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a`` (the identity),
+    ``rot_s`` (3, 3), ``q_s`` (4)."""
+    b = si[s, S_BODY]
+    x_b, q_b = body_pose(bf, bi, bx, b, back)
+    centre = to_world(x_b, q_b, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]))
+    quat_product_into(q_b, sf, s, q_s)
+    quat_to_matrix(q_s, rot_s)
     for k in range(3):
-        x = pf[p, P_POS + k]
-        y = x + pf[p, P_VEL + k] * dt
-        lo[k] = min(x, y) - grow
-        hi[k] = max(x, y) + grow
-    return lo, hi
+        pos_s[k] = centre[k]
+        pos_a[k] = pf[p, P_POS + k]
+    sphere[0] = pf[p, P_RADIUS]
+    m = collide_pair_covering(COVER_ALL, st.SPHERE, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
+                              sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], geom_f, geom_i, 0, 0, si[s, S_OFF_F],
+                              si[s, S_OFF_I], prediction, scratch_f, scratch_i, 0)
+    return min(m, scratch_f.shape[0]), x_b, q_b
 
 
 @njit
-def shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, out):
-    """List ``(particle, shape)`` rows into ``out`` for every unpinned particle whose swept box meets a body's
-    box (sensors left out); returns how many there are (the rows past ``out``'s end are not written)."""
+def shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out, scratch_f,
+                     scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """List ``(particle, shape)`` rows into ``out`` for every unpinned particle and shape that may touch in the
+    step: the particle's swept box meets the body's box (sensors left out), and the shape lies within the
+    particle's and its body's reach of the particle at the poses of the step's end (one exact query per pair
+    and step; the sub-steps query only these).  Returns how many there are (rows past ``out``'s end are not
+    written).  ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep."""
     n = 0
     cap = out.shape[0]
     for p in range(n_particles):
         if (pi[p, P_FLAGS] & PP_PINNED) != 0:
             continue                        # (held: by the world, or as a point of a body)
-        lo, hi = swept_box(pf, p, dt, reach)
+        lo, hi = _swept_box(pf, p, dt, pf[p, P_RADIUS] + reach)
+        travel = math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2) * dt + reach
         for b in range(nb):
             f = bi[b, FLAGS]
             if (f & F_ALIVE) == 0 or (f & F_SENSOR) != 0:
@@ -67,8 +89,16 @@ def shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, out):
             if aabbs[b, 0] > hi[0] or aabbs[b, 1] > hi[1] or aabbs[b, 2] > hi[2] \
                     or aabbs[b, 3] < lo[0] or aabbs[b, 4] < lo[1] or aabbs[b, 5] < lo[2]:
                 continue
+            v_b = math.sqrt(bf[b, VEL] ** 2 + bf[b, VEL + 1] ** 2 + bf[b, VEL + 2] ** 2)
+            w_b = math.sqrt(bf[b, OMEGA] ** 2 + bf[b, OMEGA + 1] ** 2 + bf[b, OMEGA + 2] ** 2)
             s0 = bi[b, SHAPE_START]
             for s in range(s0, s0 + bi[b, SHAPE_COUNT]):
+                turn = w_b * min(sf[s, S_RADIUS] + 1e-12, 1e12) * dt if w_b > 0.0 else 0.0
+                rows, _, _ = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, 0.0,
+                                         travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
+                                         pos_s, rot_s, q_s)
+                if rows == 0:
+                    continue
                 if n < cap:
                     out[n, 0] = p
                     out[n, 1] = s
@@ -76,7 +106,7 @@ def shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, out):
     return n
 
 
-@njit
+@njit_inline
 def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
     """Velocity (m/s) of particle row ``p`` relative to the other side at ``point`` (a body's material point,
     the body's centre at ``x_b``; or another particle)."""
@@ -87,7 +117,7 @@ def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
     return pf[p, P_VEL] - u[0], pf[p, P_VEL + 1] - u[1], pf[p, P_VEL + 2] - u[2]
 
 
-@njit
+@njit_inline
 def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move):
     """Move particle row ``p`` and the other side apart by ``amount`` along the unit ``u`` (positions and
     velocities when ``move``, velocities only (``amount`` a velocity, m/s) otherwise), split by their
@@ -114,7 +144,7 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
     return wp * dlambda
 
 
-@njit
+@njit_inline
 def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h):
     """Static friction of a contact whose overlap ``depth`` (m) was just removed along ``n``: undo the
     particle's motion across the surface in this sub-step if it is shorter than ``mu_s depth``; returns
@@ -137,7 +167,7 @@ def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s
     return 1.0
 
 
-@njit
+@njit_inline
 def record_contact(kf, ki, nk, p, other, kind, n, point, depth, vn0, mu, e, stuck):
     """Append a contact of the sub-step to ``kf`` / ``ki`` (if there is room); returns the new count."""
     if nk < kf.shape[0]:
@@ -165,19 +195,10 @@ def shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candida
     for c in range(n_candidates):
         p, s = candidates[c, 0], candidates[c, 1]
         b = si[s, S_BODY]
-        x_b, q_b = body_pose(bf, bi, bx, b, back)
-        centre = to_world(x_b, q_b, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]))
-        quat_product_into(q_b, sf, s, q_s)
-        quat_to_matrix(q_s, rot_s)
-        for k in range(3):
-            pos_s[k] = centre[k]
-            pos_a[k] = pf[p, P_POS + k]
-        sphere[0] = pf[p, P_RADIUS]
-        m = collide_pair_covering(COVER_ALL, st.SPHERE, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
-                                  sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], geom_f, geom_i, 0, 0, si[s, S_OFF_F],
-                                  si[s, S_OFF_I], 0.0, scratch_f, scratch_i, 0)
+        m, x_b, q_b = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, 0.0, scratch_f, scratch_i,
+                                  sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         moved0, moved1, moved2 = 0.0, 0.0, 0.0
-        for j in range(min(m, scratch_f.shape[0])):
+        for j in range(m):
             # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
             n = (-scratch_f[j, 3], -scratch_f[j, 4], -scratch_f[j, 5])
             depth = scratch_f[j, 6] - (moved0 * n[0] + moved1 * n[1] + moved2 * n[2])
@@ -200,7 +221,7 @@ def shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candida
     return nk
 
 
-@njit
+@njit_inline
 def quat_product_into(q_b, sf, s, out):
     """``out = q_b q_local``: the world orientation of shape row ``s`` on a body at orientation ``q_b``."""
     r = quat_product(q_b, (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2],

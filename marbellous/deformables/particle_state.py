@@ -11,6 +11,7 @@ import numpy as np
 from . import particle_layout as P
 from .body_motion import BX_COLS
 from .particle_step import find_candidates, step_particles
+from .tethers import find_tethers
 
 
 class Group:
@@ -58,6 +59,7 @@ class ParticleState:
         self.rot_s = np.zeros((3, 3))
         self.q_s = np.zeros(4)
         self.broken = 0                  # edges broken in the last step
+        self.tethers = None              # (particles, pins, lengths) of tethers.py; None: to be found again
 
     # --- sets and networks ----------------------------------------------------------------------------------
     def _next_serial(self):
@@ -75,6 +77,7 @@ class ParticleState:
         self.pi[self.n:self.n + n] = rows_i
         self.n += n
         self.sets.append(group)
+        self.tethers = None
         return group
 
     def add_network(self, owner, rows_f, rows_i):
@@ -89,6 +92,7 @@ class ParticleState:
         self.ei[self.ne:self.ne + n] = rows_i
         self.ne += n
         self.networks.append(group)
+        self.tethers = None
         return group
 
     def remove_network(self, group):
@@ -103,6 +107,7 @@ class ParticleState:
             if g.start > a:
                 g.start -= n
         group.alive = False
+        self.tethers = None
 
     def remove_set(self, group):
         """Remove a set (and the networks on it); the later particles move down, their edges with them."""
@@ -122,12 +127,14 @@ class ParticleState:
         ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
         ends[ends > a] -= n
         group.alive = False
+        self.tethers = None
 
     def forget_body(self, row):
         """Body row ``row`` is gone: particles pinned to it are free again."""
         held = (self.pi[:self.n, P.P_FLAGS] & P.PP_PINNED != 0) & (self.pi[:self.n, P.P_PIN_BODY] == row)
         self.pi[:self.n, P.P_FLAGS][held] &= ~P.PP_PINNED
         self.pi[:self.n, P.P_PIN_BODY][held] = -1
+        self.tethers = None
 
     def set_table(self):
         """The set table the kernel reads (``SETS_COLS`` columns per live set)."""
@@ -153,22 +160,28 @@ class ParticleState:
         cell_start = np.zeros(table + 1, dtype=np.int64)
         cell_entries = np.zeros(n, dtype=np.int64)
         aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
+        bx = np.zeros((max(nb, 1), BX_COLS))
+        if self.tethers is None:
+            self.tethers = find_tethers(self.pf, self.pi, n, self.ef, self.ei, ne)
         while True:
-            n_shape, n_pair = find_candidates(q, self.pf, self.pi, n, self.ei, ne, st.bi, st.si, nb, aabbs,
-                                              self.shape_pairs, self.particle_pairs, adjacent_start, adjacent,
-                                              cell_start, cell_entries)
+            n_shape, n_pair = find_candidates(q, self.pf, self.pi, n, self.ei, ne, st.bf, st.bi, st.sf, st.si,
+                                              st.geom_f, st.geom_i, nb, aabbs, bx, self.shape_pairs,
+                                              self.particle_pairs, adjacent_start, adjacent, cell_start, cell_entries,
+                                              self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
+                                              self.vec[1], self.rot_s, self.q_s)
             if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0]:
                 break
             self.shape_pairs = _grown(self.shape_pairs, n_shape)
             self.particle_pairs = _grown(self.particle_pairs, n_pair)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        bx = np.zeros((max(nb, 1), BX_COLS))
         self.broken, _ = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
-                                        ne, st.bf, st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx,
+                                        ne, *self.tethers, st.bf, st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx,
                                         self.shape_pairs, n_shape, self.particle_pairs, n_pair, self.kf, self.ki,
                                         self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
                                         self.vec[1], self.rot_s, self.q_s)
+        if self.broken:
+            self.tethers = None
 
     # --- snapshots ------------------------------------------------------------------------------------------
     def tables(self):
@@ -246,6 +259,7 @@ class ParticleState:
         self.pi = _grown(np.zeros((0, P.PI_COLS), dtype=np.int64), self.n)
         self.ef = _grown(np.zeros((0, P.EF_COLS)), self.ne)
         self.ei = _grown(np.zeros((0, P.EI_COLS), dtype=np.int64), self.ne)
+        self.tethers = None
         self.pf[:self.n] = t["particle_f"]
         self.pi[:self.n] = t["particle_i"]
         self.ef[:self.ne] = t["edge_f"]

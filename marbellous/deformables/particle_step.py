@@ -11,6 +11,7 @@ may meet in the step.  Each sub-step, in order:
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
     edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
                     body-pinned particle pulls the body (two ways)
+    tethers         no particle farther from its world pin than its rods and cables allow (tethers.py)
     pins            again, where the edges have moved the bodies
     contacts        overlaps with the shapes and with other particles removed; static friction
                     (particle_contacts.py, particle_pairs.py)
@@ -35,18 +36,22 @@ from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P
                               P_PREV, P_VEL, P_VEL0, PP_PINNED, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
+from .tethers import solve_tethers
 
 
 @njit
-def find_candidates(params, pf, pi, n_particles, ei, ne, bi, si, nb, aabbs, shape_pairs, particle_pairs,
-                    adjacent_start, adjacent, cell_start, cell_entries):
+def find_candidates(params, pf, pi, n_particles, ei, ne, bf, bi, sf, si, geom_f, geom_i, nb, aabbs, bx, shape_pairs,
+                    particle_pairs, adjacent_start, adjacent, cell_start, cell_entries, scratch_f, scratch_i, sphere,
+                    pos_a, rot_a, pos_s, rot_s, q_s):
     """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs`` and the ``(particle, particle)``
     candidates into ``particle_pairs``; returns both counts (a count past an array's length: grow it and call
     again).  The reach: how far a particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep."""
     dt = params[Q_DT]
     g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
     reach = g * dt * dt
-    n_shape = shape_candidates(pf, pi, n_particles, bi, si, nb, aabbs, dt, reach, shape_pairs)
+    clear_motion(bx, nb)
+    n_shape = shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
+                               shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
     fastest = 0.0
     for p in range(n_particles):
         fastest = max(fastest, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2))
@@ -128,9 +133,9 @@ def _velocities(pf, n_particles, h):
 
 
 @njit
-def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bf, bi, nb, sf, si, geom_f, geom_i, bx,
-                   shape_pairs, n_shape, particle_pairs, n_pair, kf, ki, scratch_f, scratch_i, sphere, pos_a, rot_a,
-                   pos_s, rot_s, q_s):
+def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, tether_p, tether_q, tether_length, bf, bi,
+                   nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape, particle_pairs, n_pair, kf, ki, scratch_f,
+                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """The particles' step (module docstring) over the candidates of :func:`find_candidates`; returns
     ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
     dt = params[Q_DT]
@@ -146,6 +151,7 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bf, bi
         _integrate(params, pf, pi, n_particles, sets, n_sets, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps)
+        solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, 0,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)

@@ -1,0 +1,75 @@
+"""Tethers (long-range attachments, Kim, Chentanez and Mueller 2012): no particle of an inextensible network
+gets farther from its nearest world pin than the network's rods and cables allow.
+
+One position pass per sub-step hands a load up a chain of rods one link per pass: a 50 kg box hanging from
+a rope of ten 50 g beads, 1 m long, sank 58 mm (5.8 %) below the rope's length at 16 sub-steps (a 5 kg box:
+8 mm).  A particle joined to a world-pinned particle by a path of rods and cables of total rest length ``L``
+can never be farther than ``L`` from it (the straight line is never longer than the path), so each such
+particle gets a tether to its nearest pin (nearest along the path):
+
+    C = |x_p - x_pin| - (1 + s) L <= 0,     solved as a cable with the pin immovable: x_p moves the whole way
+
+which holds the chain's length in one pass, however heavy the load (the 50 kg box: 20 mm, the slack), and does
+nothing while the rope is not straight.  The slack ``s`` (``TETHER_SLACK``, 2 %) leaves the load to the rods as long
+as they hold it that well, so that their forces (``Network.forces``) report it; where a tether holds instead, the
+rods report only their part (the 50 kg box: 93 N of its 495 N).  A body-pinned particle's tether pulls its body
+(through the particle's place on it).  Springs do not count: they are meant to stretch.  The tethers follow from the
+networks and pins, and are found again (by Dijkstra's shortest paths over the rods and cables,
+``scipy.sparse.csgraph``) whenever these change.
+"""
+import math
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from .._numba.jit import njit
+from .edge_constraints import end_mass, move_end
+from .particle_layout import (E_A, E_B, E_FLAGS, E_KIND, E_REST, EB_BROKEN, EK_CABLE, EK_ROD, P_FLAGS, P_PIN_BODY,
+                              P_POS, PP_PINNED)
+
+#: how far past its path's rest length a tether lets a particle go, as a fraction of it
+TETHER_SLACK = 0.02
+
+
+def find_tethers(pf, pi, n, ef, ei, ne):
+    """``(particle rows, pin rows, lengths)`` of the tethers of the particles ``0 .. n - 1`` over the live
+    rods and cables ``0 .. ne - 1`` (module docstring)."""
+    none = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+    pinned = (pi[:n, P_FLAGS] & PP_PINNED) != 0
+    anchors = np.flatnonzero(pinned & (pi[:n, P_PIN_BODY] < 0))
+    keep = np.flatnonzero(np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
+    if anchors.size == 0 or keep.size == 0:
+        return none
+    a, b, length = ei[keep, E_A], ei[keep, E_B], np.maximum(ef[keep, E_REST], 1e-12)
+    graph = coo_matrix((np.concatenate([length, length]), (np.concatenate([a, b]), np.concatenate([b, a]))),
+                       shape=(n, n)).tocsr()
+    distance, _, source = dijkstra(graph, indices=anchors, min_only=True, return_predecessors=True)
+    free = np.flatnonzero(np.isfinite(distance) & (source >= 0) & ~(pinned & (pi[:n, P_PIN_BODY] < 0)))
+    # (a tether is only needed past the first link: the rod itself holds a pin's neighbour)
+    free = free[distance[free] > np.min(length) * 1.5]
+    return free.astype(np.int64), source[free].astype(np.int64), (1.0 + TETHER_SLACK) * distance[free]
+
+
+@njit
+def solve_tethers(pf, pi, bf, bi, bx, particles, pins, lengths, back, h):
+    """Pull every particle farther from its pin than its tether's length back onto the tether's sphere."""
+    for t in range(particles.shape[0]):
+        p, q = particles[t], pins[t]
+        d0 = pf[p, P_POS] - pf[q, P_POS]
+        d1 = pf[p, P_POS + 1] - pf[q, P_POS + 1]
+        d2 = pf[p, P_POS + 2] - pf[q, P_POS + 2]
+        distance = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        c = distance - lengths[t]
+        if c <= 0.0:
+            continue
+        n = (-d0 / distance, -d1 / distance, -d2 / distance)
+        on_body = (pi[p, P_FLAGS] & PP_PINNED) != 0 and pi[p, P_PIN_BODY] >= 0
+        w = end_mass(pf, pi, bf, bi, bx, p, back, n) if on_body else 1.0
+        if w <= 0.0:
+            continue
+        if on_body:
+            move_end(pf, pi, bf, bi, bx, p, back, w, c / w, n, h)
+        else:
+            for k in range(3):
+                pf[p, P_POS + k] += c * n[k]
