@@ -408,3 +408,24 @@ def test_the_particles_example_ends_at_rest_in_one_piece():
     assert r["fastest_drop"] < 0.1 and r["drops_above_net"] > 0.0 and 1.0 < r["net_lowest"] < 1.5
     assert r["crate_hangs"] < 1e-6 and r["rope_stretch"] < 0.05
     assert r["grain_overlap"] < 1e-3 and r["grain_spilled"] == 0 and r["fastest_grain"] < 0.5
+
+
+def test_a_particle_wakes_the_sleeping_box_it_hits_and_removing_a_body_frees_its_pins():
+    w = mb.World()
+    w.add_static(mb.Plane())
+    box = w.add_body(mb.Box((0.3, 0.3, 0.3)), position=(0.0, 0.3, 0.0))
+    run(w, 2.0)
+    assert box.is_sleeping
+    p = w.add_particles([[-2.0, 0.3, 0.0]], mass=5.0, radius=0.05, velocity=(8.0, 0.0, 0.0))
+    run(w, 0.5)
+    # 40 kg m/s into a 216 kg box: 0.19 m/s at most, which ground friction (mu 0.5) stops within
+    # v^2 / (2 mu g) = 3.5 mm
+    assert not box.is_sleeping and 0.001 < box.position[0] < 0.01
+    q = w.add_particles([[3.0, 1.0, 0.0]])
+    q.pin([0], body=box)
+    assert q.pinned[0]
+    w.remove(box)
+    assert not q.pinned[0]
+    run(w, 0.5)
+    assert q.positions[0, 1] < 1.0                 # falls freely now
+    assert p.positions[0, 1] >= 0.05 - 1e-9
