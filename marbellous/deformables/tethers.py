@@ -20,8 +20,6 @@ networks and pins, and are found again (by Dijkstra's shortest paths over the ro
 import math
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import dijkstra
 
 from .._numba.jit import njit
 from .edge_constraints import end_mass, move_end
@@ -35,6 +33,8 @@ TETHER_SLACK = 0.02
 def find_tethers(pf, pi, n, ef, ei, ne):
     """``(particle rows, pin rows, lengths)`` of the tethers of the particles ``0 .. n - 1`` over the live
     rods and cables ``0 .. ne - 1`` (module docstring)."""
+    from scipy.sparse import coo_matrix              # (imported here: only worlds with networks need it)
+    from scipy.sparse.csgraph import dijkstra
     none = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
     pinned = (pi[:n, P_FLAGS] & PP_PINNED) != 0
     anchors = np.flatnonzero(pinned & (pi[:n, P_PIN_BODY] < 0))
