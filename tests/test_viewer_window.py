@@ -85,7 +85,7 @@ def test_show_draws_the_world_and_answers_the_keys(xvfb):
     viewer = Viewer(xvfb)
     try:
         ready = viewer.wait("ready", timeout=400)        # the first start may load compiled kernels
-        assert not ready["paused"] and ready["layers"] == ["bodies", "constraints"]
+        assert not ready["paused"] and ready["layers"] == ["bodies", "particles", "constraints"]
         found = viewer.xdotool("search", "--sync", "--name", "Marbellous viewer")
         assert found.returncode == 0, found.stderr
         wid = found.stdout.split()[0]
@@ -127,6 +127,8 @@ def test_show_draws_the_world_and_answers_the_keys(xvfb):
         assert "contacts" in viewer.wait("key=C")["layers"]
         viewer.key("b")
         assert "boxes" in viewer.wait("key=B")["layers"]
+        viewer.key("p")
+        assert "particles" not in viewer.wait("key=P")["layers"]
         # space again runs on; R returns to the start
         viewer.key("space")
         assert not viewer.wait("key=SPACE")["paused"]

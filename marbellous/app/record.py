@@ -2,7 +2,7 @@
 draws one frame to an array or a PNG.
 
 Both render offscreen through EGL (Mesa's llvmpipe needs no display and no GPU).  The camera frames
-every body at the start unless ``camera = (eye, target)`` places it, and then stays put.
+every body and particle at the start unless ``camera = (eye, target)`` places it, and then stays put.
 """
 import math
 
@@ -32,7 +32,7 @@ def record(world, path, *, seconds, dt=1.0 / 60.0, fps=30, size=(640, 360), came
 
     Frame ``k`` shows the world at ``k / fps`` seconds after the call; there are ``n = round(seconds *
     fps)`` frames (at least one) and the world is left ``n / fps`` seconds on (in whole steps).
-    ``camera`` is None (frame every body as they are at the start) or ``(eye, target)`` (m).
+    ``camera`` is None (frame every body and particle as they are at the start) or ``(eye, target)`` (m).
     ``contacts`` and ``boxes`` draw contact points and normals and broad-phase boxes; ``stats`` adds the
     stats line.  Returns ``path`` as a ``pathlib.Path``.
     """

@@ -52,8 +52,9 @@ def check_flag(name, value):
 
 
 def layers_for(contacts, boxes):
-    """The drawable layers to draw: bodies and constraints, with ``contacts`` and ``boxes`` if asked."""
-    names = ["bodies", "constraints"]
+    """The drawable layers to draw: bodies, particles and constraints (with particle networks), with
+    ``contacts`` and ``boxes`` if asked."""
+    names = ["bodies", "particles", "constraints"]
     if check_flag("contacts", contacts):
         names.append("contacts")
     if check_flag("boxes", boxes):
@@ -62,8 +63,8 @@ def layers_for(contacts, boxes):
 
 
 def initial_camera(world, camera, aspect):
-    """The :class:`OrbitCamera` to start with: framing every body of ``world`` for a view of ``aspect``
-    (width / height) when ``camera`` is None, else looking from ``camera = (eye, target)`` (m)."""
+    """The :class:`OrbitCamera` to start with: framing every body and particle of ``world`` for a view of
+    ``aspect`` (width / height) when ``camera`` is None, else looking from ``camera = (eye, target)`` (m)."""
     if camera is None:
         return OrbitCamera.framing(world_points(world), aspect)
     try:

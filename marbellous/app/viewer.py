@@ -2,9 +2,10 @@
 
 Mouse: drag to turn the camera about its target, right- or middle-drag (or shift-drag) to pan, scroll
 to zoom.  Keys: space pauses and resumes, N or the right arrow takes one step (pausing first), C shows
-contacts and normals, B broad-phase boxes, R returns to the state the window opened with, F frames
-every body again, Esc closes the window.  A line at the top shows bodies, contacts, the wall-clock
-time per step and the simulated time.
+contacts and normals, B broad-phase boxes, P hides and shows the particles (their networks' edges
+stay), R returns to the state the window opened with, F frames every body and particle again, Esc
+closes the window.  A line at the top shows bodies, particles, contacts, the wall-clock time per step
+and the simulated time.
 """
 import os
 import sys
@@ -17,7 +18,8 @@ from .stats import stats_line
 from .view_options import check_flag, check_size, check_world, initial_camera, layers_for
 
 #: The key help shown under the stats line.
-KEYS_HELP = "space pause  |  N step  |  C contacts  |  E events  |  B boxes  |  R reset  |  F frame  |  Esc quit"
+KEYS_HELP = ("space pause  |  N step  |  C contacts  |  E events  |  B boxes  |  P particles  |  R reset  |  "
+             "F frame  |  Esc quit")
 #: Seconds of real time between two state lines when ``print_state`` is on.
 PRINT_INTERVAL = 0.5
 
@@ -29,13 +31,13 @@ def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False
 
     Mouse: drag turns the camera, right- or middle-drag (or shift-drag) pans, scrolling zooms.  Keys:
     space pauses and resumes, N or the right arrow takes one step (pausing first), C toggles contacts
-    and normals, B broad-phase boxes, R returns to the state the window opened with, F frames every
-    body again, Esc closes the window.
+    and normals, B broad-phase boxes, P the particles (their networks' edges stay), R returns to the
+    state the window opened with, F frames every body and particle again, Esc closes the window.
 
     ``paused`` starts it paused; ``size`` = (width, height) pixels of the window; ``contacts`` and
-    ``boxes`` start with those overlays on; ``camera`` is None (frame every body) or ``(eye, target)``
-    (m); at most ``max_steps_per_frame`` steps are taken per drawn frame (a world slower than real time
-    runs in slow motion).  With ``print_state`` a line ``viewer <event> t=... steps=... paused=...
+    ``boxes`` start with those overlays on; ``camera`` is None (frame every body and particle) or
+    ``(eye, target)`` (m); at most ``max_steps_per_frame`` steps are taken per drawn frame (a world slower
+    than real time runs in slow motion).  With ``print_state`` a line ``viewer <event> t=... steps=... paused=...
     layers=... first=x,y,z`` is printed once the first frame is drawn, after every key, twice a second
     and when the window closes (``t`` the simulated time, s; ``first`` the first dynamic body's
     position, m), for scripts and tests.  Raises ``OSError`` when there is no display.
@@ -86,6 +88,7 @@ def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False
         key.C: lambda: toggle("contacts"),
         key.E: lambda: toggle("events"),
         key.B: lambda: toggle("boxes"),
+        key.P: lambda: toggle("particles"),
         key.R: runner.reset,
         key.F: lambda: _reframe(orbit, world, window),
         key.ESCAPE: window.close,
@@ -146,7 +149,7 @@ def _open_window(pyglet, size):
 
 
 def _reframe(orbit, world, window):
-    """Point ``orbit`` at every body of ``world`` again, from the direction it looks in now."""
+    """Point ``orbit`` at every body and particle of ``world`` again, from the direction it looks in now."""
     w, h = window.get_framebuffer_size()
     framed = OrbitCamera.framing(world_points(world), w / h, yaw=orbit.yaw, pitch=orbit.pitch, fov=orbit.fov)
     orbit.target, orbit.distance = framed.target, framed.distance

@@ -1,16 +1,19 @@
-"""Points that outline a world's bodies, for framing the camera.
+"""Points that outline a world's bodies and particles, for framing the camera.
 
 A sphere, box or capsule is outlined by the corners of its box (exact for boxes), a triangle mesh by
 its vertices and a height field by its grid points, so a large ramp or terrain frames by its surface
-rather than by its box; infinite planes have no outline and are left out.
+rather than by its box; infinite planes have no outline and are left out.  A particle is outlined by
+the corners of its box.
 """
 import numpy as np
 
 from ..shapes.heightfield import HeightField
 from ..shapes.mesh import TriangleMesh
 from ..shapes.hull import ConvexHull
+from ..constraints import Constraint
 from ..shapes.primitives import Box, Capsule, Plane, Sphere
 from .transforms import quat_to_matrix
+from .world_internals import particle_table
 
 _CORNER_SIGNS = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
 
@@ -41,12 +44,16 @@ def shape_points(shape, position, rotation):
 
 def world_points(world):
     """Points (K, 3) (m) that outline ``world``: those of every shape of its bodies
-    (:func:`shape_points`), and the fixed world anchors of its constraints."""
+    (:func:`shape_points`), the fixed world anchors of its constraints, and the corners of every
+    particle's box."""
     parts = []
     for b in world.bodies:
         rot = quat_to_matrix(b.orientation)
         pos = b.position
         for shape, local_pos, local_quat in b.shapes:
             parts.append(shape_points(shape, pos + rot @ local_pos, rot @ quat_to_matrix(local_quat)))
-    parts.append(np.array([c.anchor_b for c in world.constraints if c.body_b is None]).reshape(-1, 3))
+    parts.append(np.array([c.anchor_b for c in world.constraints
+                           if isinstance(c, Constraint) and c.body_b is None]).reshape(-1, 3))
+    centers, radii, _ = particle_table(world)
+    parts.append((centers[:, None, :] + _CORNER_SIGNS[None] * radii[:, None, None]).reshape(-1, 3))
     return np.concatenate(parts)

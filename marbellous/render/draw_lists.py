@@ -1,8 +1,9 @@
-"""What a drawable reads (:class:`WorldFrame`) and what it hands the renderer: instanced solids, lines
-and points.
+"""What a drawable reads (:class:`WorldFrame`) and what it hands the renderer: instanced solids, spheres,
+lines and points.
 
 Every kind of object in a world is drawn by a drawable (``drawables.py``) that turns the world into a
-list of :class:`Solids`, :class:`Lines` and :class:`Points`; the renderer knows only these three.
+list of :class:`Solids`, :class:`Spheres`, :class:`Lines` and :class:`Points`; the renderer knows only
+these four.
 """
 from dataclasses import dataclass, field
 
@@ -56,13 +57,26 @@ class Solids:
 
 
 @dataclass
+class Spheres:
+    """Many spheres, lit and shadowed like solids, each drawn from one point (round at any zoom, and cheap:
+    16k particles are one draw call of 16k vertices; ``world_shaders.SPHERES_*``): ``centers`` (N, 3) (m),
+    ``radii`` (N,) (m), ``colors`` (N, 3) RGB in [0, 1]."""
+
+    centers: np.ndarray
+    radii: np.ndarray
+    colors: np.ndarray
+
+
+@dataclass
 class Lines:
-    """Line segments drawn over the scene: ``segments`` (K, 2, 3) end points (m), ``colors`` (K, 3) RGB in
-    [0, 1], ``width`` in pixels."""
+    """Line segments: ``segments`` (K, 2, 3) end points (m), ``colors`` (K, 3) RGB in [0, 1], ``width`` in
+    pixels; drawn over the scene, or with ``in_scene`` among the solids (hidden behind what is in front of
+    them)."""
 
     segments: np.ndarray
     colors: np.ndarray
     width: float = 2.0
+    in_scene: bool = False
 
 
 @dataclass

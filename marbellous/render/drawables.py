@@ -1,18 +1,18 @@
 """The registry of drawables: for each kind of object in a world, how it is drawn.
 
 A :class:`Drawable` has a ``name`` (the layer it can be toggled by), a ``draw`` function that turns a
-:class:`~marbellous.render.draw_lists.WorldFrame` into a list of ``Solids``, ``Lines`` and ``Points``,
-and whether it is ``shown`` by default.  The renderer draws the layers asked for in registry order.
-A new kind of object (joints, particles, cloth, soft bodies, fluid slices) is drawn by registering
-one more drawable::
+:class:`~marbellous.render.draw_lists.WorldFrame` into a list of ``Solids``, ``Spheres``, ``Lines`` and
+``Points``, and whether it is ``shown`` by default.  The renderer draws the layers asked for in registry order.
+A new kind of object (cloth, soft bodies, fluid slices) is drawn by registering one more drawable::
 
-    register(Drawable("particles", draw_particles, shown=True, help="particles as dots"))
+    register(Drawable("cloth", draw_cloth, shown=True, help="cloth as a shaded surface"))
 """
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from .body_solids import body_solids
 from .overlays import box_outlines, constraint_lines, contact_marks, event_marks
+from .particle_drawing import network_lines, particle_spheres
 
 
 @dataclass(frozen=True)
@@ -56,8 +56,16 @@ def check_layers(layers):
     return names
 
 
+def constraints_and_networks(frame):
+    """The lines of the constraints between bodies (``overlays.constraint_lines``) and of the edges of the
+    particle networks (``particle_drawing.network_lines``)."""
+    return constraint_lines(frame) + network_lines(frame)
+
+
 register(Drawable("bodies", body_solids, shown=True, help="every body's shapes"))
-register(Drawable("constraints", constraint_lines, shown=True, help="springs, rods, cables and joints"))
+register(Drawable("particles", particle_spheres, shown=True, help="every particle as a sphere, pinned ones raspberry"))
+register(Drawable("constraints", constraints_and_networks, shown=True,
+                  help="springs, rods, cables and joints, and the edges of particle networks"))
 register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))
 register(Drawable("events", event_marks, shown=False, help="where pairs began (red) and stopped touching"))
 register(Drawable("boxes", box_outlines, shown=False, help="broad-phase bounding boxes"))

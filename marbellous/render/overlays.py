@@ -8,7 +8,7 @@ they read the same at any zoom; dots and line widths are in pixels.
 """
 import numpy as np
 
-from ..constraints import Cable, Joint, Rod, Spring
+from ..constraints import Cable, Constraint, Joint, Rod, Spring
 from . import palette
 from .draw_lists import Lines, Points
 from .transforms import quat_to_matrix
@@ -69,10 +69,11 @@ def box_outlines(frame):
 def constraint_lines(frame):
     """A line between the world anchors of every spring, rod and cable that is not broken, and a dot at
     each anchor; colours by kind (:mod:`palette`; another kind is drawn like a rod).  A joint that is not
-    broken: a line from each body's centre to the joint, a dot there, and the axis of a hinge or slider."""
+    broken: a line from each body's centre to the joint, a dot there, and the axis of a hinge or slider.
+    (Particle networks, listed in ``world.constraints`` too, are drawn by ``particle_drawing.network_lines``.)"""
     ends, colors = [], []
     for c in frame.world.constraints:
-        if c.broken:
+        if not isinstance(c, Constraint) or c.broken:
             continue
         if isinstance(c, Joint):
             joint = c.anchor

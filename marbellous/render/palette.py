@@ -2,8 +2,9 @@
 
 Colours are linear RGB in [0, 1].  A body's colour says what it is at a glance: stone grey for static
 bodies, violet for kinematic ones, warm hues (orange, coral, amber, gold, in turn by body) for moving
-dynamic bodies, slate blue for sleeping ones and translucent green for sensors.  The debug layers use
-colours no body has: yellow contacts, cyan bounding boxes, magenta springs, white rods and brown cables.
+dynamic bodies, slate blue for sleeping ones and translucent green for sensors.  Particles are teal, pinned
+ones raspberry.  The debug layers use colours no body has: yellow contacts, cyan bounding boxes, magenta
+springs, white rods and brown cables (of bodies and of particle networks alike).
 """
 import numpy as np
 
@@ -22,6 +23,9 @@ SLEEPING = np.array([(0.38, 0.46, 0.72), (0.30, 0.38, 0.62), (0.45, 0.52, 0.78)]
 SENSOR = (0.30, 0.90, 0.42)
 #: Opacity of sensors, in [0, 1].
 SENSOR_ALPHA = 0.35
+#: Particles (any set), and particles pinned to the world or to a body.
+PARTICLE = (0.10, 0.66, 0.64)
+PINNED_PARTICLE = (0.86, 0.10, 0.34)
 #: Contact points and their normals.
 CONTACT = (1.0, 0.88, 0.10)
 #: Contact events of the last step: pairs that began touching (red), and that stopped (pale blue).
@@ -29,7 +33,7 @@ EVENT_BEGIN = (1.0, 0.20, 0.15)
 EVENT_END = (0.55, 0.75, 1.0)
 #: Broad-phase bounding boxes.
 BOX = (0.15, 0.90, 1.0)
-#: Constraint lines by kind, and their anchor points.
+#: Constraint lines by kind, and their anchor points; the edges of particle networks by kind too.
 SPRING = (0.95, 0.25, 0.85)
 ROD = (0.96, 0.96, 0.96)
 CABLE = (0.62, 0.40, 0.20)

@@ -1,10 +1,18 @@
-"""The one read of a World's internals by the renderer: the broad phase's boxes.
+"""The renderer's reads of a World's internals: the broad phase's boxes, and the particle and edge tables.
 
 The World has no public view of its broad phase, so :func:`broadphase_boxes` reads the box table
-directly (``World._state.aabbs``, one row ``(lo x, y, z, hi x, y, z)`` per body row ``Body._index``).  When the
-World's tables change shape, this is the only function to adapt.
+directly (``World._state.aabbs``, one row ``(lo x, y, z, hi x, y, z)`` per body row ``Body._index``).
+Particles and networks have public handles, but each property read copies one set's rows; a frame of a
+16k-particle cloth reads every set and network at once from the particle tables (``World._state.particles``,
+columns in ``deformables/particle_layout.py``) with :func:`particle_table` and :func:`network_edges`.  When
+the World's tables change shape, these are the only functions to adapt.
 """
 import numpy as np
+
+from ..deformables import particle_layout as P
+
+#: Edge kinds by their code in the edge table (``particle_layout.EK_*``), as ``Network.kind`` names them.
+EDGE_KIND_NAMES = {P.EK_SPRING: "spring", P.EK_ROD: "rod", P.EK_CABLE: "cable"}
 
 
 def broadphase_boxes(world, bodies):
@@ -17,3 +25,23 @@ def broadphase_boxes(world, bodies):
     rows = np.array([b._index for b in bodies], np.int64)
     boxes = world._state.aabbs[rows] if len(rows) else np.zeros((0, 6))
     return boxes[:, :3].copy(), boxes[:, 3:].copy()
+
+
+def particle_table(world):
+    """``(positions (N, 3) m, radii (N,) m, pinned (N,) bool)`` of every particle of every set of ``world``,
+    sets in creation order.  ``positions`` and ``radii`` are views of the live table (valid until the next
+    step or change): copy them to keep them."""
+    ps = world._state.particles
+    f = ps.pf[:ps.n]
+    return f[:, P.P_POS:P.P_POS + 3], f[:, P.P_RADIUS], (ps.pi[:ps.n, P.P_FLAGS] & P.PP_PINNED) != 0
+
+
+def network_edges(world):
+    """``(ends (E, 2, 3) m, kinds (E,) int)`` of every edge of every network of ``world`` that is not broken:
+    the positions of its two particles now, and its kind (a key of :data:`EDGE_KIND_NAMES`)."""
+    ps = world._state.particles
+    ei = ps.ei[:ps.ne]
+    keep = (ei[:, P.E_FLAGS] & P.EB_BROKEN) == 0
+    ends = ei[keep][:, P.E_A:P.E_B + 1]
+    x = ps.pf[:ps.n, P.P_POS:P.P_POS + 3]
+    return x[ends], ei[keep, P.E_KIND]

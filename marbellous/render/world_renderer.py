@@ -2,10 +2,11 @@
 or offscreen.
 
 A frame asks each layer of the drawable registry (``drawables.py``) for its draw lists, then draws:
-a shadow map from the sun over the region the camera looks at; the opaque solids, lit and shadowed;
-translucent solids (sensors); lines and dots over everything; the HUD text.  Distances that depend on
-the scale of the world (the drawn extent of planes, fog, the grid cell, the clip planes, the shadow
-region) follow the camera's distance to its target, so a 5 cm marble and a 500 m terrain both read.
+a shadow map from the sun over the region the camera looks at; the opaque solids and the spheres
+(particles), lit and shadowed; lines in the scene (particle networks); translucent solids (sensors);
+lines and dots over everything; the HUD text.  Distances that depend on the scale of the world (the
+drawn extent of planes, fog, the grid cell, the clip planes, the shadow region) follow the camera's
+distance to its target, so a 5 cm marble and a 500 m terrain both read.
 """
 import math
 from collections import defaultdict
@@ -15,7 +16,7 @@ import numpy as np
 
 from . import palette
 from . import world_shaders as glsl
-from .draw_lists import Lines, Points, Solids, WorldFrame
+from .draw_lists import Lines, Points, Solids, Spheres, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
 from .hud import HudText
 from .mesh_cache import MeshCache
@@ -29,6 +30,8 @@ FOG_START, FOG_LENGTH = 3.0, 6.0
 FAR, NEAR_RATIO = 10.0, 5000.0
 #: Floats per vertex of the overlay buffers: position, colour, width or size.
 _OVERLAY_FLOATS = 7
+#: Floats per sphere of the sphere buffer: centre, radius, colour.
+_SPHERE_FLOATS = 7
 
 
 def _f32(m):
@@ -59,6 +62,10 @@ class WorldRenderer:
                                  fragment_shader=glsl.LINES_FS)
         self.points = ctx.program(vertex_shader=glsl.POINTS_VS, geometry_shader=glsl.POINTS_GS,
                                   fragment_shader=glsl.POINTS_FS)
+        self.spheres = ctx.program(vertex_shader=glsl.SPHERES_VS, geometry_shader=glsl.SPHERES_GS,
+                                   fragment_shader=glsl.SPHERES_FS)
+        self.spheres_depth = ctx.program(vertex_shader=glsl.SPHERES_DEPTH_VS, geometry_shader=glsl.SPHERES_DEPTH_GS,
+                                         fragment_shader=glsl.SPHERES_DEPTH_FS)
         self.meshes = MeshCache(ctx, self.solid, self.depth)
         self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
         self.shadow_tex.compare_func = ""
@@ -68,6 +75,9 @@ class WorldRenderer:
         layout = (self.overlay_vbo, "3f 3f 1f", "in_pos", "in_color")
         self.lines_vao = ctx.vertex_array(self.lines, [layout + ("in_width",)])
         self.points_vao = ctx.vertex_array(self.points, [layout + ("in_size",)])
+        self.sphere_vbo = ctx.buffer(reserve=1024 * _SPHERE_FLOATS * 4, dynamic=True)
+        self.spheres_vao, self.spheres_depth_vao = self._sphere_arrays()
+        self.sphere_count = 0
         self.hud = HudText(ctx)
         self._samples = samples
         self._offscreen = None
@@ -88,17 +98,20 @@ class WorldRenderer:
         target = np.asarray(view.target, np.float64)
         distance = max(float(np.linalg.norm(eye - target)), 1e-6)
         frame = WorldFrame(world, target, distance)
-        solids, lines, points = [], [], []
+        solids, spheres, lines, points = [], [], [], []
         for name, drawable in DRAWABLES.items():
             if name in layers:
                 for item in drawable.draw(frame):
-                    {Solids: solids, Lines: lines, Points: points}[type(item)].append(item)
+                    {Solids: solids, Spheres: spheres, Lines: lines, Points: points}[type(item)].append(item)
         opaque, translucent = self._upload(solids)
+        self._upload_spheres(spheres, eye)
+        scene_lines = [x for x in lines if x.in_scene]
+        lines = [x for x in lines if not x.in_scene]
 
         vp = perspective(view.fov, w / h, FAR * distance / NEAR_RATIO, FAR * distance) @ look_at(eye, target)
         half = 1.5 * distance * math.tan(view.fov / 2.0) * max(w / h, 1.0)
-        light_vp = (orthographic(half, half, 0.0, 8.0 * half)
-                    @ look_at(target + 4.0 * half * SUN, target, (0.0, 0.0, 1.0)))
+        light_view = look_at(target + 4.0 * half * SUN, target, (0.0, 0.0, 1.0))
+        light_vp = orthographic(half, half, 0.0, 8.0 * half) @ light_view
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         self.shadow_fbo.use()
@@ -106,6 +119,12 @@ class WorldRenderer:
         self.depth["u_light_view_proj"].write(_f32(light_vp))
         for m in opaque:
             m.depth.render(instances=m.count)
+        if self.sphere_count:
+            d = self.spheres_depth
+            d["u_light_view_proj"].write(_f32(light_vp))
+            d["u_light_right"].value = tuple(light_view[0, :3])
+            d["u_light_up"].value = tuple(light_view[1, :3])
+            self.spheres_depth_vao.render(moderngl.POINTS, vertices=self.sphere_count)
 
         fbo.use()
         if viewport:
@@ -124,6 +143,20 @@ class WorldRenderer:
         s["u_alpha"].value = 1.0
         for m in opaque:
             m.solid.render(instances=m.count)
+        if self.sphere_count:
+            p = self.spheres
+            p["u_view_proj"].write(_f32(vp))
+            p["u_light_view_proj"].write(_f32(light_vp))
+            p["u_pixel"].value = 2.0 * math.tan(view.fov / 2.0) / h
+            p["u_sun"].value = tuple(SUN)
+            p["u_eye"].value = tuple(eye)
+            p["u_fog"].value = (FOG_START * distance, FOG_LENGTH * distance)
+            p["u_background"].value = palette.BACKGROUND
+            p["u_shadow"].value = 0
+            p["u_alpha"].value = 1.0
+            self.spheres_vao.render(moderngl.POINTS, vertices=self.sphere_count)
+        self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h),
+                      [(x.segments.reshape(-1, 3), np.repeat(x.colors, 2, axis=0), x.width) for x in scene_lines])
         if translucent:
             ctx.enable(moderngl.BLEND)
             ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
@@ -162,6 +195,34 @@ class WorldRenderer:
                 translucent.append((alpha, m))
         self.meshes.keep_only(set(groups))
         return opaque, translucent
+
+    def _sphere_arrays(self):
+        """The vertex arrays of the sphere buffer for the lit and the shadow programs."""
+        lit = self.ctx.vertex_array(self.spheres, [(self.sphere_vbo, "3f 1f 3f", "in_center", "in_radius",
+                                                    "in_color")])
+        depth = self.ctx.vertex_array(self.spheres_depth, [(self.sphere_vbo, "3f 1f 12x", "in_center", "in_radius")])
+        return lit, depth
+
+    def _upload_spheres(self, spheres, eye):
+        """Write the centres, radii and colours of every :class:`Spheres` to the sphere buffer, nearest to
+        ``eye`` (m) first (so the early depth test skips shading the hidden ones)."""
+        n = sum(len(x.centers) for x in spheres)
+        self.sphere_count = n
+        if not n:
+            return
+        rows = np.empty((n, _SPHERE_FLOATS), np.float32)
+        k = 0
+        for x in spheres:
+            m = len(x.centers)
+            rows[k:k + m, 0:3] = x.centers
+            rows[k:k + m, 3] = x.radii
+            rows[k:k + m, 4:7] = x.colors
+            k += m
+        offset = rows[:, 0:3] - eye.astype(np.float32)
+        raw = rows[np.argsort(np.einsum("ij,ij->i", offset, offset))].tobytes()
+        if len(raw) > self.sphere_vbo.size:
+            self.sphere_vbo.orphan(max(len(raw), 2 * self.sphere_vbo.size))
+        self.sphere_vbo.write(raw)
 
     def _overlay(self, program, vao, mode, vp, size, parts):
         """Draw ``parts`` ((K, 3) positions, (K, 3) colours, pixels) with ``program`` as ``mode`` primitives."""

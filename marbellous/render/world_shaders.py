@@ -1,5 +1,5 @@
-"""GLSL of the world renderer: instanced lit solids with sun shadows, their shadow depth pass, and lines
-and dots of constant pixel size drawn over the scene.
+"""GLSL of the world renderer: instanced lit solids with sun shadows, their shadow depth pass, ray-cast
+spheres (particles) lit and shadowed alike, and lines and dots of constant pixel size.
 
 The solids' lighting follows the game renderer's (``renderer.py``): a sun with a 3 x 3 PCF shadow
 map, a sky term from the normal's height, a small specular highlight; distances (grid cell, fog) are
@@ -32,15 +32,53 @@ void main() {
 }
 """
 
-SOLID_FS = """
-#version 330
+# The lighting of every lit surface (solids and spheres): the sun, shadowed through a 3 x 3 PCF lookup of
+# the shadow map, a sky term, a small highlight and fog.  _SHADOW and _SHADE both need _SUN before them.
+_SUN = """
 uniform vec3 u_sun;             // unit vector towards the sun
-uniform vec3 u_eye;
+"""
+
+_SHADOW = """
 uniform sampler2D u_shadow;
+
+// how much of the sun reaches a point (light: the point in the light's clip space; n: the surface normal),
+// from 3 x 3 lookups of the shadow map at least a texel apart, or spread (in the map's coordinates)
+float shadow_factor(vec4 light, vec3 n, float spread) {
+    vec3 p = light.xyz / light.w * 0.5 + 0.5;
+    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
+    vec2 step = max(1.0 / vec2(textureSize(u_shadow, 0)), vec2(spread));
+    float bias = max(0.002 * (1.0 - dot(n, u_sun)), 0.0004);
+    float lit = 0.0;
+    for (int i = -1; i <= 1; i++)
+        for (int j = -1; j <= 1; j++)
+            lit += (p.z - bias > textureLod(u_shadow, p.xy + vec2(i, j) * step, 0.0).r) ? 0.0 : 1.0;
+    return lit / 9.0;
+}
+"""
+
+_SHADE = """
+uniform vec3 u_eye;
 uniform float u_alpha;
-uniform float u_grid;           // grid cell (m)
 uniform vec2 u_fog;             // distance where fog starts, and over which it thickens fully (m)
 uniform vec3 u_background;
+
+// colour of a surface of colour base with unit normal n at world point p, reached by the fraction sun of
+// the sunlight
+vec4 shade(vec3 base, vec3 n, vec3 p, float sun) {
+    float diffuse = max(dot(n, u_sun), 0.0) * sun;
+    float sky = 0.5 + 0.5 * n.y;
+    vec3 v = normalize(u_eye - p);
+    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), 24.0) * 0.18 * diffuse;
+    vec3 c = base * (0.30 * sky + 0.14 + 0.74 * diffuse) + vec3(spec);
+    float fog = clamp((length(u_eye - p) - u_fog.x) / u_fog.y, 0.0, 1.0);
+    return vec4(mix(pow(c, vec3(1.0 / 1.1)), u_background, fog), u_alpha);
+}
+"""
+
+SOLID_FS = """
+#version 330
+""" + _SUN + _SHADOW + _SHADE + """
+uniform float u_grid;           // grid cell (m)
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
@@ -48,18 +86,6 @@ in vec4 v_light;
 in vec3 v_color;
 flat in int v_pattern;          // 0 plain, 1 grid, 2 octants
 out vec4 f_color;
-
-float shadow_factor(vec3 n) {
-    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
-    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
-    vec2 texel = 1.0 / vec2(textureSize(u_shadow, 0));
-    float bias = max(0.002 * (1.0 - dot(n, u_sun)), 0.0004);
-    float lit = 0.0;
-    for (int i = -1; i <= 1; i++)
-        for (int j = -1; j <= 1; j++)
-            lit += (p.z - bias > texture(u_shadow, p.xy + vec2(i, j) * texel).r) ? 0.0 : 1.0;
-    return lit / 9.0;
-}
 
 void main() {
     vec3 n = normalize(v_normal);
@@ -77,14 +103,7 @@ void main() {
         vec3 d = v_local;
         base = d.x * d.y * d.z > 0.0 ? v_color : v_color * 0.55;
     }
-    float diffuse = max(dot(n, u_sun), 0.0) * shadow_factor(n);
-    float sky = 0.5 + 0.5 * n.y;
-    vec3 v = normalize(u_eye - v_world);
-    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), 24.0) * 0.18 * diffuse;
-    vec3 c = base * (0.30 * sky + 0.14 + 0.74 * diffuse) + vec3(spec);
-    float fog = clamp((length(u_eye - v_world) - u_fog.x) / u_fog.y, 0.0, 1.0);
-    c = mix(pow(c, vec3(1.0 / 1.1)), u_background, fog);
-    f_color = vec4(c, u_alpha);
+    f_color = shade(base, n, v_world, shadow_factor(v_light, n, 0.0));
 }
 """
 
@@ -199,5 +218,143 @@ void main() {
     float r = length(v_uv);
     if (r > 1.0) discard;
     f_color = vec4(r > 0.7 ? v_color * 0.25 : v_color, 1.0);
+}
+"""
+
+# Spheres: each centre becomes a quad facing the eye that just covers the sphere's outline, in the plane
+# that touches the sphere's nearest point (the cone of sight lines touching the sphere, cut by that
+# plane); each fragment casts its sight line at the sphere, discards a miss and is lit at the hit point.
+# The shadow map is read once per sphere, around its sunlit pole: a particle is in the shade or in the sun
+# as a whole, and the fragments (many per sphere in a heap, drawn over one another) skip the nine lookups.
+# Distances are taken from the centre, so a 1 cm particle seen from 100 m keeps its precision in float32.
+# The fragment keeps the quad's depth, its nearest point's, rather than writing the hit point's: a
+# written depth turns off the early depth test, and a heap of particles (sent near to far) would then be
+# shaded some twenty layers deep (six times slower on llvmpipe without multisampling).  So spheres of one
+# size hide one another exactly, and a sphere hides and is hidden by anything else exactly unless it is
+# nearer to it than its radius (a wall it leans on), where its outline may show a little in front.  A
+# sphere smaller than a pixel is drawn a pixel wide, so far particles do not vanish.
+SPHERES_VS = """
+#version 330
+in vec3 in_center;
+in float in_radius;
+in vec3 in_color;
+out vec3 g_center;
+out float g_radius;
+out vec3 g_color;
+void main() { g_center = in_center; g_radius = in_radius; g_color = in_color; gl_Position = vec4(in_center, 1.0); }
+"""
+
+SPHERES_GS = """
+#version 330
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+uniform mat4 u_view_proj;
+uniform mat4 u_light_view_proj;
+uniform vec3 u_eye;""" + _SUN + _SHADOW + """
+uniform float u_pixel;          // the side of a pixel, per metre from the eye
+in vec3 g_center[];
+in float g_radius[];
+in vec3 g_color[];
+out vec3 v_world;
+flat out vec3 v_center;
+flat out float v_radius;
+flat out vec3 v_color;
+flat out float v_sun;
+flat out float v_sharp;
+void main() {
+    vec3 c = g_center[0];
+    vec3 w = c - u_eye;
+    float d = length(w);
+    if (d <= 1.0001 * g_radius[0]) return;      // the eye is inside
+    float r = max(g_radius[0], u_pixel * d);
+    float sharp = clamp(0.5 * (r / (u_pixel * d) - 1.0), 0.0, 1.0);
+    w /= d;
+    vec3 u = normalize(cross(w, abs(w.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 v = cross(u, w);
+    float h = r * (d - r) / sqrt(d * d - r * r);   // the outline's radius in the plane touching the sphere
+    // (the lookups spread over the sphere's sunlit cap, half a radius apart: the map's coordinates run over
+    // 2 / |the light matrix's first row| metres)
+    float per_metre = 0.5 * length(vec3(u_light_view_proj[0][0], u_light_view_proj[1][0], u_light_view_proj[2][0]));
+    float sun = shadow_factor(u_light_view_proj * vec4(c + g_radius[0] * u_sun, 1.0), u_sun,
+                              0.5 * g_radius[0] * per_metre);
+    for (int k = 0; k < 4; k++) {
+        vec3 p = c - r * w + h * ((k % 2 == 0 ? -1.0 : 1.0) * u + (k < 2 ? -1.0 : 1.0) * v);
+        gl_Position = u_view_proj * vec4(p, 1.0);
+        v_world = p;
+        v_center = c;
+        v_radius = r;
+        v_color = g_color[0];
+        v_sun = sun;
+        v_sharp = sharp;
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+"""
+
+SPHERES_FS = """
+#version 330
+""" + _SUN + _SHADE + """
+in vec3 v_world;
+flat in vec3 v_center;
+flat in float v_radius;
+flat in vec3 v_color;
+flat in float v_sun;
+flat in float v_sharp;          // 0 for a sphere a pixel wide, 1 from three pixels up
+out vec4 f_color;
+void main() {
+    vec3 dir = normalize(v_world - u_eye);
+    vec3 q = v_world - v_center;
+    vec3 perp = q - dot(q, dir) * dir;          // from the centre to the sight line's nearest point
+    float r2 = v_radius * v_radius;
+    float d2 = dot(perp, perp);
+    if (d2 > r2) discard;
+    vec3 n = (perp - sqrt(r2 - d2) * dir) / v_radius;
+    vec3 p = v_center + v_radius * n;
+    // a sphere a few pixels wide is shaded with normals bent towards the eye: a pixel's centre is no fair
+    // sample of the part of the sphere the pixel covers, and a 1-pixel particle would take the colour of
+    // whichever edge the centre falls on
+    f_color = shade(v_color, normalize(mix(-dir, n, v_sharp)), p, v_sun);
+}
+"""
+
+# The spheres' shadow pass: a disc of the sphere's radius across the (parallel) sunlight, through its centre
+# (the sunlit half is in front of it, so a sphere does not shadow itself where the sun reaches it).
+SPHERES_DEPTH_VS = """
+#version 330
+in vec3 in_center;
+in float in_radius;
+out vec3 g_center;
+out float g_radius;
+void main() { g_center = in_center; g_radius = in_radius; gl_Position = vec4(in_center, 1.0); }
+"""
+
+SPHERES_DEPTH_GS = """
+#version 330
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+uniform mat4 u_light_view_proj;
+uniform vec3 u_light_right;     // the light view's right and up axes (world)
+uniform vec3 u_light_up;
+in vec3 g_center[];
+in float g_radius[];
+out vec2 v_uv;
+void main() {
+    for (int k = 0; k < 4; k++) {
+        vec2 uv = vec2(k % 2 == 0 ? -1.0 : 1.0, k < 2 ? -1.0 : 1.0);
+        vec3 p = g_center[0] + g_radius[0] * (uv.x * u_light_right + uv.y * u_light_up);
+        gl_Position = u_light_view_proj * vec4(p, 1.0);
+        v_uv = uv;
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+"""
+
+SPHERES_DEPTH_FS = """
+#version 330
+in vec2 v_uv;
+void main() {
+    if (dot(v_uv, v_uv) > 1.0) discard;
 }
 """
