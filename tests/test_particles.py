@@ -429,3 +429,17 @@ def test_a_particle_wakes_the_sleeping_box_it_hits_and_removing_a_body_frees_its
     run(w, 0.5)
     assert q.positions[0, 1] < 1.0                 # falls freely now
     assert p.positions[0, 1] >= 0.05 - 1e-9
+
+
+def test_a_grain_in_the_groove_of_two_holds_them_by_static_friction():
+    # two grains touching on the floor and one resting in their groove: each floor grain is pushed sideways by
+    # W / (2 tan 60) and pressed down by 1.5 W (W one grain's weight), so a friction of 0.19 holds them; 0.5 must
+    m = 0.1
+    w = mb.World()
+    w.add_static(mb.Plane(), friction=0.5)
+    p = w.add_particles([[-0.05, 0.05, 0.0], [0.05, 0.05, 0.0], [0.0, 0.05 + 0.1 * math.sin(math.pi / 3), 0.0]],
+                        radius=0.05, mass=m, friction=0.5, collide_particles=True)
+    run(w, 10.0)
+    assert p.positions[1, 0] - p.positions[0, 0] == pytest.approx(0.1, abs=1e-5)
+    # (each sub-step the floor reopens a little of the grains' overlap: a jitter below gravity's g h)
+    assert np.abs(p.velocities).max() < G * DT / w.particle_substeps
