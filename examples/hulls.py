@@ -14,28 +14,10 @@ import sys
 import numpy as np
 
 import marbellous as mb
+from marbellous.scenes.terrain import bowl
 
 DT = 1.0 / 60.0
 PUCK_HALF_HEIGHT = 0.1
-
-
-def bowl(radius=2.0, depth=1.0, rings=6, sectors=16):
-    """A bowl ``y = depth (r / radius)^2`` of triangles facing up, centred on the origin."""
-    verts = [(0.0, 0.0, 0.0)]
-    for i in range(1, rings + 1):
-        r = radius * i / rings
-        for j in range(sectors):
-            a = 2.0 * math.pi * j / sectors
-            verts.append((r * math.cos(a), depth * (r / radius) ** 2, r * math.sin(a)))
-    tris = []
-    for j in range(sectors):
-        tris.append((0, 1 + (j + 1) % sectors, 1 + j))
-    for i in range(rings - 1):
-        inner, outer = 1 + i * sectors, 1 + (i + 1) * sectors
-        for j in range(sectors):
-            k = (j + 1) % sectors
-            tris += [(inner + j, inner + k, outer + j), (inner + k, outer + k, outer + j)]
-    return mb.TriangleMesh(np.array(verts), np.array(tris))
 
 
 def rock(rng, size=0.25):

@@ -12,12 +12,12 @@ The script prints where things came to rest; ``--show`` opens the viewer instead
 
 Run:  python examples/particles.py [--show]
 """
-import math
 import sys
 
 import numpy as np
 
 import marbellous as mb
+from marbellous.scenes.terrain import bowl
 from marbellous.math3d import quat_to_matrix_np
 
 DT = 1.0 / 60.0
@@ -30,22 +30,6 @@ def grid_edges(n):
     pairs = [(index[:, :-1], index[:, 1:]), (index[:-1, :], index[1:, :]), (index[:-1, :-1], index[1:, 1:]),
              (index[:-1, 1:], index[1:, :-1])]
     return np.vstack([np.column_stack([a.ravel(), b.ravel()]) for a, b in pairs])
-
-
-def bowl(radius=1.5, depth=0.8, rings=6, sectors=16):
-    """A bowl ``y = depth (r / radius)^2`` of triangles facing up."""
-    verts = [(0.0, 0.0, 0.0)]
-    for i in range(1, rings + 1):
-        r = radius * i / rings
-        verts += [(r * math.cos(a), depth * (r / radius) ** 2, r * math.sin(a))
-                  for a in 2.0 * math.pi * np.arange(sectors) / sectors]
-    tris = [(0, 1 + (j + 1) % sectors, 1 + j) for j in range(sectors)]
-    for i in range(rings - 1):
-        inner, outer = 1 + i * sectors, 1 + (i + 1) * sectors
-        for j in range(sectors):
-            k = (j + 1) % sectors
-            tris += [(inner + j, inner + k, outer + j), (inner + k, outer + k, outer + j)]
-    return mb.TriangleMesh(np.array(verts), np.array(tris))
 
 
 def build(seed=2):
@@ -76,7 +60,7 @@ def build(seed=2):
     rope.pin([0])
     rope.pin([beads], body=crate)
     # the grain, 4 m the other way
-    surface = bowl()
+    surface = bowl(radius=1.5, depth=0.8)
     w.add_static(surface, position=(-4.5, 0.0, 0.0), friction=0.6)
     lattice = np.stack(np.meshgrid(np.arange(10), np.arange(6), np.arange(10), indexing="ij"), -1).reshape(-1, 3)
     grain = w.add_particles(lattice * 0.09 + (-4.9, 1.0, -0.4) + rng.uniform(-0.01, 0.01, (600, 3)), mass=0.01,

@@ -1,4 +1,5 @@
-"""A marble rolling across a hilly terrain given as a triangle mesh (131,072 triangles by default).
+"""A marble rolling across a hilly terrain given as a triangle mesh (131,072 triangles by default), and a bowl
+of triangles to pour things into (``bowl``).
 
 The terrain is a regular grid of ``n x n`` cells over x-z, two triangles per cell split along the
 diagonal from (i, j) to (i+1, j+1), with heights
@@ -90,3 +91,20 @@ def marble_on_terrain(world=None, *, cells=CELLS, spacing=SPACING, radius=0.25, 
     y = terrain_height(x, 0.0, cells, spacing) + radius
     marble = w.add_body(Sphere(radius), position=(x, y, 0.0), velocity=velocity, friction=friction)
     return w, [terrain, marble]
+
+
+def bowl(radius=2.0, depth=1.0, rings=6, sectors=16):
+    """A bowl ``y = depth (r / radius)^2`` (m) of triangles facing up, centred on the origin: ``rings`` rings of
+    ``sectors`` vertices around a centre vertex."""
+    verts = [(0.0, 0.0, 0.0)]
+    for i in range(1, rings + 1):
+        r = radius * i / rings
+        verts += [(r * math.cos(a), depth * (r / radius) ** 2, r * math.sin(a))
+                  for a in 2.0 * math.pi * np.arange(sectors) / sectors]
+    tris = [(0, 1 + (j + 1) % sectors, 1 + j) for j in range(sectors)]
+    for i in range(rings - 1):
+        inner, outer = 1 + i * sectors, 1 + (i + 1) * sectors
+        for j in range(sectors):
+            k = (j + 1) % sectors
+            tris += [(inner + j, inner + k, outer + j), (inner + k, outer + k, outer + j)]
+    return TriangleMesh(np.array(verts), np.array(tris))
