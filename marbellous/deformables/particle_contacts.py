@@ -76,7 +76,6 @@ def shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb
     and step; the sub-steps query only these).  Returns how many there are (rows past ``out``'s end are not
     written).  ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep."""
     n = 0
-    cap = out.shape[0]
     for p in range(n_particles):
         if (pi[p, P_FLAGS] & PP_PINNED) != 0:
             continue                        # (held: by the world, or as a point of a body)
@@ -97,13 +96,18 @@ def shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb
                 rows, _, _ = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, 0.0,
                                          travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
                                          pos_s, rot_s, q_s)
-                if rows == 0:
-                    continue
-                if n < cap:
-                    out[n, 0] = p
-                    out[n, 1] = s
-                n += 1
+                if rows > 0:
+                    n = append_pair(out, n, p, s)
     return n
+
+
+@njit_inline
+def append_pair(out, n, a, b):
+    """Write the candidate ``(a, b)`` into row ``n`` of ``out`` if there is room; returns ``n + 1`` either way."""
+    if n < out.shape[0]:
+        out[n, 0] = a
+        out[n, 1] = b
+    return n + 1
 
 
 @njit_inline

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
-from .particle_contacts import hold_or_slip, record_contact, separate
+from .particle_contacts import append_pair, hold_or_slip, record_contact, separate
 from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_RADIUS,
                               P_RESTITUTION, P_STATIC_FRICTION, P_VEL0, PP_COLLIDE)
 
@@ -81,7 +81,6 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
             cell_entries[fill[key]] = p
             fill[key] += 1
     n = 0
-    cap = out.shape[0]
     keys = np.empty(27, np.int64)
     for a in range(n_particles):
         if (pi[a, P_FLAGS] & PP_COLLIDE) == 0:
@@ -107,12 +106,8 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
                     continue
                 d0, d1, d2 = pf[b, P_POS] - xa, pf[b, P_POS + 1] - ya, pf[b, P_POS + 2] - za
                 reach = pf[a, P_RADIUS] + pf[b, P_RADIUS] + margin
-                if d0 * d0 + d1 * d1 + d2 * d2 > reach * reach or _joined(adjacent_start, adjacent, a, b):
-                    continue
-                if n < cap:
-                    out[n, 0] = a
-                    out[n, 1] = b
-                n += 1
+                if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach and not _joined(adjacent_start, adjacent, a, b):
+                    n = append_pair(out, n, a, b)
     return n
 
 

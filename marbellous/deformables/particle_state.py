@@ -175,13 +175,16 @@ class ParticleState:
             self.particle_pairs = _grown(self.particle_pairs, n_pair)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        self.broken, _ = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
+        self.broken, most = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
                                         ne, *self.tethers, st.bf, st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx,
                                         self.shape_pairs, n_shape, self.particle_pairs, n_pair, self.kf, self.ki,
                                         self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
                                         self.vec[1], self.rot_s, self.q_s)
         if self.broken:
             self.tethers = None
+        if most > self.kf.shape[0]:         # (a sub-step had more contacts than rows: room for them next step)
+            self.kf = _grown(self.kf, most)
+            self.ki = _grown(self.ki, most)
 
     # --- snapshots ------------------------------------------------------------------------------------------
     def tables(self):
