@@ -257,6 +257,7 @@ def particle_rows(positions, mass, radius, velocity, friction, static_friction, 
     f[:, P.P_DAMPING] = as_float("damping", damping, nonnegative=True, hi=MAX_DAMPING, unit="1/s")
     i[:, P.P_FLAGS] = P.PP_COLLIDE if as_flag("collide_particles", collide_particles) else 0
     i[:, P.P_PIN_BODY] = -1
+    i[:, P.P_CLOTH] = -1
     return f, i
 
 
@@ -289,6 +290,7 @@ def edge_rows(particles, edges, kind, stiffness, damping, rest_length, breaking_
     f[:, P.E_REST] = rest
     f[:, P.E_COMPLIANCE] = 1.0 / k if kind == "spring" else 0.0
     f[:, P.E_DAMPING] = as_float("damping", damping, nonnegative=True, hi=MAX_DAMPING, unit="N s/m")
+    f[:, P.E_TEAR] = np.inf
     f[:, P.E_BREAKING] = np.inf if breaking_force is None else as_float("breaking_force", breaking_force,
                                                                         positive=True, hi=MAX_FORCE, unit="N")
     i[:, P.E_A:P.E_B + 1] = e + particles._group.start

@@ -18,7 +18,9 @@ from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_HE
 from .body import Body
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, Slider, Spring
-from .deformables.particle_queries import raycast_particles
+from .deformables import particle_layout as P
+from .deformables.particle_queries import raycast_particles, raycast_triangles
+from .cloth import Cloth, new_cloth
 from .particles import Network, Particles, edge_rows, particle_rows
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
@@ -146,7 +148,7 @@ class World:
                  "_sleeping", "_state", "_body_at", "_constraint_at", "_living", "_living_constraints",
                  "_accumulator", "_time_stepping",
                  "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "_living_particles",
-                 "_living_networks", "_particle_substeps", "__weakref__")
+                 "_living_networks", "_living_cloths", "_particle_substeps", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -167,6 +169,7 @@ class World:
         self._living_constraints = {}
         self._living_particles = {}    # live Particles handles in creation order
         self._living_networks = {}     # live Network handles in creation order
+        self._living_cloths = {}       # live Cloth handles in creation order
         self._particle_substeps = DEFAULT_PARTICLE_SUBSTEPS
         self._accumulator = 0.0
         self.gravity = gravity
@@ -426,6 +429,11 @@ class World:
         return list(self._living_particles)
 
     @property
+    def cloths(self) -> list[Cloth]:
+        """The live cloths, in creation order."""
+        return list(self._living_cloths)
+
+    @property
     def particle_substeps(self) -> int:
         """Sub-steps of the particles' step per world step (default 16, 1 to 1000): more make springs and
         rods stiffer and contacts tighter, at proportional cost (deformables/particle_step.py)."""
@@ -469,6 +477,30 @@ class World:
         f, i, kind = edge_rows(particles, edges, kind, stiffness, damping, rest_length, breaking_force)
         handle = Network(self, self._state.particles.add_network(particles._group, f, i), particles, kind)
         self._living_networks[handle] = None
+        return handle
+
+    def add_cloth(self, vertices: ArrayLike, triangles: ArrayLike, *, mass: float, stretch_stiffness: float = 1.0e4,
+                  bend_stiffness: float = 1.0e-3, damping: float = 0.01, thickness: float = 0.01,
+                  friction: float = 0.5, self_collision: bool = True, tear_strain: float | None = None,
+                  position: ArrayLike = (0.0, 0.0, 0.0), orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0)) -> Cloth:
+        """Add a cloth: the triangle mesh ``vertices`` (m, ``(V, 3)``, its rest shape, placed at ``position``
+        and ``orientation``) and ``triangles`` (``(T, 3)`` vertex indices; ``cloth_grid`` makes a sheet).
+
+        ``mass`` (kg): the whole cloth's, spread over the vertices by area.  ``stretch_stiffness`` (N/m): the
+        membrane's force per unit width per unit strain; ``bend_stiffness`` (N m): its bending rigidity,
+        moment per unit width per unit curvature; ``damping`` (1/s): the rate at which each vertex's velocity
+        relative to the cloth's mean decays.  ``thickness`` (m): points stay this far from its triangles, and
+        its vertices half of it from every shape.  ``friction``: Coulomb coefficient (static and dynamic) with
+        shapes.  ``self_collision``: its vertices meet its own triangles (a fold does not pass through
+        itself).  ``tear_strain``: an edge stretched past ``1 + tear_strain`` times its rest length tears, and
+        the cloth splits along the tear (None: never).  The cloth collides with every shape of the world's
+        bodies (two ways), with other cloths, and with particles made with ``collide_particles``.
+        """
+        record, f, i, ef, ei = new_cloth(vertices, triangles, mass, stretch_stiffness, bend_stiffness, damping,
+                                         thickness, friction, self_collision, tear_strain, position, orientation)
+        self._state.particles.add_cloth(record, f, i, ef, ei)
+        handle = Cloth(self, record)
+        self._living_cloths[handle] = None
         return handle
 
     # --- bodies -------------------------------------------------------------------------------------
@@ -608,6 +640,12 @@ class World:
         obj = body_or_constraint
         if isinstance(obj, (Particles, Network)):
             self._remove_particles_or_network(obj)
+        elif isinstance(obj, Cloth):
+            if obj._world is not self or not obj._record.alive:
+                raise ValueError("body_or_constraint does not belong to this world (or was removed)")
+            self._state.particles.remove_cloth(obj._record)
+            del self._living_cloths[obj]
+            obj._world = None
         elif isinstance(obj, Body):
             i = self._check_body(obj, "body_or_constraint")
             for c in self.constraints:
@@ -630,7 +668,8 @@ class World:
             del self._living_constraints[obj]
             obj._world = None
         else:
-            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles or a Network, got {obj!r}")
+            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles, a Network or a Cloth, got "
+                            f"{obj!r}")
 
     def _remove_particles_or_network(self, obj):
         """Remove a set of particles (with its networks) or a network."""
@@ -845,7 +884,7 @@ class World:
             self._step_in_intervals(dt, status)
         elif self._last is not None:
             self._last = None
-        if self._living_particles:
+        if self._living_particles or self._living_cloths:
             self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps)
 
     def _step_in_intervals(self, dt, status):
@@ -958,7 +997,14 @@ class World:
         ps = st.particles
         if ps.n:
             nearest = hit[0] if found else max_distance
-            row = raycast_particles(ps.pf, ps.n, o, d, nearest, hit)
+            row = raycast_particles(ps.pf, ps.pi, ps.n, o, d, nearest, hit)
+            tri = ps.kernel_cloth_tables()[0]
+            triangle = raycast_triangles(ps.pf, tri, tri.shape[0], o, d, hit[0] if row >= 0 else nearest, hit)
+            if triangle >= 0:
+                cloth = ps.cloths[int(tri[triangle, P.T_CLOTH])]
+                handle = next(h for h in self._living_cloths if h._record is cloth)
+                first = int(np.searchsorted(tri[:, P.T_CLOTH], tri[triangle, P.T_CLOTH]))
+                return RayHit(None, hit[2:5].copy(), hit[5:8].copy(), float(hit[0]), handle, triangle - first)
             if row >= 0:
                 group = next(g for g in ps.sets if g.start <= row < g.start + g.count)
                 handle = next(h for h in self._living_particles if h._group is group)

@@ -20,13 +20,14 @@ force is ``-C / alpha``, as Hooke's law says, whatever the sub-step: the stiffne
 and the pass cannot blow up however stiff the spring (the lecture's "stiff constraints").  Over a sub-step the
 edge pulls with the tension ``T = -dlambda / h^2`` (N, > 0 pulling the ends together); the edge's force of the
 step is the mean of its sub-steps' (its impulse over the step divided by ``dt``), and an edge whose force passes
-its breaking force breaks at the step's end and acts no more.
+its breaking force, or a cloth's edge longer than its tearing length, breaks at the step's end and acts no more.
 """
 import math
 
 from .._numba.jit import njit
 from .body_motion import body_pose, inverse_mass_along, push_body
 from .particle_layout import (E_A, E_B, E_BREAKING, E_COMPLIANCE, E_DAMPING, E_FLAGS, E_FORCE, E_KIND, E_REST,
+                              E_TEAR,
                               EB_BROKEN, EK_CABLE, EK_SPRING, P_FLAGS, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
                               PP_PINNED)
 
@@ -110,11 +111,17 @@ def clear_edge_forces(ef, ei, ne):
 
 
 @njit
-def break_edges(ef, ei, ne):
-    """Break the edges whose force of the step passed their breaking force; returns how many broke."""
+def break_edges(pf, ef, ei, ne):
+    """Break the edges whose force of the step passed their breaking force, and tear those stretched past
+    their tearing length; returns how many broke or tore."""
     broke = 0
     for e in range(ne):
-        if (ei[e, E_FLAGS] & EB_BROKEN) == 0 and ef[e, E_FORCE] > ef[e, E_BREAKING]:
+        if (ei[e, E_FLAGS] & EB_BROKEN) != 0:
+            continue
+        a, b = ei[e, E_A], ei[e, E_B]
+        length = math.sqrt((pf[a, P_POS] - pf[b, P_POS]) ** 2 + (pf[a, P_POS + 1] - pf[b, P_POS + 1]) ** 2
+                           + (pf[a, P_POS + 2] - pf[b, P_POS + 2]) ** 2)
+        if ef[e, E_FORCE] > ef[e, E_BREAKING] or length > ef[e, E_TEAR]:
             ei[e, E_FLAGS] |= EB_BROKEN
             broke += 1
     return broke

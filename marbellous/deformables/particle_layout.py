@@ -19,13 +19,15 @@ P_RESTITUTION = 17   # coefficient of restitution in [0, 1]
 P_DAMPING = 18       # rate (1/s) at which velocity relative to the set's mean velocity decays
 P_PIN = 19           # pinned: the world point (m), or the point in the pinning body's frame (m), 3
 P_VEL0 = 22          # velocity at the start of the sub-step (m/s), 3 (scratch of the step)
-PF_COLS = 25
+P_REST = 25          # a cloth vertex's place in the cloth's rest shape (m), 3 (its edges' and bends' rest state)
+PF_COLS = 28
 
 # --- particles, int table pi ---------------------------------------------------------------------------------
 P_SET = 0            # row of the particle's set in the set table
 P_FLAGS = 1          # PP_* bits
 P_PIN_BODY = 2       # body row the particle is pinned to (-1: the world, when PP_PINNED)
-PI_COLS = 3
+P_CLOTH = 3          # row of the particle's cloth in the cloth table (a cloth vertex); -1: not a cloth's
+PI_COLS = 4
 
 PP_PINNED = 1        # held at P_PIN (in the world, or on body P_PIN_BODY)
 PP_COLLIDE = 2       # collides with the other particles that carry this bit (collide_particles)
@@ -42,7 +44,8 @@ E_COMPLIANCE = 1     # 1/k (m/N) of a spring; 0 for rods and cables
 E_DAMPING = 2        # damping coefficient (N s/m) along the edge
 E_BREAKING = 3       # breaking tension (N); inf: unbreakable
 E_FORCE = 4          # tension over the last step, its sub-steps' mean (N; > 0 pulls the ends together)
-EF_COLS = 5
+E_TEAR = 5           # length (m) past which the edge tears at the step's end (a cloth's tear_strain); inf: never
+EF_COLS = 6
 
 E_A = 0              # particle row of one end
 E_B = 1              # particle row of the other end
@@ -58,6 +61,21 @@ EK_CABLE = 2
 EDGE_KINDS = {"spring": EK_SPRING, "rod": EK_ROD, "cable": EK_CABLE}
 
 EB_BROKEN = 1
+
+# --- cloth: triangles (int table tri), bends (float table bend_f, int table bend_i), cloths (float table cl) --
+T_A = 0              # particle rows of the triangle's corners, 3, counter-clockwise seen from its front
+T_CLOTH = 3          # row of the triangle's cloth in the cloth table
+TRI_COLS = 4
+
+BN_ANGLE = 0         # rest dihedral angle (rad), signed
+BN_COMPLIANCE = 1    # 1 / bending stiffness of the hinge (1 / (N m per rad^2))
+BENDF_COLS = 2
+BN_A = 0             # particle rows: the hinge's edge (2), then the far corner of each of its triangles (2)
+BENDI_COLS = 4
+
+CL_THICKNESS = 0     # the cloth's thickness (m): its triangles keep points this far plus their radius away
+CL_SELF = 1          # 1: the cloth's own vertices collide with its triangles (self_collision)
+CL_COLS = 2
 
 # --- the contacts of a sub-step, float table kf and int table ki (scratch of the step) ------------------------
 K_NORMAL = 0         # unit normal from the other side to the particle, 3

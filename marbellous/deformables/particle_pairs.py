@@ -19,13 +19,14 @@ from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_
 
 
 @njit
-def _cell_key(x, y, z, cell, table):
+def cell_key(x, y, z, cell, table):
+    """The hash-table slot of the cell of side ``cell`` (m) that holds the point ``(x, y, z)``."""
     i, j, k = math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)
     return ((int(i) * 73856093) ^ (int(j) * 19349663) ^ (int(k) * 83492791)) % table
 
 
 @njit
-def _joined(adjacent_start, adjacent, a, b):
+def joined(adjacent_start, adjacent, a, b):
     """Whether an edge joins particle rows ``a`` and ``b``."""
     for k in range(adjacent_start[a], adjacent_start[a + 1]):
         if adjacent[k] == b:
@@ -71,13 +72,13 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
         cell_start[k] = 0
     for p in range(n_particles):
         if (pi[p, P_FLAGS] & PP_COLLIDE) != 0:
-            cell_start[_cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table) + 1] += 1
+            cell_start[cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table) + 1] += 1
     for k in range(table):
         cell_start[k + 1] += cell_start[k]
     fill = cell_start[:table].copy()
     for p in range(n_particles):
         if (pi[p, P_FLAGS] & PP_COLLIDE) != 0:
-            key = _cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table)
+            key = cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table)
             cell_entries[fill[key]] = p
             fill[key] += 1
     n = 0
@@ -91,7 +92,7 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
         for di in range(-1, 2):
             for dj in range(-1, 2):
                 for dk in range(-1, 2):
-                    key = _cell_key(xa + di * cell, ya + dj * cell, za + dk * cell, cell, table)
+                    key = cell_key(xa + di * cell, ya + dj * cell, za + dk * cell, cell, table)
                     new = True
                     for k in range(n_keys):
                         if keys[k] == key:
@@ -106,7 +107,7 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
                     continue
                 d0, d1, d2 = pf[b, P_POS] - xa, pf[b, P_POS + 1] - ya, pf[b, P_POS + 2] - za
                 reach = pf[a, P_RADIUS] + pf[b, P_RADIUS] + margin
-                if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach and not _joined(adjacent_start, adjacent, a, b):
+                if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach and not joined(adjacent_start, adjacent, a, b):
                     n = append_pair(out, n, a, b)
     return n
 

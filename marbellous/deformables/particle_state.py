@@ -10,6 +10,7 @@ import numpy as np
 
 from . import particle_layout as P
 from .body_motion import BX_COLS
+from .cloth_state import tear, torn_pairs
 from .particle_step import find_candidates, step_particles
 from .tethers import find_tethers
 
@@ -60,6 +61,9 @@ class ParticleState:
         self.q_s = np.zeros(4)
         self.broken = 0                  # edges broken in the last step
         self.tethers = None              # (particles, pins, lengths) of tethers.py; None: to be found again
+        self.cloths = []                 # ClothRecord of the live cloths, in creation order
+        self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
+        self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
 
     # --- sets and networks ----------------------------------------------------------------------------------
     def _next_serial(self):
@@ -77,7 +81,7 @@ class ParticleState:
         self.pi[self.n:self.n + n] = rows_i
         self.n += n
         self.sets.append(group)
-        self.tethers = None
+        self.tethers = self.cloth_tables = None
         return group
 
     def add_network(self, owner, rows_f, rows_i):
@@ -127,7 +131,7 @@ class ParticleState:
         ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
         ends[ends > a] -= n
         group.alive = False
-        self.tethers = None
+        self.tethers = self.cloth_tables = None
 
     def forget_body(self, row):
         """Body row ``row`` is gone: particles pinned to it are free again."""
@@ -135,6 +139,81 @@ class ParticleState:
         self.pi[:self.n, P.P_FLAGS][held] &= ~P.PP_PINNED
         self.pi[:self.n, P.P_PIN_BODY][held] = -1
         self.tethers = None
+
+    def replace_set(self, group, rows_f, rows_i):
+        """Give the set ``group`` the rows ``rows_f`` / ``rows_i`` (as many or more than it had: a torn cloth's
+        vertices); the later particles move up, their edges with them."""
+        a, old, new = group.start, group.count, rows_f.shape[0]
+        grow = new - old
+        self.pf = _grown(self.pf, self.n + grow)
+        self.pi = _grown(self.pi, self.n + grow)
+        for table, rows in ((self.pf, rows_f), (self.pi, rows_i)):
+            table[a + new:self.n + grow] = table[a + old:self.n].copy()
+            table[a:a + new] = rows
+        self.n += grow
+        group.count = new
+        for g in self.sets:
+            if g.start > a:
+                g.start += grow
+        ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
+        ends[ends >= a + old] += grow
+        self.tethers = self.cloth_tables = None
+
+    def replace_network(self, group, rows_f, rows_i):
+        """Give the network ``group`` the edges ``rows_f`` / ``rows_i`` (particle rows global)."""
+        a, old, new = group.start, group.count, rows_f.shape[0]
+        grow = new - old
+        self.ef = _grown(self.ef, self.ne + grow)
+        self.ei = _grown(self.ei, self.ne + grow)
+        rows_i[:, P.E_NETWORK] = group.serial
+        for table, rows in ((self.ef, rows_f), (self.ei, rows_i)):
+            table[a + new:self.ne + grow] = table[a + old:self.ne].copy()
+            table[a:a + new] = rows
+            table[self.ne + grow:self.ne] = 0
+        self.ne += grow
+        group.count = new
+        for g in self.networks:
+            if g.start > a:
+                g.start += grow
+        self.tethers = None
+
+    def add_cloth(self, record, rows_f, rows_i, edge_f, edge_i):
+        """Append a cloth: its vertices' rows, its springs' rows (vertex numbers its own) and its record."""
+        record.serial = self._next_serial()
+        record.set = self.add_set(rows_f, rows_i)
+        record.set.owner = record.serial
+        edge_i[:, P.E_A:P.E_B + 1] += record.set.start
+        record.network = self.add_network(record.set, edge_f, edge_i)
+        self.cloths.append(record)
+        self.cloth_tables = None
+
+    def remove_cloth(self, record):
+        """Remove a cloth (its vertices and springs)."""
+        self.remove_set(record.set)
+        self.cloths.remove(record)
+        record.alive = False
+        self.cloth_tables = None
+
+    def kernel_cloth_tables(self):
+        """The cloths' triangles, hinges and parameters for the kernels, in global particle rows (and each
+        cloth vertex's ``P_CLOTH``)."""
+        if self.cloth_tables is None:
+            self.pi[:self.n, P.P_CLOTH] = -1
+            tri = [np.zeros((0, P.TRI_COLS), dtype=np.int64)]
+            bend_f = [np.zeros((0, P.BENDF_COLS))]
+            bend_i = [np.zeros((0, P.BENDI_COLS), dtype=np.int64)]
+            cloth_f = np.zeros((max(len(self.cloths), 1), P.CL_COLS))
+            for k, c in enumerate(self.cloths):
+                start = c.set.start
+                self.pi[start:start + c.set.count, P.P_CLOTH] = k
+                tri.append(np.column_stack([c.triangles + start, np.full(c.triangles.shape[0], k)]))
+                bend_f.append(c.hinge_f)
+                bend_i.append(c.hinges + start)
+                cloth_f[k, P.CL_THICKNESS] = c.thickness
+                cloth_f[k, P.CL_SELF] = 1.0 if c.self_collision else 0.0
+            self.cloth_tables = (np.concatenate(tri).astype(np.int64), np.concatenate(bend_f),
+                                 np.concatenate(bend_i).astype(np.int64), cloth_f)
+        return self.cloth_tables
 
     def set_table(self):
         """The set table the kernel reads (``SETS_COLS`` columns per live set)."""
@@ -153,6 +232,7 @@ class ParticleState:
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_SUBSTEPS] = substeps
         nb = st.bodies.end
+        tri, bend_f, bend_i, cloth_f = self.kernel_cloth_tables()
         n, ne = self.n, self.ne
         adjacent_start = np.zeros(n + 1, dtype=np.int64)
         adjacent = np.zeros(max(2 * ne, 1), dtype=np.int64)
@@ -164,24 +244,31 @@ class ParticleState:
         if self.tethers is None:
             self.tethers = find_tethers(self.pf, self.pi, n, self.ef, self.ei, ne)
         while True:
-            n_shape, n_pair = find_candidates(q, self.pf, self.pi, n, self.ei, ne, st.bf, st.bi, st.sf, st.si,
-                                              st.geom_f, st.geom_i, nb, aabbs, bx, self.shape_pairs,
-                                              self.particle_pairs, adjacent_start, adjacent, cell_start, cell_entries,
-                                              self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
-                                              self.vec[1], self.rot_s, self.q_s)
-            if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0]:
+            counts = find_candidates(q, self.pf, self.pi, n, self.ei, ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
+                                     st.sf, st.si, st.geom_f, st.geom_i, nb, aabbs, bx, self.shape_pairs,
+                                     self.particle_pairs, self.triangle_pairs, adjacent_start, adjacent, cell_start,
+                                     cell_entries, self.scratch_f, self.scratch_i, self.sphere, self.vec[0],
+                                     self.rot_a, self.vec[1], self.rot_s, self.q_s)
+            n_shape, n_pair, n_triangle = counts
+            if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0] \
+                    and n_triangle <= self.triangle_pairs.shape[0]:
                 break
             self.shape_pairs = _grown(self.shape_pairs, n_shape)
             self.particle_pairs = _grown(self.particle_pairs, n_pair)
+            self.triangle_pairs = _grown(self.triangle_pairs, n_triangle)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
         self.broken, most = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
-                                        ne, *self.tethers, st.bf, st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx,
-                                        self.shape_pairs, n_shape, self.particle_pairs, n_pair, self.kf, self.ki,
-                                        self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a,
-                                        self.vec[1], self.rot_s, self.q_s)
+                                           ne, bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf,
+                                           st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx, self.shape_pairs,
+                                           n_shape, self.particle_pairs, n_pair, self.triangle_pairs, n_triangle,
+                                           self.kf, self.ki, self.scratch_f, self.scratch_i, self.sphere,
+                                           self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s)
         if self.broken:
             self.tethers = None
+            for record in list(self.cloths):
+                if torn_pairs(self, record).shape[0] > record.still_torn:
+                    tear(self, record)
         if most > self.kf.shape[0]:         # (a sub-step had more contacts than rows: room for them next step)
             self.kf = _grown(self.kf, most)
             self.ki = _grown(self.ki, most)
@@ -221,7 +308,7 @@ class ParticleState:
             start += int(count)
         if ef.shape[0] != start or ei.shape[0] != start:
             refuse("has edge tables of mismatched lengths")
-        finite = np.setdiff1d(np.arange(P.EF_COLS), [P.E_BREAKING])
+        finite = np.setdiff1d(np.arange(P.EF_COLS), [P.E_BREAKING, P.E_TEAR])
         if not np.all(np.isfinite(pf)) or not np.all(np.isfinite(ef[:, finite])) or np.any(np.isnan(ef)):
             refuse("holds a NaN or infinite particle value")
         if np.any(pf[:, P.P_MASS] <= 0.0) or np.any(pf[:, P.P_RADIUS] <= 0.0) or np.any(pf[:, P.P_INV_MASS] < 0.0):

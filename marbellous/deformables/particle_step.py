@@ -11,10 +11,11 @@ may meet in the step.  Each sub-step, in order:
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
     edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
                     body-pinned particle pulls the body (two ways)
+    bends           the cloths' hinges (bend_constraints.py)
     tethers         no particle farther from its world pin than its rods and cables allow (tethers.py)
     pins            again, where the edges have moved the bodies
-    contacts        overlaps with the shapes and with other particles removed; static friction
-                    (particle_contacts.py, particle_pairs.py)
+    contacts        overlaps with other particles, with cloth triangles and with the shapes removed; static
+                    friction (particle_pairs.py, triangle_contacts.py, particle_contacts.py)
     velocities      v = (x - x_prev) / h
     velocity pass   dynamic friction and restitution of the sub-step's contacts
 
@@ -30,6 +31,7 @@ import math
 
 from .._numba.jit import njit
 from .body_motion import body_pose, clear_motion, drift, to_world, write_back
+from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
@@ -37,15 +39,18 @@ from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
 from .tethers import solve_tethers
+from .triangle_contacts import triangle_candidates, triangle_contacts
 
 
 @njit
-def find_candidates(params, pf, pi, n_particles, ei, ne, bf, bi, sf, si, geom_f, geom_i, nb, aabbs, bx, shape_pairs,
-                    particle_pairs, adjacent_start, adjacent, cell_start, cell_entries, scratch_f, scratch_i, sphere,
-                    pos_a, rot_a, pos_s, rot_s, q_s):
-    """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs`` and the ``(particle, particle)``
-    candidates into ``particle_pairs``; returns both counts (a count past an array's length: grow it and call
-    again).  The reach: how far a particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep."""
+def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
+                    aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, adjacent_start, adjacent, cell_start,
+                    cell_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
+    candidates into ``particle_pairs`` and the ``(point, triangle, side)`` candidates into ``triangle_pairs``;
+    returns the three counts (a count past an array's length: grow it and call again).  The reach: how far a
+    particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep; how far two points may close:
+    twice the fastest one's sweep and reach."""
     dt = params[Q_DT]
     g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
     reach = g * dt * dt
@@ -56,9 +61,12 @@ def find_candidates(params, pf, pi, n_particles, ei, ne, bf, bi, sf, si, geom_f,
     for p in range(n_particles):
         fastest = max(fastest, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2))
     edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent)
-    n_pair = particle_candidates(pf, pi, n_particles, 2.0 * (fastest * dt + reach), cell_start, cell_entries,
-                                 adjacent_start, adjacent, particle_pairs)
-    return n_shape, n_pair
+    margin = 2.0 * (fastest * dt + reach)
+    n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
+                                 particle_pairs)
+    n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, cell_start,
+                                     cell_entries, adjacent_start, adjacent, triangle_pairs)
+    return n_shape, n_pair, n_triangle
 
 
 @njit
@@ -133,9 +141,10 @@ def _velocities(pf, n_particles, h):
 
 
 @njit
-def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, tether_p, tether_q, tether_length, bf, bi,
-                   nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape, particle_pairs, n_pair, kf, ki, scratch_f,
-                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
+                   tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
+                   particle_pairs, n_pair, triangle_pairs, n_triangle, kf, ki, scratch_f, scratch_i, sphere, pos_a,
+                   rot_a, pos_s, rot_s, q_s):
     """The particles' step (module docstring) over the candidates of :func:`find_candidates`; returns
     ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
     dt = params[Q_DT]
@@ -151,19 +160,21 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, tether
         _integrate(params, pf, pi, n_particles, sets, n_sets, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps)
+        solve_bends(pf, bend_f, bend_i, n_bends, h)
         solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         # (particles against particles first: the shapes' static friction then holds what a particle's load
         # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
         # spread them apart by 5 cm in 10 s)
         nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
+        triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle)
         nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         most = max(most, nk)
         _velocities(pf, n_particles, h)
         velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
     write_back(bf, bi, bx, nb)
-    broke = break_edges(ef, ei, ne)
+    broke = break_edges(pf, ef, ei, ne)
     for p in range(n_particles):
         for k in range(3):
             pf[p, P_FORCE + k] = 0.0

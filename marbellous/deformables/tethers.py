@@ -1,5 +1,6 @@
 """Tethers (long-range attachments, Kim, Chentanez and Mueller 2012): no particle of an inextensible network
-gets farther from its nearest world pin than the network's rods and cables allow.
+or of a cloth gets farther from its nearest world pin than the network's rods and cables (the cloth's edges)
+allow.
 
 One position pass per sub-step hands a load up a chain of rods one link per pass: a 50 kg box hanging from
 a rope of ten 50 g beads, 1 m long, sank 58 mm (5.8 %) below the rope's length at 16 sub-steps (a 5 kg box:
@@ -13,7 +14,10 @@ which holds the chain's length in one pass, however heavy the load (the 50 kg bo
 nothing while the rope is not straight.  The slack ``s`` (``TETHER_SLACK``, 2 %) leaves the load to the rods as long
 as they hold it that well, so that their forces (``Network.forces``) report it; where a tether holds instead, the
 rods report only their part (the 50 kg box: 93 N of its 495 N).  A body-pinned particle's tether pulls its body
-(through the particle's place on it).  Springs do not count: they are meant to stretch.  The tethers follow from the
+(through the particle's place on it).  A network's springs do not count: they are meant to stretch; a cloth's
+edges do (cloth is meant not to), and they need it: one pass per sub-step cannot hand a sheet's weight up to two
+pinned corners through 50 rows of stiff springs (a 50 x 50 sheet of 0.5 kg hung by two corners at 16 sub-steps
+stretched its corner edges to 2.2 times their length and jittered at 18 m/s; tethered, see the tests).  The tethers follow from the
 networks and pins, and are found again (by Dijkstra's shortest paths over the rods and cables,
 ``scipy.sparse.csgraph``) whenever these change.
 """
@@ -23,8 +27,8 @@ import numpy as np
 
 from .._numba.jit import njit
 from .edge_constraints import end_mass, move_end
-from .particle_layout import (E_A, E_B, E_FLAGS, E_KIND, E_REST, EB_BROKEN, EK_CABLE, EK_ROD, P_FLAGS, P_PIN_BODY,
-                              P_POS, PP_PINNED)
+from .particle_layout import (E_A, E_B, E_FLAGS, E_KIND, E_REST, EB_BROKEN, EK_CABLE, EK_ROD, P_CLOTH, P_FLAGS,
+                              P_PIN_BODY, P_POS, PP_PINNED)
 
 #: how far past its path's rest length a tether lets a particle go, as a fraction of it
 TETHER_SLACK = 0.02
@@ -32,13 +36,14 @@ TETHER_SLACK = 0.02
 
 def find_tethers(pf, pi, n, ef, ei, ne):
     """``(particle rows, pin rows, lengths)`` of the tethers of the particles ``0 .. n - 1`` over the live
-    rods and cables ``0 .. ne - 1`` (module docstring)."""
+    rods, cables and cloth edges among ``0 .. ne - 1`` (module docstring; the cloth vertices' ``P_CLOTH`` set)."""
     from scipy.sparse import coo_matrix              # (imported here: only worlds with networks need it)
     from scipy.sparse.csgraph import dijkstra
     none = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
     pinned = (pi[:n, P_FLAGS] & PP_PINNED) != 0
     anchors = np.flatnonzero(pinned & (pi[:n, P_PIN_BODY] < 0))
-    keep = np.flatnonzero(np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
+    cloth = (pi[ei[:ne, E_A], P_CLOTH] >= 0) & (pi[ei[:ne, E_B], P_CLOTH] >= 0)
+    keep = np.flatnonzero((np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) | cloth) & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
     if anchors.size == 0 or keep.size == 0:
         return none
     a, b, length = ei[keep, E_A], ei[keep, E_B], np.maximum(ef[keep, E_REST], 1e-12)

@@ -1,0 +1,178 @@
+"""Points against cloth triangles: a cloth's vertices against its own triangles (``self_collision``) and
+against other cloths', and colliding particles (``collide_particles``) against every cloth.
+
+A triangle is a slab of the cloth's thickness ``t``: a point of radius ``r`` stays at least ``r + t / 2`` from
+its plane, on the side it came from.  Once per step (``triangle_candidates``), a spatial hash over the points
+lists the (point, triangle) pairs whose boxes, grown by what the two can close in the step, meet, leaving out
+a triangle's own corners and the points an edge joins to them (neighbours lie in the triangle's plane by
+design), and records the side ``s = +-1`` of the triangle each point is on then.  In each sub-step, a pair
+whose point lies over the triangle (its foot inside it, barycentric weights ``b_i >= 0``) closer than
+``r + t / 2`` on side ``s``, or behind it by less than that (it passed through in this sub-step), is pushed
+apart along the unit normal ``n`` (Mueller et al. 2007):
+
+    C = s n . (x_p - sum_i b_i x_i) - (r + t / 2) >= 0
+    grad_p = s n,   grad_i = -b_i s n,   dlambda = -C / (w_p + sum_i b_i^2 w_i)
+
+The side recorded at the step's start is what keeps a point that a sub-step carried through the triangle on
+its first side: the constraint pulls it back rather than pushing it on.  (A point farther behind is left
+alone: pulling points from far behind a triangle they were never over blows a draped cloth up.)  Not handled: an edge of one triangle
+passing through another edge with both ends clear of the other's triangles (edge against edge), which the
+points' thickness makes rare on a mesh finer than the fold.
+"""
+import math
+
+import numpy as np
+
+from .._numba.jit import njit
+from .particle_contacts import append_pair
+from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_INV_MASS, P_POS, P_RADIUS, PP_COLLIDE,
+                              T_A, T_CLOTH)
+from .particle_pairs import cell_key, joined
+
+
+@njit
+def _is_point(pi, p):
+    """Whether particle row ``p`` meets cloth triangles: a cloth vertex or a colliding particle."""
+    return pi[p, P_CLOTH] >= 0 or (pi[p, P_FLAGS] & PP_COLLIDE) != 0
+
+
+@njit
+def _triangle_box(pf, tri, t, grow):
+    """``(lo, hi)`` of triangle ``t``'s box grown by ``grow`` (m)."""
+    a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
+    lo = (min(pf[a, P_POS], pf[b, P_POS], pf[c, P_POS]) - grow,
+          min(pf[a, P_POS + 1], pf[b, P_POS + 1], pf[c, P_POS + 1]) - grow,
+          min(pf[a, P_POS + 2], pf[b, P_POS + 2], pf[c, P_POS + 2]) - grow)
+    hi = (max(pf[a, P_POS], pf[b, P_POS], pf[c, P_POS]) + grow,
+          max(pf[a, P_POS + 1], pf[b, P_POS + 1], pf[c, P_POS + 1]) + grow,
+          max(pf[a, P_POS + 2], pf[b, P_POS + 2], pf[c, P_POS + 2]) + grow)
+    return lo, hi
+
+
+@njit
+def _side(pf, tri, t, p):
+    """``+1`` if point row ``p`` is on the front of triangle ``t`` (its corners counter-clockwise), else
+    ``-1``."""
+    a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
+    u = (pf[b, P_POS] - pf[a, P_POS], pf[b, P_POS + 1] - pf[a, P_POS + 1], pf[b, P_POS + 2] - pf[a, P_POS + 2])
+    v = (pf[c, P_POS] - pf[a, P_POS], pf[c, P_POS + 1] - pf[a, P_POS + 1], pf[c, P_POS + 2] - pf[a, P_POS + 2])
+    n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    d = ((pf[p, P_POS] - pf[a, P_POS]) * n[0] + (pf[p, P_POS + 1] - pf[a, P_POS + 1]) * n[1]
+         + (pf[p, P_POS + 2] - pf[a, P_POS + 2]) * n[2])
+    return 1 if d >= 0.0 else -1
+
+
+@njit
+def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, cell_start, cell_entries,
+                        adjacent_start, adjacent, out):
+    """List the candidate ``(point, triangle, side)`` rows into ``out`` (module docstring); returns how many
+    there are (rows past ``out``'s end are not written).  ``margin`` (m): how far a point and a triangle may
+    close in the step.  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles ints)."""
+    if n_tri == 0:
+        return 0
+    table = cell_start.shape[0] - 1
+    reach = 0.0
+    for p in range(n_particles):
+        if _is_point(pi, p):
+            reach = max(reach, pf[p, P_RADIUS])
+    thickest = 0.0
+    for c in range(cloth_f.shape[0]):
+        thickest = max(thickest, cloth_f[c, CL_THICKNESS])
+    grow = reach + 0.5 * thickest + margin
+    cell = 0.0
+    for t in range(n_tri):
+        lo, hi = _triangle_box(pf, tri, t, grow)
+        cell = max(cell, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
+    for k in range(table + 1):
+        cell_start[k] = 0
+    for p in range(n_particles):
+        if _is_point(pi, p):
+            cell_start[cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table) + 1] += 1
+    for k in range(table):
+        cell_start[k + 1] += cell_start[k]
+    fill = cell_start[:table].copy()
+    for p in range(n_particles):
+        if _is_point(pi, p):
+            key = cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table)
+            cell_entries[fill[key]] = p
+            fill[key] += 1
+    n = 0
+    keys = np.empty(8, np.int64)
+    for t in range(n_tri):
+        lo, hi = _triangle_box(pf, tri, t, grow)
+        # the box is no wider than a cell: it meets at most two cells along each axis
+        n_keys = 0
+        for x in (lo[0], hi[0]):
+            for y in (lo[1], hi[1]):
+                for z in (lo[2], hi[2]):
+                    key = cell_key(x, y, z, cell, table)
+                    new = True
+                    for k in range(n_keys):
+                        if keys[k] == key:
+                            new = False
+                    if new:
+                        keys[n_keys] = key
+                        n_keys += 1
+        a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
+        own = tri[t, T_CLOTH]
+        for k in range(n_keys):
+            for slot in range(cell_start[keys[k]], cell_start[keys[k] + 1]):
+                p = cell_entries[slot]
+                if p == a or p == b or p == c:
+                    continue
+                if pi[p, P_CLOTH] == own and cloth_f[own, CL_SELF] == 0.0:
+                    continue
+                x = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
+                if x[0] < lo[0] or x[0] > hi[0] or x[1] < lo[1] or x[1] > hi[1] or x[2] < lo[2] or x[2] > hi[2]:
+                    continue
+                if joined(adjacent_start, adjacent, p, a) or joined(adjacent_start, adjacent, p, b) \
+                        or joined(adjacent_start, adjacent, p, c):
+                    continue
+                if n < out.shape[0]:
+                    out[n, 2] = _side(pf, tri, t, p)
+                n = append_pair(out, n, p, t)
+    return n
+
+
+@njit
+def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs):
+    """The position pass over the candidate pairs (module docstring)."""
+    for k in range(n_pairs):
+        p, t, s = pairs[k, 0], pairs[k, 1], pairs[k, 2]
+        a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
+        u = (pf[b, P_POS] - pf[a, P_POS], pf[b, P_POS + 1] - pf[a, P_POS + 1], pf[b, P_POS + 2] - pf[a, P_POS + 2])
+        v = (pf[c, P_POS] - pf[a, P_POS], pf[c, P_POS + 1] - pf[a, P_POS + 1], pf[c, P_POS + 2] - pf[a, P_POS + 2])
+        w = (pf[p, P_POS] - pf[a, P_POS], pf[p, P_POS + 1] - pf[a, P_POS + 1], pf[p, P_POS + 2] - pf[a, P_POS + 2])
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        size = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+        if size < 1e-20:
+            continue
+        n = (s * n[0] / size, s * n[1] / size, s * n[2] / size)
+        gap = pf[p, P_RADIUS] + 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS]
+        d = w[0] * n[0] + w[1] * n[1] + w[2] * n[2]
+        if d >= gap or d < -gap:
+            continue
+        # barycentric weights of the point's foot on the triangle's plane
+        uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+        uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+        vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+        wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2]
+        wv = w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
+        det = uu * vv - uv * uv
+        if det <= 0.0:
+            continue
+        b1 = (vv * wu - uv * wv) / det
+        b2 = (uu * wv - uv * wu) / det
+        b0 = 1.0 - b1 - b2
+        if b0 < 0.0 or b1 < 0.0 or b2 < 0.0:
+            continue
+        wa, wb, wc, wp = pf[a, P_INV_MASS], pf[b, P_INV_MASS], pf[c, P_INV_MASS], pf[p, P_INV_MASS]
+        denominator = wp + b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wc
+        if denominator <= 0.0:
+            continue
+        dlambda = (gap - d) / denominator
+        for j in range(3):
+            pf[p, P_POS + j] += wp * dlambda * n[j]
+            pf[a, P_POS + j] -= wa * b0 * dlambda * n[j]
+            pf[b, P_POS + j] -= wb * b1 * dlambda * n[j]
+            pf[c, P_POS + j] -= wc * b2 * dlambda * n[j]
