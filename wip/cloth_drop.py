@@ -5,7 +5,7 @@ w = mb.World(gravity=(0, -9.81, 0)); w.particle_substeps=sub
 w.add_static(mb.Plane((0, 1, 0), 0.0))
 w.add_static(mb.Sphere(0.3), position=(0, 0.3, 0))
 v, t = cloth_grid(1.0, 1.0, n, n)
-c = w.add_cloth(v, t, mass=0.5, position=(0, 1.1, 0), bend_stiffness=0, self_collision=False, friction=float(sys.argv[3]))
+c = w.add_cloth(v, t, mass=0.5, position=(0, 1.1, 0), friction=float(sys.argv[3]))
 e = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
 L0 = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
 for k in range(40):

@@ -25,8 +25,8 @@ import numpy as np
 
 from .._numba.jit import njit
 from .particle_contacts import append_pair
-from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_INV_MASS, P_POS, P_RADIUS, PP_COLLIDE,
-                              T_A, T_CLOTH)
+from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_INV_MASS, P_POS, P_RADIUS, P_VEL,
+                              PP_COLLIDE, T_A, T_CLOTH)
 from .particle_pairs import cell_key, joined
 
 
@@ -63,11 +63,12 @@ def _side(pf, tri, t, p):
 
 
 @njit
-def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, cell_start, cell_entries,
+def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, slack, cell_start, cell_entries,
                         adjacent_start, adjacent, out):
     """List the candidate ``(point, triangle, side)`` rows into ``out`` (module docstring); returns how many
-    there are (rows past ``out``'s end are not written).  ``margin`` (m): how far a point and a triangle may
-    close in the step.  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles ints)."""
+    there are (rows past ``out``'s end are not written).  ``margin`` (m): how far any point and triangle may
+    close in the step (the hash's cells); each pair is kept within its own closing, twice its relative speed
+    times ``dt`` plus ``slack`` (m).  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles ints)."""
     if n_tri == 0:
         return 0
     table = cell_start.shape[0] - 1
@@ -122,8 +123,16 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, cell_s
                     continue
                 if pi[p, P_CLOTH] == own and cloth_f[own, CL_SELF] == 0.0:
                     continue
+                # the box grown by what this point and triangle can close in the step: their relative sweep
+                closing = 0.0
+                for q in (a, b, c):
+                    closing = max(closing, math.sqrt((pf[p, P_VEL] - pf[q, P_VEL]) ** 2
+                                                     + (pf[p, P_VEL + 1] - pf[q, P_VEL + 1]) ** 2
+                                                     + (pf[p, P_VEL + 2] - pf[q, P_VEL + 2]) ** 2))
+                shrink = grow - (pf[p, P_RADIUS] + 0.5 * cloth_f[own, CL_THICKNESS] + 2.0 * closing * dt + slack)
                 x = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
-                if x[0] < lo[0] or x[0] > hi[0] or x[1] < lo[1] or x[1] > hi[1] or x[2] < lo[2] or x[2] > hi[2]:
+                if x[0] < lo[0] + shrink or x[0] > hi[0] - shrink or x[1] < lo[1] + shrink or x[1] > hi[1] - shrink \
+                        or x[2] < lo[2] + shrink or x[2] > hi[2] - shrink:
                     continue
                 if joined(adjacent_start, adjacent, p, a) or joined(adjacent_start, adjacent, p, b) \
                         or joined(adjacent_start, adjacent, p, c):
