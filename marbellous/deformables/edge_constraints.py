@@ -9,9 +9,11 @@ and damping coefficient ``c`` (N s/m).  Extended position-based dynamics (Mackli
 moves the particles by ``dx_a = w_a dlambda n``, ``dx_b = -w_b dlambda n`` with
 
     alpha~ = alpha / h^2,    gamma = alpha c / h
-    dlambda = (-C - gamma n . (dx_a - dx_b)) / ((1 + gamma) (w_a + w_b) + alpha~)
+    dlambda = (-C - alpha~ lambda - gamma n . (dx_a - dx_b)) / ((1 + gamma) (w_a + w_b) + alpha~),
+    lambda += dlambda
 
-where ``w`` are the inverse masses and ``dx`` each end's motion in this sub-step so far.  An end pinned to a
+where ``w`` are the inverse masses, ``dx`` each end's motion in this sub-step so far, and ``lambda`` the
+multiplier the edge has gathered over the sub-step's earlier passes (0 in the first).  An end pinned to a
 body is a point of that body: its ``w`` is the body's generalised inverse mass at that point along ``n``
 (``body_motion.inverse_mass_along``), and its share of the correction moves the body (``push_body``).
 
@@ -26,8 +28,8 @@ import math
 
 from .._numba.jit import njit
 from .body_motion import body_pose, inverse_mass_along, push_body
-from .particle_layout import (E_A, E_B, E_BREAKING, E_COMPLIANCE, E_DAMPING, E_FLAGS, E_FORCE, E_KIND, E_REST,
-                              E_TEAR,
+from .particle_layout import (E_A, E_B, E_BREAKING, E_COMPLIANCE, E_DAMPING, E_FLAGS, E_FORCE, E_KIND, E_LAMBDA,
+                              E_REST, E_TEAR,
                               EB_BROKEN, EK_CABLE, EK_SPRING, P_FLAGS, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
                               PP_PINNED)
 
@@ -56,10 +58,13 @@ def move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
 
 
 @njit
-def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share):
+def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share, first):
     """One pass over the edges ``0 .. ne - 1`` (module docstring), in the sub-step that ends ``back`` s
-    before the step's end; each edge's force gets ``share`` (1 / sub-steps) of this sub-step's tension."""
+    before the step's end (``first``: its first pass, the multipliers start from 0); each edge's force gets
+    ``share`` (1 / sub-steps) of this sub-step's tension."""
     for e in range(ne):
+        if first:
+            ef[e, E_LAMBDA] = 0.0
         if (ei[e, E_FLAGS] & EB_BROKEN) != 0:
             continue
         a, b = ei[e, E_A], ei[e, E_B]
@@ -87,7 +92,8 @@ def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share):
             closing = (n0 * ((pf[a, P_POS] - pf[a, P_PREV]) - (pf[b, P_POS] - pf[b, P_PREV]))
                        + n1 * ((pf[a, P_POS + 1] - pf[a, P_PREV + 1]) - (pf[b, P_POS + 1] - pf[b, P_PREV + 1]))
                        + n2 * ((pf[a, P_POS + 2] - pf[a, P_PREV + 2]) - (pf[b, P_POS + 2] - pf[b, P_PREV + 2])))
-        dlambda = (-c - gamma * closing) / denominator
+        dlambda = (-c - alpha * ef[e, E_LAMBDA] - gamma * closing) / denominator
+        ef[e, E_LAMBDA] += dlambda
         ef[e, E_FORCE] -= share * dlambda / (h * h)
         if on_a:
             move_end(pf, pi, bf, bi, bx, a, back, wa, dlambda, (n0, n1, n2), h)

@@ -45,7 +45,8 @@ E_DAMPING = 2        # damping coefficient (N s/m) along the edge
 E_BREAKING = 3       # breaking tension (N); inf: unbreakable
 E_FORCE = 4          # tension over the last step, its sub-steps' mean (N; > 0 pulls the ends together)
 E_TEAR = 5           # length (m) past which the edge tears at the step's end (a cloth's tear_strain); inf: never
-EF_COLS = 6
+E_LAMBDA = 6         # the sub-step's Lagrange multiplier so far, summed over its passes (scratch of the step)
+EF_COLS = 7
 
 E_A = 0              # particle row of one end
 E_B = 1              # particle row of the other end
