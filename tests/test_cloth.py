@@ -1,0 +1,92 @@
+"""Cloth: a sheet dropped over a sphere, hung by two corners, torn, folded onto itself."""
+import math
+
+import numpy as np
+import pytest
+
+import marbellous as mb
+from marbellous.cloth import cloth_grid
+
+DT = 1.0 / 60.0
+
+
+def _edges(triangles):
+    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    return np.unique(np.sort(e, axis=1), axis=0)
+
+
+def _strain(vertices, triangles, x):
+    e = _edges(triangles)
+    rest = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
+    return np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1) / rest - 1.0
+
+
+def test_a_sheet_dropped_over_a_sphere_stays_outside_it_and_above_the_plane():
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    w.add_static(mb.Sphere(0.3), position=(0.0, 0.3, 0.0))
+    v, t = cloth_grid(1.0, 1.0, 50, 50)
+    c = w.add_cloth(v, t, mass=0.5, position=(0.0, 1.1, 0.0))
+    for _ in range(180):
+        w.step(DT)
+        x = c.positions
+        assert np.all(np.isfinite(x))
+        assert np.max(0.3 - np.linalg.norm(x - (0.0, 0.3, 0.0), axis=1)) < c.thickness
+        assert np.min(x[:, 1]) > -c.thickness
+
+
+def test_a_sheet_hung_by_two_corners_stretches_less_than_a_tenth():
+    w = mb.World()
+    v, t = cloth_grid(1.0, 1.0, 50, 50)
+    c = w.add_cloth(v, t, mass=0.5, position=(0.0, 1.1, 0.0))
+    c.pin([0, 49 * 50])
+    for _ in range(300):
+        w.step(DT)
+    assert np.max(_strain(v, t, c.positions)) < 0.10
+
+
+def test_a_sheet_pulled_apart_tears_into_two_pieces():
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    w = mb.World(gravity=(0.0, 0.0, 0.0))
+    v, t = cloth_grid(1.0, 1.0, 20, 20)
+    c = w.add_cloth(v, t, mass=0.5, tear_strain=0.2)
+    left, right = np.arange(20), np.arange(19 * 20, 20 * 20)
+    for _ in range(120):
+        c.apply_force((-20.0, 0.0, 0.0), left)
+        c.apply_force((20.0, 0.0, 0.0), right)
+        w.step(DT)
+    tri = c.triangles
+    e = _edges(tri)
+    n = len(c)
+    pieces, _ = connected_components(coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n)), directed=False)
+    assert c.torn > 0
+    assert pieces >= 2
+
+
+def test_a_sheet_folded_onto_itself_does_not_pass_through():
+    # a strip folded in a U (lower layer 2 cm up, upper layer 12 cm up, a half circle of 5 cm between them) falls
+    # onto the plane while its upper layer is pressed down at 4 g: the upper layer ends on the lower one
+    r, flat = 0.05, 0.4
+    v, t = cloth_grid(2 * flat + math.pi * r, 0.3, 60, 12)
+    s = v[:, 0] - v[:, 0].min()                      # arc length along the strip
+    theta = np.clip((s - flat) / r, 0.0, math.pi)
+    x = np.where(s < flat, s - flat, np.where(s > flat + math.pi * r, -(s - flat - math.pi * r), r * np.sin(theta)))
+    y = np.where(s < flat, 0.02, np.where(s > flat + math.pi * r, 0.12, 0.07 - r * np.cos(theta)))
+    folded = np.column_stack([x, y, v[:, 2]])
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    c = w.add_cloth(folded, t, mass=0.2)
+    upper = np.flatnonzero(s > flat + math.pi * r + 0.05)
+    lower = np.flatnonzero(s < flat - 0.05)
+    press = 4.0 * 9.81 * c.mass[upper].mean()
+    for _ in range(120):
+        c.apply_force((0.0, -press, 0.0), upper)
+        w.step(DT)
+    # the lower layer lies on the plane at half the thickness; the upper one, where it lies over the lower (the
+    # self-contact has no friction: the upper layer slides off at the sides), a thickness above it
+    x = c.positions
+    lo, hi = x[lower].min(axis=0) + 0.02, x[lower].max(axis=0) - 0.02
+    over = upper[np.all((x[upper][:, [0, 2]] > lo[[0, 2]]) & (x[upper][:, [0, 2]] < hi[[0, 2]]), axis=1)]
+    assert over.size > upper.size // 2
+    assert np.min(x[over, 1]) > c.thickness
