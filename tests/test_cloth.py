@@ -38,9 +38,10 @@ def test_a_sheet_dropped_over_a_sphere_stays_outside_it_and_above_the_plane():
 def test_a_sheet_hung_by_two_corners_stretches_less_than_a_tenth():
     w = mb.World()
     v, t = cloth_grid(1.0, 1.0, 50, 50)
-    c = w.add_cloth(v, t, mass=0.5, position=(0.0, 1.1, 0.0))
+    # damped so that it hangs still after 10 s (undamped it swings on, and the swing's load adds to the weight)
+    c = w.add_cloth(v, t, mass=0.5, position=(0.0, 1.1, 0.0), damping=2.0)
     c.pin([0, 49 * 50])
-    for _ in range(300):
+    for _ in range(600):
         w.step(DT)
     assert np.max(_strain(v, t, c.positions)) < 0.10
 

@@ -52,7 +52,7 @@ def find_tethers(pf, pi, n, ef, ei, ne):
     distance, _, source = dijkstra(graph, indices=anchors, min_only=True, return_predecessors=True)
     free = np.flatnonzero(np.isfinite(distance) & (source >= 0) & ~(pinned & (pi[:n, P_PIN_BODY] < 0)))
     # (a tether is only needed past the first link: the rod itself holds a pin's neighbour)
-    free = free[distance[free] > np.min(length) * 1.5]
+    free = free[distance[free] > 0.0]
     return free.astype(np.int64), source[free].astype(np.int64), (1.0 + TETHER_SLACK) * distance[free]
 
 
