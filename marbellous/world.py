@@ -1086,6 +1086,9 @@ class World:
             for handle in [h for h in living if not h._group.alive]:
                 handle._world = None
                 del living[handle]
+        for handle in [h for h in self._living_cloths if not h._record.alive]:
+            handle._world = None
+            del self._living_cloths[handle]
         self._accumulator = float(snapshot.accumulator)
         self._stepped = False
 

@@ -91,3 +91,37 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through():
     over = upper[np.all((x[upper][:, [0, 2]] > lo[[0, 2]]) & (x[upper][:, [0, 2]] < hi[[0, 2]]), axis=1)]
     assert over.size > upper.size // 2
     assert np.min(x[over, 1]) > c.thickness
+
+
+def test_a_restore_puts_a_torn_cloth_back_whole_and_repeats_the_tear_bit_for_bit():
+    w = mb.World(gravity=(0.0, 0.0, 0.0))
+    v, t = cloth_grid(0.5, 0.5, 10, 10)
+    c = w.add_cloth(v, t, mass=0.2, tear_strain=0.2)
+    snap = w.snapshot()
+
+    def pull():
+        for _ in range(60):
+            c.apply_force((-200.0, 0.0, 0.0), np.arange(10))
+            c.apply_force((200.0, 0.0, 0.0), np.arange(90, 100))
+            w.step(DT)
+        return c.positions, c.triangles, c.torn, w.state_hash()
+
+    x1, tri1, torn1, hash1 = pull()
+    assert torn1 > 0 and len(c) > 100
+    w.restore(snap)
+    assert len(c) == 100 and c.torn == 0 and np.array_equal(c.triangles, t)
+    x2, tri2, torn2, hash2 = pull()
+    assert hash1 == hash2 and torn1 == torn2
+    assert np.array_equal(x1, x2) and np.array_equal(tri1, tri2)
+
+
+def test_a_snapshot_taken_before_a_cloth_was_added_removes_it_on_restore():
+    w = mb.World()
+    snap = w.snapshot()
+    v, t = cloth_grid(0.5, 0.5, 5, 5)
+    c = w.add_cloth(v, t, mass=0.1)
+    w.step(DT)
+    w.restore(snap)
+    assert w.cloths == []
+    with pytest.raises(ValueError):
+        c.positions

@@ -102,3 +102,74 @@ def tear(ps, record):
     ei[:, P.E_A:P.E_B + 1] += g.start
     ps.replace_network(record.network, ef, ei)
     ps.cloth_tables = None
+
+
+# --- snapshots ------------------------------------------------------------------------------------------------
+#: a snapshot's cloth tables: one row per cloth (serial, set serial, network serial, triangles, hinges, torn,
+#: still torn, self-collision) and its materials (density, stretch, bend, thickness, tear), then the triangles and
+#: hinges of all cloths one after the other (their own vertex numbers)
+CLOTH_TABLES = {"cloths": (np.int64, 8), "cloth_f": (np.float64, 5), "cloth_triangles": (np.int64, 3),
+                "cloth_hinges": (np.int64, 4), "cloth_hinge_f": (np.float64, P.BENDF_COLS)}
+
+
+def cloth_tables(records):
+    """The cloth tables of a snapshot (copies)."""
+    return {"cloths": np.array([(c.serial, c.set.serial, c.network.serial, c.triangles.shape[0], c.hinges.shape[0],
+                                 c.torn, c.still_torn, int(c.self_collision)) for c in records],
+                               dtype=np.int64).reshape(-1, 8),
+            "cloth_f": np.array([(c.density, c.stretch, c.bend, c.thickness, c.tear) for c in records]).reshape(-1, 5),
+            "cloth_triangles": np.concatenate([np.zeros((0, 3), np.int64)] + [c.triangles for c in records]),
+            "cloth_hinges": np.concatenate([np.zeros((0, 4), np.int64)] + [c.hinges for c in records]),
+            "cloth_hinge_f": np.concatenate([np.zeros((0, P.BENDF_COLS))] + [c.hinge_f for c in records])}
+
+
+def check_cloths(t, records, refuse):
+    """Check a snapshot's cloth tables: each cloth still alive here, with its set and network, its triangles
+    and hinges within its set's vertices in the snapshot, counts that add up, values finite."""
+    rows = t["cloths"]
+    live = {c.serial: c for c in records}
+    sizes = {int(s): int(n) for s, _, n in t["particle_sets"]}
+    if rows[:, 3].sum() != t["cloth_triangles"].shape[0] or rows[:, 4].sum() != t["cloth_hinges"].shape[0] \
+            or t["cloth_hinge_f"].shape[0] != t["cloth_hinges"].shape[0] or t["cloth_f"].shape[0] != rows.shape[0]:
+        refuse("has cloth tables of mismatched lengths")
+    tri_at = hinge_at = 0
+    for serial, set_serial, net_serial, n_tri, n_hinge, torn, still, self_collision in rows:
+        c = live.get(int(serial))
+        if c is None or c.set.serial != set_serial or c.network.serial != net_serial or set_serial not in sizes:
+            refuse("holds a cloth that was removed since (or that this world never had)")
+        n_vertices = sizes[int(set_serial)]
+        tri = t["cloth_triangles"][tri_at:tri_at + n_tri]
+        hinges = t["cloth_hinges"][hinge_at:hinge_at + n_hinge]
+        if n_tri == 0 or tri.min() < 0 or tri.max() >= n_vertices \
+                or (n_hinge and (hinges.min() < 0 or hinges.max() >= n_vertices)) \
+                or torn < 0 or still < 0 or self_collision not in (0, 1):
+            refuse("holds a cloth whose triangles or hinges name vertices it does not have")
+        tri_at += int(n_tri)
+        hinge_at += int(n_hinge)
+    f = t["cloth_f"]
+    if not np.all(np.isfinite(f[:, :4])) or np.any(f[:, :4] < 0.0) or np.any(np.isnan(f[:, 4])) \
+            or not np.all(np.isfinite(t["cloth_hinge_f"])):
+        refuse("holds a NaN, infinite or negative cloth value")
+
+
+def load_cloths(t, records):
+    """The cloth records a checked snapshot keeps, their triangles, hinges and counts set from it (the others
+    die); returns them in order."""
+    by_serial = {c.serial: c for c in records}
+    kept = []
+    tri_at = hinge_at = 0
+    for row, f in zip(t["cloths"], t["cloth_f"]):
+        c = by_serial[int(row[0])]
+        n_tri, n_hinge = int(row[3]), int(row[4])
+        c.triangles = t["cloth_triangles"][tri_at:tri_at + n_tri].copy()
+        c.hinges = t["cloth_hinges"][hinge_at:hinge_at + n_hinge].copy()
+        c.hinge_f = t["cloth_hinge_f"][hinge_at:hinge_at + n_hinge].copy()
+        c.torn, c.still_torn, c.self_collision = int(row[5]), int(row[6]), bool(row[7])
+        c.density, c.stretch, c.bend, c.thickness, c.tear = (float(x) for x in f)
+        tri_at += n_tri
+        hinge_at += n_hinge
+        kept.append(c)
+    for c in records:
+        if c not in kept:
+            c.alive = False
+    return kept

@@ -10,7 +10,7 @@ import numpy as np
 
 from . import particle_layout as P
 from .body_motion import BX_COLS
-from .cloth_state import tear, torn_pairs
+from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
 from .particle_step import find_candidates, step_particles
 from .tethers import find_tethers
 
@@ -281,7 +281,8 @@ class ParticleState:
                 "particle_sets": np.array([(g.serial, g.start, g.count) for g in self.sets],
                                           dtype=np.int64).reshape(-1, 3),
                 "networks": np.array([(g.serial, g.start, g.count, g.owner) for g in self.networks],
-                                     dtype=np.int64).reshape(-1, 4)}
+                                     dtype=np.int64).reshape(-1, 4),
+                **cloth_tables(self.cloths)}
 
     def check(self, t, bodies_alive, refuse):
         """Check a snapshot's particle tables ``t`` (see ``state/snapshot.py``): every set and network in it
@@ -290,10 +291,13 @@ class ParticleState:
         sets, nets = t["particle_sets"], t["networks"]
         pf, pi, ef, ei = t["particle_f"], t["particle_i"], t["edge_f"], t["edge_i"]
         live = {g.serial: g for g in self.sets}
+        cloth_sets = {c.set.serial for c in self.cloths}
+        cloth_nets = {c.network.serial for c in self.cloths}
         start = 0
         for serial, first, count in sets:
             g = live.get(int(serial))
-            if g is None or g.count != count or first != start:
+            # (a cloth's set grows as it tears: the snapshot's may be smaller than it is now)
+            if g is None or (g.count != count and g.serial not in cloth_sets) or first != start:
                 refuse("holds a set of particles that was removed since (or that this world never had)")
             start += int(count)
         if pf.shape[0] != start or pi.shape[0] != start:
@@ -302,7 +306,7 @@ class ParticleState:
         start = 0
         for serial, first, count, owner in nets:
             g = live_nets.get(int(serial))
-            if g is None or g.count != count or first != start or g.owner != owner \
+            if g is None or (g.count != count and g.serial not in cloth_nets) or first != start or g.owner != owner \
                     or owner not in set(int(s) for s in sets[:, 0]):
                 refuse("holds a network that was removed since (or that this world never had)")
             start += int(count)
@@ -326,6 +330,7 @@ class ParticleState:
                             or np.any(~np.isin(ei[:, P.E_KIND], (P.EK_SPRING, P.EK_ROD, P.EK_CABLE)))
                             or np.any(ei[:, P.E_FLAGS] & ~P.EB_BROKEN)):
             refuse("holds edges between particles it does not have")
+        check_cloths(t, self.cloths, refuse)
 
     def load(self, t):
         """Write a checked snapshot's particle tables; sets and networks not in it are removed (their
@@ -354,9 +359,11 @@ class ParticleState:
         self.pi[:self.n] = t["particle_i"]
         self.ef[:self.ne] = t["edge_f"]
         self.ei[:self.ne] = t["edge_i"]
+        self.cloths = load_cloths(t, self.cloths)
+        self.cloth_tables = None
 
 
 #: the particle tables of a snapshot, their dtypes and column counts (for state/snapshot.py)
 TABLES = {"particle_f": (np.float64, P.PF_COLS), "particle_i": (np.int64, P.PI_COLS),
           "edge_f": (np.float64, P.EF_COLS), "edge_i": (np.int64, P.EI_COLS), "particle_sets": (np.int64, 3),
-          "networks": (np.int64, 4)}
+          "networks": (np.int64, 4), **CLOTH_TABLES}
