@@ -16,7 +16,8 @@ from .cloth_topology import edge_stiffness, edges_and_hinges, hinge_stiffness, s
 class ClothRecord:
     """One cloth: its serial, its set of particles and network (``Group`` records), its triangles ``(T, 3)``
     and hinges ``(H, 4)`` (vertex numbers within the set), the hinges' rest angles (rad) and compliances, and
-    its material: ``density`` (kg/m^2), ``stretch`` (N/m), ``bend`` (N m), ``thickness`` (m), ``tear`` (strain; inf: never), ``self_collision``; ``torn`` counts its torn edges,
+    its material: ``density`` (kg/m^2), ``stretch`` (N/m), ``bend`` (N m), ``thickness`` (m), ``tear`` (strain;
+    inf: never), ``self_collision``; ``torn`` counts its torn edges,
     ``still_torn`` those of its springs that are torn but still join two triangles (a tear's tip)."""
 
     __slots__ = ("serial", "set", "network", "triangles", "hinges", "hinge_f", "density", "stretch", "bend",

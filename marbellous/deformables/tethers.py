@@ -17,7 +17,8 @@ rods report only their part (the 50 kg box: 93 N of its 495 N).  A body-pinned p
 (through the particle's place on it).  A network's springs do not count: they are meant to stretch; a cloth's
 edges do (cloth is meant not to), and they need it: one pass per sub-step cannot hand a sheet's weight up to two
 pinned corners through 50 rows of stiff springs (a 50 x 50 sheet of 0.5 kg hung by two corners, 16 sub-steps,
-no bending: its most stretched edge at 2.2 times its length untethered, 1.35 times tethered).  The tethers follow from the
+no bending: its most stretched edge at 2.2 times its length untethered, 1.35 times tethered).  The tethers follow
+from the
 networks and pins, and are found again (by Dijkstra's shortest paths over the rods and cables,
 ``scipy.sparse.csgraph``) whenever these change.
 """
@@ -43,7 +44,8 @@ def find_tethers(pf, pi, n, ef, ei, ne):
     pinned = (pi[:n, P_FLAGS] & PP_PINNED) != 0
     anchors = np.flatnonzero(pinned & (pi[:n, P_PIN_BODY] < 0))
     cloth = (pi[ei[:ne, E_A], P_CLOTH] >= 0) & (pi[ei[:ne, E_B], P_CLOTH] >= 0)
-    keep = np.flatnonzero((np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) | cloth) & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
+    inextensible = np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) | cloth
+    keep = np.flatnonzero(inextensible & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
     if anchors.size == 0 or keep.size == 0:
         return none
     a, b, length = ei[keep, E_A], ei[keep, E_B], np.maximum(ef[keep, E_REST], 1e-12)

@@ -15,7 +15,8 @@ apart along the unit normal ``n`` (Mueller et al. 2007):
 
 The side recorded at the step's start is what keeps a point that a sub-step carried through the triangle on
 its first side: the constraint pulls it back rather than pushing it on.  (A point farther behind is left
-alone: pulling points from far behind a triangle they were never over blows a draped cloth up.)  Not handled: an edge of one triangle
+alone: pulling points from far behind a triangle they were never over blows a draped cloth up.)  Not handled: an
+edge of one triangle
 passing through another edge with both ends clear of the other's triangles (edge against edge), which the
 points' thickness makes rare on a mesh finer than the fold.
 """
@@ -68,7 +69,8 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, sl
     """List the candidate ``(point, triangle, side)`` rows into ``out`` (module docstring); returns how many
     there are (rows past ``out``'s end are not written).  ``margin`` (m): how far any point and triangle may
     close in the step (the hash's cells); each pair is kept within its own closing, twice its relative speed
-    times ``dt`` plus ``slack`` (m).  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles ints)."""
+    times ``dt`` plus ``slack`` (m).  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles
+    ints)."""
     if n_tri == 0:
         return 0
     table = cell_start.shape[0] - 1
