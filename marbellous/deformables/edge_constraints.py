@@ -30,7 +30,7 @@ from .._numba.jit import njit
 from .body_motion import body_pose, inverse_mass_along, push_body
 from .particle_layout import (E_A, E_B, E_BREAKING, E_COMPLIANCE, E_DAMPING, E_FLAGS, E_FORCE, E_KIND, E_LAMBDA,
                               E_REST, E_TEAR,
-                              EB_BROKEN, EK_CABLE, EK_SPRING, P_FLAGS, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
+                              EB_BROKEN, EK_CABLE, EK_SPRING, P_CLOTH, P_FLAGS, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
                               PP_PINNED)
 
 
@@ -60,11 +60,14 @@ def move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
 @njit
 def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share, first):
     """One pass over the edges ``0 .. ne - 1`` (module docstring), in the sub-step that ends ``back`` s
-    before the step's end (``first``: its first pass, the multipliers start from 0); each edge's force gets
-    ``share`` (1 / sub-steps) of this sub-step's tension."""
+    before the step's end; ``first``: the sub-step's first pass, the multipliers start from 0 (else a second
+    pass over the cloths' edges only, going on from them).  Each edge's force gets ``share`` (1 / sub-steps) of
+    this sub-step's tension."""
     for e in range(ne):
         if first:
             ef[e, E_LAMBDA] = 0.0
+        elif pi[ei[e, E_A], P_CLOTH] < 0:
+            continue
         if (ei[e, E_FLAGS] & EB_BROKEN) != 0:
             continue
         a, b = ei[e, E_A], ei[e, E_B]

@@ -9,10 +9,10 @@ may meet in the step.  Each sub-step, in order:
     integrate       v0 = v;  v += h (g + F / m);  internal motion damped;  x_prev = x;  x += h v;
                     particles pinned to the world put back on their pins
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
-    edges           the networks' springs, rods and cables (edge_constraints.py), two passes; an edge that
-                    ends on a body-pinned particle pulls the body (two ways).  (One pass is not enough for
-                    a fine sheet: a 50 x 50 cloth of springs dropped on a sphere at 16 sub-steps blew up on
-                    impact, and so does a plain XPBD sheet, wip/ref_drop_passes.py; with two it settles.)
+    edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
+                    body-pinned particle pulls the body (two ways); the cloths' edges get a second pass
+                    (with one, a 50 x 50 cloth dropped on a sphere at 16 sub-steps blew up on impact, and
+                    so does a plain XPBD sheet, wip/ref_drop_passes.py; with two it settles)
     bends           the cloths' hinges (bend_constraints.py)
     tethers         no particle farther from its world pin than its rods and cables allow (tethers.py)
     pins            again, where the edges have moved the bodies
