@@ -28,18 +28,19 @@ _HOME = {
     "BallJoint": ".constraints", "Hinge": ".constraints", "Slider": ".constraints", "FixedJoint": ".constraints",
     "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
-    "Particles": ".particles", "Network": ".particles",
+    "Particles": ".particles", "Network": ".particles", "Cloth": ".cloth", "cloth_grid": ".cloth",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
            "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
            "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
-           "record", "render_image", "Particles", "Network", "__version__"]
+           "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
     from .app.viewer import show
     from .body import Body
+    from .cloth import Cloth, cloth_grid
     from .constraints import BallJoint, Cable, FixedJoint, Hinge, Joint, Rod, Slider, Spring
     from .particles import Network, Particles
     from .pipeline.profile import StepProfile

@@ -13,8 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._validate import (MAX_COORD, MAX_DAMPING, MAX_MASS, MAX_SIZE, MAX_STIFFNESS, MIN_MASS, as_flag, as_float,
-                        as_int, as_quat,
-                        as_size, as_vec3)
+                        as_int, as_quat, as_size, as_vec3)
 from .deformables import particle_layout as P
 from .deformables.cloth_state import ClothRecord, edge_table, vertex_rows
 from .deformables.cloth_topology import triangle_areas
