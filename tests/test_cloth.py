@@ -1,4 +1,5 @@
-"""Cloth: a sheet dropped over a sphere, hung by two corners, torn, folded onto itself."""
+"""Cloth: a sheet dropped over a sphere, hung by two corners, torn, folded onto itself; a box bouncing on a
+trampoline of cloth and a heavy ball pulling a sheet down (two ways with the bodies); snapshots."""
 import math
 
 import numpy as np
@@ -91,6 +92,99 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through():
     over = upper[np.all((x[upper][:, [0, 2]] > lo[[0, 2]]) & (x[upper][:, [0, 2]] < hi[[0, 2]]), axis=1)]
     assert over.size > upper.size // 2
     assert np.min(x[over, 1]) > c.thickness
+
+
+# --- two ways with the bodies ---------------------------------------------------------------------------------
+def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
+    n = 21
+    v, t = cloth_grid(1.0, 1.0, n, n)
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0), damping=1.0)
+    c.pin([0, n - 1, n * (n - 1), n * n - 1])
+    half = 0.05
+    box = w.add_body(mb.Box((0.15, half, 0.15)), position=(0.0, 1.5, 0.0), mass=1.0)
+    vy, y = [], []
+    for _ in range(720):
+        w.step(DT)
+        vy.append(box.velocity[1])
+        y.append(box.position[1])
+    vy, y = np.array(vy), np.array(y)
+    # it lands at sqrt(2 g 0.45 m) = 3 m/s and the sheet throws it back up
+    landed = np.argmax(vy < -2.5)
+    assert np.max(vy[landed:]) > 1.0
+    # the bounce of box and sheet together decays (to about a millimetre in 10 s: the damping acts on the motion
+    # within the sheet, not on the sheet's motion as a whole); after 12 s the box lies still on the sagging sheet
+    # (the last second: under 1 mm of motion), its underside on the sheet's middle within the sheet's thickness
+    assert np.ptp(y[-60:]) < 1e-3
+    middle = c.positions[(n // 2) * n + n // 2]
+    assert middle[1] < 1.0 - 0.05
+    assert 0.0 <= y[-1] - half - middle[1] <= c.thickness
+    assert np.all(np.isfinite(c.positions)) and y[-1] > 0.5
+
+
+def _sag_of_the_sheet_at_rest(v, t, stretch_stiffness, sheet_mass, border, middle, load):
+    """Static equilibrium of a sheet's stretch springs (k_e = 4/5 Y A_e / L_e^2, ``World.add_cloth``) with
+    ``border`` fixed and the weight of ``load`` kg hung from vertex ``middle``: the minimum of the springs'
+    energy plus the potential energy of the vertices' weights and the load (L-BFGS, a reference independent of
+    the engine's solver).  Returns how far ``middle`` sinks (m)."""
+    from scipy.optimize import minimize
+    e = _edges(t)
+    area = 0.5 * np.linalg.norm(np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]), axis=1)
+    sides = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    held = np.zeros(len(e))
+    np.add.at(held, np.searchsorted(e[:, 0] * len(v) + e[:, 1], sides[:, 0] * len(v) + sides[:, 1]), np.tile(area, 3))
+    rest = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
+    k = 0.8 * stretch_stiffness * held / rest ** 2
+    weight = 9.81 * sheet_mass * np.bincount(t.ravel(), np.repeat(area, 3), len(v)) / (3.0 * area.sum())
+    weight[middle] += 9.81 * load
+    free = np.setdiff1d(np.arange(len(v)), border)
+
+    def energy(x_free):
+        x = v.copy()
+        x[free] = x_free.reshape(-1, 3)
+        d = x[e[:, 0]] - x[e[:, 1]]
+        length = np.linalg.norm(d, axis=1)
+        pull = (k * (length - rest) / length)[:, None] * d
+        gradient = np.zeros_like(x)
+        np.add.at(gradient, e[:, 0], pull)
+        np.add.at(gradient, e[:, 1], -pull)
+        gradient[:, 1] += weight
+        return 0.5 * np.sum(k * (length - rest) ** 2) + np.sum(weight * x[:, 1]), gradient[free].ravel()
+
+    start = v[free] - (0.0, 1e-3, 0.0)
+    fit = minimize(energy, start.ravel(), jac=True, method="L-BFGS-B", options={"maxiter": 50000, "gtol": 1e-11,
+                                                                                "ftol": 1e-16})
+    return -fit.x.reshape(-1, 3)[np.searchsorted(free, middle), 1]
+
+
+def test_a_heavy_ball_pulls_a_pinned_sheet_down_as_its_stiffness_implies():
+    # a 1 m sheet of 0.2 kg, Y = 1e4 N/m, pinned all round, a 2 kg ball hung from its middle: 84 mm of sag at
+    # rest.  Position-based stretch converges to its stiffness as the sub-step h shrinks (a pass per sub-step
+    # leaves an error of order k h^2 / m, here k h^2 / m ~ 1 at 16 sub-steps): the sag's error must fall about
+    # fourfold per halving of h and be within 1 % at 128 sub-steps.
+    n, stiffness, load = 11, 1.0e4, 2.0
+    v, t = cloth_grid(1.0, 1.0, n, n)
+    index = np.arange(n * n).reshape(n, n)
+    border = np.unique(np.concatenate([index[0], index[-1], index[:, 0], index[:, -1]]))
+    middle = index[n // 2, n // 2]
+    expected = _sag_of_the_sheet_at_rest(v, t, stiffness, 0.2, border, middle, load)
+    errors = []
+    for substeps in (32, 64, 128):
+        w = mb.World()
+        w.particle_substeps = substeps
+        c = w.add_cloth(v, t, mass=0.2, stretch_stiffness=stiffness, bend_stiffness=0.0, damping=2.0,
+                        self_collision=False)
+        c.pin(border)
+        ball = w.add_body(mb.Sphere(0.1), position=(0.0, -0.1, 0.0), mass=load, linear_damping=2.0,
+                          angular_damping=2.0)
+        c.pin([middle], body=ball)
+        for _ in range(480):
+            w.step(DT)
+        errors.append(abs(-c.positions[middle, 1] - expected) / expected)
+    assert 0.07 < expected < 0.10
+    assert errors[0] > 3.0 * errors[1] > 9.0 * errors[2]
+    assert errors[2] < 0.01
 
 
 def test_a_restore_puts_a_torn_cloth_back_whole_and_repeats_the_tear_bit_for_bit():
