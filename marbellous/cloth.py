@@ -73,7 +73,8 @@ def new_cloth(vertices, triangles, mass, stretch_stiffness, bend_stiffness, damp
     tri = _as_triangles(triangles, rest.shape[0])
     areas = triangle_areas(rest, tri)
     if np.any(areas <= 1e-12 * max(float(np.max(areas)), 1e-300)) or not np.all(np.isfinite(areas)):
-        raise ValueError(f"triangles must not be degenerate: triangle {int(np.argmin(areas))} has no area")
+        raise ValueError(f"vertices and triangles must make triangles with an area: triangle "
+                         f"{int(np.argmin(areas))} has none")
     mass = as_float("mass", mass, lo=MIN_MASS, hi=MAX_MASS, unit="kg")
     tear = np.inf if tear_strain is None else as_float("tear_strain", tear_strain, positive=True, hi=MAX_SIZE)
     record = ClothRecord(0, tri, mass / float(np.sum(areas)),

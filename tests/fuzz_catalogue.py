@@ -116,6 +116,7 @@ KINDS = {
     "ratio": scalar_kind(nonneg=True, hi=1e6),
     "iterations": scalar_kind(lo=1, hi=10000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -1)],
     "substeps": scalar_kind(lo=1, hi=1000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -1)],
+    "grid_count": scalar_kind(lo=2, hi=4096, int_only=True) + [("zero", 0), ("negative", -1), ("tiny", 1)],
     "threads": scalar_kind(lo=1, hi=64, int_only=True) + [("zero", 0)],
     "max_steps": scalar_kind(lo=1, hi=1_000_000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -5)],
     "max_halvings": scalar_kind(lo=0, hi=30, int_only=True) + [("negative", -1), ("huge", 31)],
@@ -214,7 +215,8 @@ KINDS = {
 def make_world():
     """A small world after one step: a plane, a ball, a box, a static box, a spring between the ball and
     the box, an arm on a hinge and a cart on a slider (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``,
-    ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``, ``ns.platform``, a kinematic box)."""
+    ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``, ``ns.platform``, a kinematic box), three beads on
+    a spring network (``ns.beads``, ``ns.network``) and a cloth of one triangle (``ns.sheet``)."""
     w = mb.World()
     ground = w.add_static(mb.Plane())
     post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
@@ -228,9 +230,10 @@ def make_world():
     platform = w.add_kinematic(mb.Box((0.5, 0.1, 0.5)), position=(0, 2, 3), velocity=(0.1, 0, 0))
     beads = w.add_particles([(2, 1, 2), (2.2, 1, 2), (2.4, 1, 2)], radius=0.05, collide_particles=True)
     network = w.add_network(beads, [(0, 1), (1, 2)], kind="spring", stiffness=100.0)
+    sheet = w.add_cloth([(3, 1, 3), (3.3, 1, 3), (3, 1, 3.3)], [(0, 1, 2)], mass=0.01)
     w.step(1 / 60)
     return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
-                           slider=slider, platform=platform, beads=beads, network=network)
+                           slider=slider, platform=platform, beads=beads, network=network, sheet=sheet)
 
 
 def _setter(obj_name, attr):
@@ -410,6 +413,37 @@ _add("Particles.pin", "body", "body", lambda ns, v: ns.beads.pin([0], body=v))
 _add("Particles.unpin", "indices", "indices", lambda ns, v: ns.beads.unpin(v))
 _add("Particles.apply_force", "force", "force3", lambda ns, v: ns.beads.apply_force(v))
 _add("Particles.apply_force", "indices", "indices", lambda ns, v: ns.beads.apply_force((1, 0, 0), v))
+
+
+
+def _cloth(arg):
+    """A call of ``ns.w.add_cloth`` (a square of two triangles; one triangle when ``arg`` is the vertices)
+    with ``arg`` replaced."""
+    def call(ns, v):
+        kw = dict(vertices=[(0, 3, 0), (1, 3, 0), (0, 3, 1), (1, 3, 1)], triangles=[(0, 1, 2), (1, 3, 2)], mass=0.1)
+        if arg == "vertices":
+            kw["triangles"] = [(0, 1, 2)]
+        kw[arg] = v
+        return ns.w.add_cloth(kw.pop("vertices"), kw.pop("triangles"), **kw)
+    return call
+
+
+for _arg, _kind in (("vertices", "vertices"), ("triangles", "triangles"), ("mass", "mass"),
+                    ("stretch_stiffness", "stiffness"), ("bend_stiffness", "stiffness"), ("damping", "damping"),
+                    ("thickness", "size"), ("friction", "friction"), ("self_collision", "flag"),
+                    ("tear_strain", "breaking"), ("position", "vec3"), ("orientation", "quat")):
+    _add("World.add_cloth", _arg, _kind, _cloth(_arg))
+_add("Cloth setter", "positions", "particle_rows", _setter("sheet", "positions"))
+_add("Cloth setter", "velocities", "particle_rows", _setter("sheet", "velocities"))
+_add("Cloth.pin", "indices", "indices", lambda ns, v: ns.sheet.pin(v))
+_add("Cloth.pin", "body", "body", lambda ns, v: ns.sheet.pin([0], body=v))
+_add("Cloth.unpin", "indices", "indices", lambda ns, v: ns.sheet.unpin(v))
+_add("Cloth.apply_force", "force", "force3", lambda ns, v: ns.sheet.apply_force(v))
+_add("Cloth.apply_force", "indices", "indices", lambda ns, v: ns.sheet.apply_force((1, 0, 0), v))
+_add("cloth_grid()", "width", "size", lambda ns, v: mb.cloth_grid(v, 1.0, 3, 3), world=False)
+_add("cloth_grid()", "depth", "size", lambda ns, v: mb.cloth_grid(1.0, v, 3, 3), world=False)
+_add("cloth_grid()", "nx", "grid_count", lambda ns, v: mb.cloth_grid(1.0, 1.0, v, 3), world=False)
+_add("cloth_grid()", "nz", "grid_count", lambda ns, v: mb.cloth_grid(1.0, 1.0, 3, v), world=False)
 
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)
