@@ -50,6 +50,8 @@ DEFAULT_SUBSTEPS = 4
 DEFAULT_ITERATIONS = 4
 #: sub-steps of the particles' step per world step (World.particle_substeps)
 DEFAULT_PARTICLE_SUBSTEPS = 16
+#: the body table's columns the particles' step takes from before the bodies' step: position, velocity, force
+_BODY_START = [L.POS, L.POS + 1, L.POS + 2, L.VEL, L.VEL + 1, L.VEL + 2, L.FORCE, L.FORCE + 1, L.FORCE + 2]
 #: ``World.advance`` with ``max_steps=None`` takes at most this much simulated time (s) per call.
 MAX_ADVANCE_TIME = 0.25
 #: Most steps one ``World.advance`` call may be asked to take.
@@ -876,6 +878,9 @@ class World:
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
+        particles = bool(self._living_particles or self._living_cloths)
+        if particles:
+            body_start = self._state.bf[:self._state.bodies.end, _BODY_START]
         status = -1 if self._retroactive else self._state.step()
         self._stepped = True
         if self._gone:
@@ -884,8 +889,8 @@ class World:
             self._step_in_intervals(dt, status)
         elif self._last is not None:
             self._last = None
-        if self._living_particles or self._living_cloths:
-            self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps)
+        if particles:
+            self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps, body_start)
 
     def _step_in_intervals(self, dt, status):
         """The step of ``dt`` seconds in several intervals (``pipeline/time_stepping.py``): after a first

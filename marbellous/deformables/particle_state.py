@@ -223,8 +223,9 @@ class ParticleState:
         return out
 
     # --- the step ---------------------------------------------------------------------------------------------
-    def step(self, st, dt, gravity, substeps):
-        """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``)."""
+    def step(self, st, dt, gravity, substeps, body_start):
+        """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``;
+        ``body_start`` (nb, 9) the bodies' positions, m, velocities, m/s, and user forces, N, before theirs)."""
         if self.n == 0:
             return
         q = self.params
@@ -263,7 +264,7 @@ class ParticleState:
                                            st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx, self.shape_pairs,
                                            n_shape, self.particle_pairs, n_pair, self.triangle_pairs, n_triangle,
                                            self.kf, self.ki, self.scratch_f, self.scratch_i, self.sphere,
-                                           self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s)
+                                           self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start)
         if self.broken:
             self.tethers = None
             for record in list(self.cloths):

@@ -5,7 +5,8 @@ Each step of ``dt`` is taken in ``substeps`` sub-steps of ``h = dt / substeps``,
 passes).  Before them, once per step (``find_candidates``): the shapes and the particle pairs each particle
 may meet in the step.  Each sub-step, in order:
 
-    drift           pushed bodies go on with the velocity the particles gave them (body_motion.py)
+    drift           pushed bodies go on with the velocity the particles gave them, bodies in free fall
+                    fall as particles do (body_motion.py)
     integrate       v0 = v;  v += h (g + F / m);  internal motion damped;  x_prev = x;  x += h v;
                     particles pinned to the world put back on their pins
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
@@ -32,7 +33,7 @@ Damping: each particle's velocity relative to its set's mean velocity (mass-weig
 import math
 
 from .._numba.jit import njit
-from .body_motion import body_pose, clear_motion, drift, to_world, write_back
+from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
@@ -146,19 +147,20 @@ def _velocities(pf, n_particles, h):
 def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
                    tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
                    particle_pairs, n_pair, triangle_pairs, n_triangle, kf, ki, scratch_f, scratch_i, sphere, pos_a,
-                   rot_a, pos_s, rot_s, q_s):
-    """The particles' step (module docstring) over the candidates of :func:`find_candidates`; returns
+                   rot_a, pos_s, rot_s, q_s, body_start):
+    """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
+    (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step); returns
     ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
     dt = params[Q_DT]
     substeps = int(params[Q_SUBSTEPS])
     h = dt / substeps
     g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
-    clear_motion(bx, nb)
+    start_motion(bf, bi, bx, nb, body_start, dt, (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]))
     clear_edge_forces(ef, ei, ne)
     most = 0
     for step in range(substeps):
         back = dt - (step + 1) * h
-        drift(bx, nb, h)
+        drift(bf, bx, nb, h)
         _integrate(params, pf, pi, n_particles, sets, n_sets, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, True)
