@@ -101,6 +101,39 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through():
     assert np.min(x[over, 1]) > c.thickness
 
 
+def _patch_on_a_cloth_slope(degrees, mu, steps):
+    """How far (m, down the slope) a 0.3 m patch of cloth lying on a 1 m sheet tilted by ``degrees`` (held
+    in place by pins at every vertex), both of friction ``mu``, slides in ``steps`` steps."""
+    a = math.radians(degrees)
+    q = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+    down = np.array([-math.cos(a), -math.sin(a), 0.0])
+    normal = np.array([-math.sin(a), math.cos(a), 0.0])
+    w = mb.World()
+    v, t = cloth_grid(1.0, 1.0, 21, 21)
+    base = w.add_cloth(v, t, mass=0.5, friction=mu, orientation=q)
+    base.pin(np.arange(len(v)))
+    v, t = cloth_grid(0.3, 0.3, 7, 7)
+    patch = w.add_cloth(v, t, mass=0.05, friction=mu, orientation=q, position=tuple(0.0101 * normal))
+    start = patch.positions.mean(axis=0)
+    for _ in range(steps):
+        w.step(DT)
+    return (patch.positions.mean(axis=0) - start) @ down
+
+
+@pytest.mark.parametrize("degrees, mu", [(40.0, 0.5), (30.0, 0.2), (15.0, 0.0)])
+def test_cloth_slides_on_cloth_with_coulombs_law(degrees, mu):
+    # down the slope at a = g (sin - mu cos): in 0.4 s, a t^2 / 2 (the sub-steps' semi-implicit Euler adds
+    # a fraction 1 / (24 x 16) of it)
+    a = math.radians(degrees)
+    expected = 0.5 * 9.81 * (math.sin(a) - mu * math.cos(a)) * 0.4 ** 2
+    assert _patch_on_a_cloth_slope(degrees, mu, 24) == pytest.approx(expected, rel=0.005)
+
+
+def test_cloth_holds_on_cloth_below_the_friction_angle():
+    # tan 15 degrees = 0.27 < 0.5: it stays put for 2 s
+    assert abs(_patch_on_a_cloth_slope(15.0, 0.5, 120)) < 1e-3
+
+
 # --- two ways with the bodies ---------------------------------------------------------------------------------
 def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
     n = 21

@@ -8,17 +8,16 @@ a triangle's own corners and the points an edge joins to them (neighbours lie in
 design), and records the side ``s = +-1`` of the triangle each point is on then.  In each sub-step, a pair
 whose point lies over the triangle (its foot inside it, barycentric weights ``b_i >= 0``) closer than
 ``r + t / 2`` on side ``s``, or behind it by less than that (it passed through in this sub-step), is pushed
-apart along the unit normal ``n`` (Mueller et al. 2007):
+apart along the unit normal ``n`` (Mueller et al. 2007), with Coulomb friction across it (``_friction``):
 
     C = s n . (x_p - sum_i b_i x_i) - (r + t / 2) >= 0
     grad_p = s n,   grad_i = -b_i s n,   dlambda = -C / (w_p + sum_i b_i^2 w_i)
 
 The side recorded at the step's start is what keeps a point that a sub-step carried through the triangle on
 its first side: the constraint pulls it back rather than pushing it on.  (A point farther behind is left
-alone: pulling points from far behind a triangle they were never over blows a draped cloth up.)  Not handled: an
-edge of one triangle
-passing through another edge with both ends clear of the other's triangles (edge against edge), which the
-points' thickness makes rare on a mesh finer than the fold.
+alone: pulling points from far behind a triangle they were never over blows a draped cloth up.)  Not handled:
+an edge of one triangle passing through another edge with both ends clear of the other's triangles (edge
+against edge), which the points' thickness makes rare on a mesh finer than the fold.
 """
 import math
 
@@ -26,8 +25,8 @@ import numpy as np
 
 from .._numba.jit import njit
 from .particle_contacts import append_pair
-from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_INV_MASS, P_POS, P_RADIUS, P_VEL,
-                              PP_COLLIDE, T_A, T_CLOTH)
+from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
+                              P_RADIUS, P_STATIC_FRICTION, P_VEL, PP_COLLIDE, T_A, T_CLOTH)
 from .particle_pairs import cell_key, joined
 
 
@@ -187,3 +186,33 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs):
             pf[a, P_POS + j] -= wa * b0 * dlambda * n[j]
             pf[b, P_POS + j] -= wb * b1 * dlambda * n[j]
             pf[c, P_POS + j] -= wc * b2 * dlambda * n[j]
+        _friction(pf, p, a, b, c, b0, b1, b2, n, gap - d, denominator)
+
+
+@njit
+def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, denominator):
+    """Coulomb friction between point ``p`` and the triangle ``a b c`` (barycentric weights ``b0 b1 b2``) whose
+    overlap ``depth`` (m) along ``n`` was just removed, on positions (Macklin et al. 2014): their relative
+    motion across ``n`` in this sub-step, ``dx_t``, is undone if it is shorter than ``mu_s depth`` (static),
+    else shortened by ``mu_d depth`` (sliding), split by the inverse masses as the overlap was.  The
+    coefficients: the geometric means of the point's and the triangle's."""
+    dx = [0.0, 0.0, 0.0]
+    for j in range(3):
+        dx[j] = (pf[p, P_POS + j] - pf[p, P_PREV + j]) - (b0 * (pf[a, P_POS + j] - pf[a, P_PREV + j])
+                                                           + b1 * (pf[b, P_POS + j] - pf[b, P_PREV + j])
+                                                           + b2 * (pf[c, P_POS + j] - pf[c, P_PREV + j]))
+    along = dx[0] * n[0] + dx[1] * n[1] + dx[2] * n[2]
+    t = (dx[0] - along * n[0], dx[1] - along * n[1], dx[2] - along * n[2])
+    slip = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    if slip <= 0.0:
+        return
+    mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * pf[a, P_STATIC_FRICTION])
+    mu_d = math.sqrt(pf[p, P_FRICTION] * pf[a, P_FRICTION])
+    undo = slip if slip < mu_s * depth else min(slip, mu_d * depth)
+    dlambda = undo / (slip * denominator)
+    wa, wb, wc, wp = pf[a, P_INV_MASS], pf[b, P_INV_MASS], pf[c, P_INV_MASS], pf[p, P_INV_MASS]
+    for j in range(3):
+        pf[p, P_POS + j] -= wp * dlambda * t[j]
+        pf[a, P_POS + j] += wa * b0 * dlambda * t[j]
+        pf[b, P_POS + j] += wb * b1 * dlambda * t[j]
+        pf[c, P_POS + j] += wc * b2 * dlambda * t[j]
