@@ -172,14 +172,14 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
         # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
         # spread them apart by 5 cm in 10 s)
         nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
-        triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle)
+        triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
         nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         if n_triangle > 0:
             # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
             # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
             # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
-            triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle)
+            triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
             shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         most = max(most, nk)
