@@ -8,9 +8,9 @@ triangle's own corners, the points an edge joins to them (neighbours lie in the 
 within a cloth, the vertices within twice its thickness of the triangle's corners in the cloth's rest shape (to
 reach the triangle from behind they would have to fold sharper than the thickness), and records the
 side ``s = +-1`` of the triangle each point is on then. In each sub-step, a pair whose point lies over the
-triangle (its foot inside it, barycentric weights ``b_i >= 0``) closer than ``r + t / 2`` on side ``s``, or behind it by less
-than that (it passed through in this sub-step), is pushed apart along the unit normal ``n`` (Mueller et al.
-2007), with Coulomb friction across it (``_friction``):
+triangle (its foot inside it, barycentric weights ``b_i >= 0``) closer than ``r + t / 2`` on side ``s``, or
+behind it by less than that (it passed through in this sub-step), is pushed apart along the unit normal ``n``
+(Mueller et al. 2007), with Coulomb friction across it (``_friction``):
 
     C = s n . (x_p - sum_i b_i x_i) - (r + t / 2) >= 0
     grad_p = s n,   grad_i = -b_i s n,   dlambda = -C / (w_p + sum_i b_i^2 w_i)
