@@ -8,6 +8,14 @@ uniforms so any scale of world reads well.  A face seen from behind is lit with 
 eye, and a thin sheet (pattern 3, cloth) lets part of the sun that falls on one face through to the other.
 """
 
+#: The fraction of the sunlight on one face of a thin sheet (cloth) that shows on the other (GLSL
+#: ``SHEET_THROUGH``; the game's renderer lights its cloth flag alike).
+SHEET_THROUGH = 0.45
+#: The GLSL declaration of :data:`SHEET_THROUGH`.
+SHEET_THROUGH_GLSL = f"""
+const float SHEET_THROUGH = {SHEET_THROUGH!r};
+"""
+
 SOLID_VS = """
 #version 330
 uniform mat4 u_view_proj;
@@ -83,8 +91,7 @@ SOLID_FS = """
 #version 330
 """ + _SUN + _SHADOW + _SHADE + """
 uniform float u_grid;           // grid cell (m)
-// the fraction of the sunlight on one face of a thin sheet (cloth) that shows on the other
-const float SHEET_THROUGH = 0.45;
+""" + SHEET_THROUGH_GLSL + """
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
