@@ -1,6 +1,8 @@
 """Cloth: a sheet dropped over a sphere, hung by two corners, torn, folded onto itself; a box bouncing on a
 trampoline of cloth and a heavy ball pulling a sheet down (two ways with the bodies); snapshots."""
 import math
+import runpy
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -259,3 +261,18 @@ def test_a_snapshot_taken_before_a_cloth_was_added_removes_it_on_restore():
     assert w.cloths == []
     with pytest.raises(ValueError):
         c.positions
+
+
+def test_the_cloth_example_catches_the_ball_and_drapes_the_tablecloth():
+    """examples/cloth.py after 4 s: the ball is in the bag (on the sheet, between its corners), no edge of the
+    bag stretched a sixth; the tablecloth lies on the sphere (its top half a thickness over the sphere's, no
+    vertex inside it) and above the floor."""
+    example = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "cloth.py"))
+    r = example["run"]()
+    radius, thickness = example["BALL_RADIUS"], 0.01
+    assert radius - thickness < r["ball_in_bag"] < radius + 0.1
+    assert r["ball_off_axis"] < 0.5 * example["BAG_SQUEEZE"] * example["BAG_SIDE"]
+    assert r["ball_height"] < example["BAG_HEIGHT"] and r["bag_strain"] < 1 / 6
+    assert r["cloth_in_sphere"] < 1e-3
+    assert r["cloth_top"] == pytest.approx(2 * example["TABLE_RADIUS"] + thickness / 2, abs=3e-3)
+    assert r["cloth_lowest"] > 0.0

@@ -1,12 +1,14 @@
-"""The stats line of the viewer and recorder: bodies, particles, contacts, time per step, simulated time."""
+"""The stats line of the viewer and recorder: bodies, particles, cloths, contacts, time per step, simulated
+time."""
 from ..particles import Network
 
 
 def stats_line(world, *, contacts, step_seconds=None, paused=False):
     """One line about ``world``: its bodies (how many static and asleep), its particles (how many pinned,
-    and the edges of its networks, how many broken; left out when it has none), ``contacts`` (the number
-    of contact points of the last step), ``step_seconds`` (wall-clock seconds per step; None leaves it
-    out), the simulated time and whether the simulation is ``paused``."""
+    and the edges of its networks, how many broken; left out when it has none), its cloths (their vertices,
+    triangles and torn edges; left out when it has none), ``contacts`` (the number of contact points of the
+    last step), ``step_seconds`` (wall-clock seconds per step; None leaves it out), the simulated time and
+    whether the simulation is ``paused``."""
     bodies = world.bodies
     static = sum(b.is_static for b in bodies)
     kinematic = sum(b.is_kinematic for b in bodies)
@@ -24,6 +26,12 @@ def stats_line(world, *, contacts, step_seconds=None, paused=False):
             broken = sum(int(n.broken.sum()) for n in networks)
             line += f", {edges} edges, {broken} broken"
         parts.append(line + ")")
+    cloths = world.cloths
+    if cloths:
+        vertices = sum(len(c) for c in cloths)
+        triangles = sum(len(c.triangles) for c in cloths)
+        torn = sum(c.torn for c in cloths)
+        parts.append(f"cloths {len(cloths)} ({vertices} vertices, {triangles} triangles, {torn} torn)")
     parts.append(f"contacts {contacts}")
     if step_seconds is not None:
         parts.append(f"step {step_seconds * 1e3:.2f} ms")

@@ -52,9 +52,9 @@ def check_flag(name, value):
 
 
 def layers_for(contacts, boxes):
-    """The drawable layers to draw: bodies, particles and constraints (with particle networks), with
+    """The drawable layers to draw: bodies, particles, cloth and constraints (with particle networks), with
     ``contacts`` and ``boxes`` if asked."""
-    names = ["bodies", "particles", "constraints"]
+    names = ["bodies", "particles", "cloth", "constraints"]
     if check_flag("contacts", contacts):
         names.append("contacts")
     if check_flag("boxes", boxes):

@@ -32,7 +32,7 @@ def play(level=None, size=(1280, 720), debug=False, print_state=False):
     window = pyglet.window.Window(size[0], size[1], caption=f"Marbellous - {lvl.name}", resizable=True,
                                   config=config)
     ctx = moderngl.create_context()
-    renderer = Renderer(ctx, lvl, game.spec.radius, size)
+    renderer = Renderer(ctx, lvl, game.spec.radius, size, flag=game.flag)
     keys = key.KeyStateHandler()
     window.push_handlers(keys)
     state = {"jump": False, "debug": debug, "view": game.update_camera(0.0), "report": 0.0}

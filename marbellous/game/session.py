@@ -1,9 +1,10 @@
 """One play-through of a level: the world, the marble, the controls, the camera, the goal and timer.
 
 The game steps the physics with a fixed step ``dt`` (default 1/120 s).  Each step applies the control
-force (and a jump impulse) to the marble, advances the world, respawns the marble at the start when it
-falls below the level's ``fall_height``, and tests the goal box.  A window's frame loop calls
-:meth:`Game.advance` with the frame time; an autopilot or a learning agent calls :meth:`Game.step`.
+force (and a jump impulse) to the marble and the wind to the goal's flag (``flag.py``), advances the world,
+respawns the marble at the start when it falls below the level's ``fall_height``, and tests the goal box.
+A window's frame loop calls :meth:`Game.advance` with the frame time; an autopilot or a learning agent
+calls :meth:`Game.step`.
 """
 import time
 
@@ -13,6 +14,7 @@ from ..world import World
 from .camera import FollowCamera
 from .controls import control_force
 from .course import CoursePath
+from .flag import GoalFlag
 from .goal import BestTimes, GoalArea, format_time
 from .marble import MarbleSpec
 
@@ -34,7 +36,8 @@ class Game:
     """The game state for one ``level`` (a loaded ``Level``).
 
     ``marble`` is a :class:`MarbleSpec`; ``dt`` the physics step (s); ``best_times`` a
-    :class:`BestTimes` store (None: the user's default one).
+    :class:`BestTimes` store (None: the user's default one); ``flag`` puts a cloth flag by the goal
+    (:attr:`flag`, a :class:`GoalFlag`; None without).
     """
 
     #: Up to this many physics steps are taken per rendered frame; slower frames slow the game down.
@@ -44,7 +47,7 @@ class Game:
     #: Speculative contacts with a gap up to this (m) still count as touching the ground.
     GROUND_GAP = 0.03
 
-    def __init__(self, level, *, marble=None, dt=1.0 / 120.0, best_times=None):
+    def __init__(self, level, *, marble=None, dt=1.0 / 120.0, best_times=None, flag=True):
         self.level = level
         self.spec = marble if marble is not None else MarbleSpec()
         self.dt = float(dt)
@@ -52,6 +55,8 @@ class Game:
         self.world, self.statics = build_world(level)
         self.scenery, _ = build_world(level)
         self.marble = self.spec.add_to(self.world, level.start_position)
+        self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
+                              self._approach()) if flag else None)
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)
         self.course = CoursePath(level.path, level.speeds) if level.path is not None else None
         self.camera = FollowCamera(heading=level.start_heading)
@@ -97,6 +102,8 @@ class Game:
         if jump and self._jump_cooldown == 0.0 and self.on_ground():
             b.apply_impulse((0.0, b.mass * self.spec.jump_speed, 0.0))
             self._jump_cooldown = 0.25
+        if self.flag is not None:
+            self.flag.blow(self.world.time, self.dt)
         t0 = time.perf_counter()
         self.world.step(self.dt)
         if self.physics_steps:
@@ -146,6 +153,21 @@ class Game:
         """
         hit = self.scenery.raycast(origin, direction, max_distance)
         return None if hit is None else hit.distance
+
+    def _approach(self):
+        """A point (m) the marble comes to the goal from: the course's last point before it enters the goal
+        box, else the start."""
+        came_from = self.level.start_position
+        for p in self.level.path if self.level.path is not None else ():
+            if np.all(np.abs(p - self.level.goal_center) <= self.level.goal_half_extents):
+                break
+            came_from = p
+        return came_from
+
+    def ground_height(self, x, z, y_from, depth):
+        """Height (m) of the level below ``(x, y_from, z)`` (m), at most ``depth`` metres down, or None."""
+        d = self.raycast_level(np.array([x, y_from, z], np.float64), np.array([0.0, -1.0, 0.0]), depth)
+        return None if d is None else y_from - d
 
     def update_camera(self, frame_time):
         """Move the follow camera by ``frame_time`` seconds; returns its ``CameraView``."""

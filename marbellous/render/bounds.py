@@ -1,9 +1,9 @@
-"""Points that outline a world's bodies and particles, for framing the camera.
+"""Points that outline a world's bodies, particles and cloths, for framing the camera.
 
 A sphere, box or capsule is outlined by the corners of its box (exact for boxes), a triangle mesh by
 its vertices and a height field by its grid points, so a large ramp or terrain frames by its surface
-rather than by its box; infinite planes have no outline and are left out.  A particle is outlined by
-the corners of its box.
+rather than by its box; infinite planes have no outline and are left out.  A particle, and a cloth's
+vertex (a sphere of half the cloth's thickness), is outlined by the corners of its box.
 """
 import numpy as np
 
@@ -42,10 +42,15 @@ def shape_points(shape, position, rotation):
     return position + _CORNER_SIGNS * half
 
 
+def _sphere_corners(centers, radii):
+    """The corners (8 N, 3) (m) of the boxes of the spheres at ``centers`` (N, 3) (m) of ``radii`` (N,) (m)."""
+    return (centers[:, None, :] + _CORNER_SIGNS[None] * np.reshape(radii, (-1, 1, 1))).reshape(-1, 3)
+
+
 def world_points(world):
     """Points (K, 3) (m) that outline ``world``: those of every shape of its bodies
-    (:func:`shape_points`), the fixed world anchors of its constraints, and the corners of every
-    particle's box."""
+    (:func:`shape_points`), the fixed world anchors of its constraints, and the corners of the box of every
+    particle and of every cloth's vertex."""
     parts = []
     for b in world.bodies:
         rot = quat_to_matrix(b.orientation)
@@ -55,5 +60,8 @@ def world_points(world):
     parts.append(np.array([c.anchor_b for c in world.constraints
                            if isinstance(c, Constraint) and c.body_b is None]).reshape(-1, 3))
     centers, radii, _ = particle_table(world)
-    parts.append((centers[:, None, :] + _CORNER_SIGNS[None] * radii[:, None, None]).reshape(-1, 3))
+    parts.append(_sphere_corners(centers, radii))
+    for cloth in world.cloths:
+        x = cloth.positions
+        parts.append(_sphere_corners(x, np.full(len(x), 0.5 * cloth.thickness)))
     return np.concatenate(parts)

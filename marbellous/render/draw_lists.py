@@ -1,9 +1,9 @@
 """What a drawable reads (:class:`WorldFrame`) and what it hands the renderer: instanced solids, spheres,
-lines and points.
+surfaces, lines and points.
 
 Every kind of object in a world is drawn by a drawable (``drawables.py``) that turns the world into a
-list of :class:`Solids`, :class:`Spheres`, :class:`Lines` and :class:`Points`; the renderer knows only
-these four.
+list of :class:`Solids`, :class:`Spheres`, :class:`Surface`, :class:`Lines` and :class:`Points`; the renderer
+knows only these five.
 """
 from dataclasses import dataclass, field
 
@@ -12,8 +12,9 @@ import numpy as np
 from .shape_meshes import ShapeMesh
 
 #: Surface patterns of :class:`Solids` (shader codes): a plain colour, a world-space grid that shows
-#: the scale (static bodies), two-tone octants that show a round body's spin.
-PLAIN, GRID, OCTANTS = 0, 1, 2
+#: the scale (static bodies), two-tone octants that show a round body's spin; and of a :class:`Surface`, a
+#: thin sheet (cloth): plain, and lit on both faces (the sun on one face shows through on the other).
+PLAIN, GRID, OCTANTS, SHEET = 0, 1, 2, 3
 
 
 @dataclass
@@ -65,6 +66,20 @@ class Spheres:
     centers: np.ndarray
     radii: np.ndarray
     colors: np.ndarray
+
+
+@dataclass
+class Surface:
+    """A triangle mesh in world space whose vertices move every frame (a cloth), lit and shadowed like solids,
+    both faces: ``positions`` (V, 3) (m), ``normals`` (V, 3) unit per-vertex normals (interpolated across
+    each triangle), ``triangles`` (T, 3) vertex indices (counter-clockwise seen from the side the normals
+    point to), ``color`` (3,) RGB in [0, 1], ``pattern`` a pattern code (:data:`SHEET`)."""
+
+    positions: np.ndarray
+    normals: np.ndarray
+    triangles: np.ndarray
+    color: np.ndarray
+    pattern: int = SHEET
 
 
 @dataclass

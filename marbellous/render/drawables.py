@@ -3,14 +3,15 @@
 A :class:`Drawable` has a ``name`` (the layer it can be toggled by), a ``draw`` function that turns a
 :class:`~marbellous.render.draw_lists.WorldFrame` into a list of ``Solids``, ``Spheres``, ``Lines`` and
 ``Points``, and whether it is ``shown`` by default.  The renderer draws the layers asked for in registry order.
-A new kind of object (cloth, soft bodies, fluid slices) is drawn by registering one more drawable::
+A new kind of object (soft bodies, fluid slices) is drawn by registering one more drawable, as cloth is::
 
-    register(Drawable("cloth", draw_cloth, shown=True, help="cloth as a shaded surface"))
+    register(Drawable("cloth", cloth_surfaces, shown=True, help="every cloth as a shaded surface"))
 """
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from .body_solids import body_solids
+from .cloth_drawing import cloth_surfaces
 from .overlays import box_outlines, constraint_lines, contact_marks, event_marks
 from .particle_drawing import network_lines, particle_spheres
 
@@ -64,6 +65,7 @@ def constraints_and_networks(frame):
 
 register(Drawable("bodies", body_solids, shown=True, help="every body's shapes"))
 register(Drawable("particles", particle_spheres, shown=True, help="every particle as a sphere, pinned ones raspberry"))
+register(Drawable("cloth", cloth_surfaces, shown=True, help="every cloth as a shaded surface, lit on both faces"))
 register(Drawable("constraints", constraints_and_networks, shown=True,
                   help="springs, rods, cables and joints, and the edges of particle networks"))
 register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))

@@ -3,8 +3,8 @@
 Colours are linear RGB in [0, 1].  A body's colour says what it is at a glance: stone grey for static
 bodies, violet for kinematic ones, warm hues (orange, coral, amber, gold, in turn by body) for moving
 dynamic bodies, slate blue for sleeping ones and translucent green for sensors.  Particles are teal, pinned
-ones raspberry.  The debug layers use colours no body has: yellow contacts, cyan bounding boxes, magenta
-springs, white rods and brown cables (of bodies and of particle networks alike).
+ones raspberry; cloth is chartreuse.  The debug layers use colours no body has: yellow contacts, cyan
+bounding boxes, magenta springs, white rods and brown cables (of bodies and of particle networks alike).
 """
 import numpy as np
 
@@ -26,6 +26,8 @@ SENSOR_ALPHA = 0.35
 #: Particles (any set), and particles pinned to the world or to a body.
 PARTICLE = (0.10, 0.66, 0.64)
 PINNED_PARTICLE = (0.86, 0.10, 0.34)
+#: Cloth (any cloth, both faces): chartreuse, green over red well over blue (no body, particle or overlay has it).
+CLOTH = (0.56, 0.78, 0.12)
 #: Contact points and their normals.
 CONTACT = (1.0, 0.88, 0.10)
 #: Contact events of the last step: pairs that began touching (red), and that stopped (pale blue).

@@ -1,11 +1,12 @@
 """The particles of a world as spheres and its particle networks as lines.
 
 Every particle of every set is one sphere of its radius (:class:`Spheres`: a point each, ray-cast on the
-GPU, so a 16k-particle cloth is one draw call), teal, or raspberry while pinned (palette.py).  Every edge of
+GPU, so a 16k-particle net is one draw call), teal, or raspberry while pinned (palette.py).  Every edge of
 every network that has not broken is a line between its two particles, coloured by kind as the springs,
 rods and cables between bodies are; the lines are drawn in the scene (hidden behind the bodies and
-particles in front of them), not over it, so a cloth or a net shows its near side.  Both read the world's
-particle tables at once (``world_internals.py``), not set by set.
+particles in front of them), not over it, so a net shows its near side.  Both read the world's
+particle tables at once (``world_internals.py``), not set by set; a cloth's vertices and edges are left out
+(a cloth is drawn as its surface, ``cloth_drawing.py``).
 """
 import numpy as np
 

@@ -1,5 +1,5 @@
 """The moderngl renderer of Marbellous: a lit level with shadows, the patterned marble, the goal flag
-(a y-axis billboard), the HUD and a debug overlay.
+(a y-axis billboard), the game's cloth flag on its pole beside the goal, the HUD and a debug overlay.
 
 The renderer draws into any framebuffer: an offscreen one for headless video (``render_to_array``) or
 a window's screen.  One directional light (the sun) casts shadows through a shadow map rendered from
@@ -11,9 +11,12 @@ import moderngl
 import numpy as np
 
 from .billboard import billboard_y_matrix
+from .cloth_drawing import vertex_normals
 from .geometry import collider_triangles, flat, grid_cells, uv_sphere
 from .hud import HudText
+from .sun import SUN
 from .transforms import look_at, model_matrix, orthographic, perspective
+from .world_shaders import SHEET_THROUGH_GLSL
 
 _SCENE_VS = """
 #version 330
@@ -38,10 +41,11 @@ void main() {
 
 _SCENE_FS = """
 #version 330
+""" + SHEET_THROUGH_GLSL + """
 uniform vec3 u_color;
 uniform vec3 u_color2;
 uniform float u_alpha;
-uniform int u_pattern;          // 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit
+uniform int u_pattern;          // 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit, 3 a thin sheet
 uniform vec3 u_sun;             // unit vector towards the sun
 uniform vec3 u_eye;
 uniform sampler2D u_shadow;
@@ -78,11 +82,14 @@ void main() {
         base *= 1.0 - 0.18 * line;
     }
     if (u_pattern == 2) { f_color = vec4(base, u_alpha); return; }
-    float diffuse = max(dot(n, u_sun), 0.0) * shadow_factor(n);
+    float sun = shadow_factor(n);
+    float lit = max(dot(n, u_sun), 0.0) * sun;
+    // a thin sheet (the cloth flag) lets part of the sun on its other face through
+    float diffuse = lit + (u_pattern == 3 ? SHEET_THROUGH * max(-dot(n, u_sun), 0.0) * sun : 0.0);
     float sky = 0.5 + 0.5 * n.y;
     vec3 v = normalize(u_eye - v_world);
     float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), u_pattern == 1 ? 60.0 : 16.0)
-                 * (u_pattern == 1 ? 0.9 : 0.12) * diffuse;
+                 * (u_pattern == 1 ? 0.9 : 0.12) * lit;
     vec3 c = base * (0.32 * sky + 0.12 + 0.78 * diffuse) + vec3(spec);
     float fog = clamp((length(u_eye - v_world) - 40.0) / 120.0, 0.0, 0.7);
     c = mix(c, vec3(0.70, 0.80, 0.92), fog);
@@ -138,9 +145,11 @@ void main() {
 }
 """
 
-#: Unit vector towards the sun.
-SUN = np.array([0.45, 0.8, 0.35]) / np.linalg.norm([0.45, 0.8, 0.35])
 SKY = (0.70, 0.80, 0.92)
+#: The cloth flag's colour (golden yellow: not the marble's red and blue, the goal's green, a level's greys).
+FLAG_COLOR = (0.98, 0.78, 0.10)
+#: The poles' colour.
+POLE_COLOR = (0.9, 0.9, 0.9)
 
 
 @dataclass
@@ -172,11 +181,14 @@ class Renderer:
 
     ``ctx`` is a moderngl context (headless EGL or a window's), ``level`` a loaded
     ``marbellous.game.level.Level``, ``marble_radius`` in metres, ``size`` the (width, height) in
-    pixels of the offscreen target used by :meth:`render_to_array`.
+    pixels of the offscreen target used by :meth:`render_to_array`.  ``flag`` (None: none) is a cloth flag
+    on a pole, drawn as it is at each frame: an object with ``cloth`` (its positions, m, and triangles
+    are read every frame; its triangles must not change), ``foot`` and ``top`` (the pole's ends, m) and
+    ``radius`` (the pole's, m), such as the game's ``GoalFlag``.
     """
 
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
-                 grid_cell=2.0):
+                 grid_cell=2.0, flag=None):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
         self.scene = ctx.program(vertex_shader=_SCENE_VS, fragment_shader=_SCENE_FS)
@@ -190,8 +202,13 @@ class Renderer:
             pos, nrm = collider_triangles(c, center)
             self.items.append(self._mesh(pos, nrm, c.material.color))
         self.marble = self._mesh(*uv_sphere(1.0), (0.85, 0.15, 0.12))
-        pole = collider_triangles(_Pole(level.goal_center, level.goal_half_extents))
-        self.pole = self._mesh(*pole, (0.9, 0.9, 0.9))
+        center, half = np.asarray(level.goal_center), np.asarray(level.goal_half_extents)
+        self.poles = [self._mesh(*collider_triangles(_Pole(center - [0.0, half[1], 0.0],
+                                                           center + [0.0, half[1] + 1.2, 0.0], 0.05)), POLE_COLOR)]
+        self.flag = flag
+        if flag is not None:
+            self.poles.append(self._mesh(*collider_triangles(_Pole(flag.foot, flag.top, flag.radius)), POLE_COLOR))
+            self.flag_item = self._cloth_mesh(flag.cloth)
         box = _goal_box_triangles(level.goal_center, level.goal_half_extents)
         self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4))
         quad = np.array([[0, 0, 0, 0, 1], [1.6, 0, 0, 1, 1], [1.6, 1.0, 0, 1, 0],
@@ -218,6 +235,21 @@ class Renderer:
         return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")]),
                 self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")]), tuple(color))
 
+    def _cloth_mesh(self, cloth):
+        """The vertex arrays of ``cloth``'s triangles (indexed; its vertices written by :meth:`_update_cloth`)."""
+        vbo = self.ctx.buffer(reserve=len(cloth.positions) * 6 * 4, dynamic=True)
+        ibo = self.ctx.buffer(cloth.triangles.astype(np.uint32).tobytes())
+        self.flag_vertices = vbo
+        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo,
+                                      index_element_size=4),
+                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
+                                      index_element_size=4), FLAG_COLOR)
+
+    def _update_cloth(self, cloth):
+        """Write the flag's vertices as they are now, with smooth normals from its triangles."""
+        x = cloth.positions
+        self.flag_vertices.write(np.hstack([x, vertex_normals(x, cloth.triangles)]).astype(np.float32).tobytes())
+
     # ------------------------------------------------------------------ drawing
     def render(self, fbo, view, marble_position, marble_rotation, hud_lines=(), debug=None, viewport=None):
         """Draw one frame into ``fbo`` (a moderngl framebuffer, e.g. ``ctx.screen``).
@@ -230,6 +262,10 @@ class Renderer:
         w, h = viewport[2:] if viewport else fbo.size
         focus = np.asarray(view.target, np.float64)
         marble_model = model_matrix(marble_position, marble_rotation, self.marble_radius)
+        statics = self.items + self.poles
+        if self.flag is not None:
+            self._update_cloth(self.flag.cloth)
+            statics = statics + [self.flag_item]
 
         # shadow pass: an orthographic sun camera 60 m across around the focus
         light_view = look_at(focus + SUN * 60.0, focus, (0.0, 0.0, 1.0) if abs(SUN[1]) > 0.99 else (0, 1, 0))
@@ -239,7 +275,7 @@ class Renderer:
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         self.depth["u_light_view_proj"].write(_f32(light_vp))
-        for _vao, dvao, _c in self.items + [self.pole]:
+        for _vao, dvao, _c in statics:
             self.depth["u_model"].write(_f32(np.eye(4)))
             dvao.render()
         self.depth["u_model"].write(_f32(marble_model))
@@ -261,7 +297,9 @@ class Renderer:
         s["u_alpha"].value = 1.0
         self.shadow_tex.use(0)
         s["u_shadow"].value = 0
-        self._draw(self.items + [self.pole], np.eye(4), pattern=0)
+        self._draw(self.items + self.poles, np.eye(4), pattern=0)
+        if self.flag is not None:
+            self._draw([self.flag_item], np.eye(4), pattern=3)
         s["u_color2"].value = (0.12, 0.28, 0.85)
         self._draw([self.marble], marble_model, pattern=1)
 
@@ -347,14 +385,15 @@ class Renderer:
 
 
 class _Pole:
-    """The flag pole as a capsule collider look-alike, for triangulation only."""
+    """An upright flag pole from ``foot`` to ``top`` (m, straight above it) of ``radius`` (m), as a capsule
+    collider look-alike, for triangulation only."""
 
     kind = "capsule"
 
-    def __init__(self, center, half_extents):
-        top = float(half_extents[1]) + 1.2
-        self.params = {"radius": 0.05, "half_height": (top + float(half_extents[1])) / 2.0}
-        self.position = np.asarray(center, np.float64) + [0.0, (top - float(half_extents[1])) / 2.0, 0.0]
+    def __init__(self, foot, top, radius):
+        foot, top = np.asarray(foot, np.float64), np.asarray(top, np.float64)
+        self.params = {"radius": float(radius), "half_height": 0.5 * float(top[1] - foot[1])}
+        self.position = 0.5 * (foot + top)
         self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
 
 

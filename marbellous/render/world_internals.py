@@ -3,9 +3,12 @@
 The World has no public view of its broad phase, so :func:`broadphase_boxes` reads the box table
 directly (``World._state.aabbs``, one row ``(lo x, y, z, hi x, y, z)`` per body row ``Body._index``).
 Particles and networks have public handles, but each property read copies one set's rows; a frame of a
-16k-particle cloth reads every set and network at once from the particle tables (``World._state.particles``,
-columns in ``deformables/particle_layout.py``) with :func:`particle_table` and :func:`network_edges`.  When
-the World's tables change shape, these are the only functions to adapt.
+16k-particle net reads every set and network at once from the particle tables (``World._state.particles``,
+columns in ``deformables/particle_layout.py``) with :func:`particle_table` and :func:`network_edges`.  The
+vertices and edges of cloths live in the same tables (each cloth one set and one network, listed in
+``World._state.particles.cloths``, :func:`cloth_rows`); they are drawn as the cloth's surface
+(``cloth_drawing.py``), so these two leave them out.  When the World's tables change shape, these are the
+only functions to adapt.
 """
 import numpy as np
 
@@ -27,21 +30,38 @@ def broadphase_boxes(world, bodies):
     return boxes[:, :3].copy(), boxes[:, 3:].copy()
 
 
+def cloth_rows(world):
+    """Whether each row of ``world``'s particle table (N,) is a cloth's vertex (each cloth's vertices are
+    the contiguous rows of its set)."""
+    ps = world._state.particles
+    rows = np.zeros(ps.n, dtype=bool)
+    for cloth in ps.cloths:
+        rows[cloth.set.start:cloth.set.start + cloth.set.count] = True
+    return rows
+
+
 def particle_table(world):
-    """``(positions (N, 3) m, radii (N,) m, pinned (N,) bool)`` of every particle of every set of ``world``,
-    sets in creation order.  ``positions`` and ``radii`` are views of the live table (valid until the next
-    step or change): copy them to keep them."""
+    """``(positions (N, 3) m, radii (N,) m, pinned (N,) bool)`` of every particle of every set of ``world``
+    that is not a cloth's vertex, sets in creation order.  In a world without cloth, ``positions`` and
+    ``radii`` are views of the live table (valid until the next step or change): copy them to keep them."""
     ps = world._state.particles
     f = ps.pf[:ps.n]
-    return f[:, P.P_POS:P.P_POS + 3], f[:, P.P_RADIUS], (ps.pi[:ps.n, P.P_FLAGS] & P.PP_PINNED) != 0
+    table = f[:, P.P_POS:P.P_POS + 3], f[:, P.P_RADIUS], (ps.pi[:ps.n, P.P_FLAGS] & P.PP_PINNED) != 0
+    if not ps.cloths:
+        return table
+    keep = ~cloth_rows(world)
+    return tuple(column[keep] for column in table)
 
 
 def network_edges(world):
-    """``(ends (E, 2, 3) m, kinds (E,) int)`` of every edge of every network of ``world`` that is not broken:
-    the positions of its two particles now, and its kind (a key of :data:`EDGE_KIND_NAMES`)."""
+    """``(ends (E, 2, 3) m, kinds (E,) int)`` of every edge of every network of ``world`` that is not broken
+    and not a cloth's: the positions of its two particles now, and its kind (a key of
+    :data:`EDGE_KIND_NAMES`)."""
     ps = world._state.particles
     ei = ps.ei[:ps.ne]
     keep = (ei[:, P.E_FLAGS] & P.EB_BROKEN) == 0
+    if ps.cloths:
+        keep &= ~cloth_rows(world)[ei[:, P.E_A]]
     ends = ei[keep][:, P.E_A:P.E_B + 1]
     x = ps.pf[:ps.n, P.P_POS:P.P_POS + 3]
     return x[ends], ei[keep, P.E_KIND]

@@ -2,9 +2,9 @@
 or offscreen.
 
 A frame asks each layer of the drawable registry (``drawables.py``) for its draw lists, then draws:
-a shadow map from the sun over the region the camera looks at; the opaque solids and the spheres
-(particles), lit and shadowed; lines in the scene (particle networks); translucent solids (sensors);
-lines and dots over everything; the HUD text.  Distances that depend on the scale of the world (the
+a shadow map from the sun over the region the camera looks at; the opaque solids, the surfaces (cloth) and
+the spheres (particles), lit and shadowed; lines in the scene (particle networks); translucent solids
+(sensors); lines and dots over everything; the HUD text.  Distances that depend on the scale of the world (the
 drawn extent of planes, fog, the grid cell, the clip planes, the shadow region) follow the camera's
 distance to its target, so a 5 cm marble and a 500 m terrain both read.
 """
@@ -16,7 +16,7 @@ import numpy as np
 
 from . import palette
 from . import world_shaders as glsl
-from .draw_lists import Lines, Points, Solids, Spheres, WorldFrame
+from .draw_lists import Lines, Points, Solids, Spheres, Surface, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
 from .hud import HudText
 from .mesh_cache import MeshCache
@@ -32,11 +32,21 @@ FAR, NEAR_RATIO = 10.0, 5000.0
 _OVERLAY_FLOATS = 7
 #: Floats per sphere of the sphere buffer: centre, radius, colour.
 _SPHERE_FLOATS = 7
+#: Floats per vertex of the surface buffer: position, normal, colour, pattern code.
+_SURFACE_FLOATS = 10
 
 
 def _f32(m):
     """A (4, 4) matrix as column-major float32 bytes for a GLSL ``mat4``."""
     return np.ascontiguousarray(np.asarray(m, np.float64).T, dtype=np.float32).tobytes()
+
+
+def _write(buffer, raw):
+    """Write the bytes ``raw`` to the start of the moderngl ``buffer``, growing it (at least twice) first
+    if they do not fit."""
+    if len(raw) > buffer.size:
+        buffer.orphan(max(len(raw), 2 * buffer.size))
+    buffer.write(raw)
 
 
 def grid_cell(distance):
@@ -78,6 +88,10 @@ class WorldRenderer:
         self.sphere_vbo = ctx.buffer(reserve=1024 * _SPHERE_FLOATS * 4, dynamic=True)
         self.spheres_vao, self.spheres_depth_vao = self._sphere_arrays()
         self.sphere_count = 0
+        self.surface_vbo = ctx.buffer(reserve=1024 * _SURFACE_FLOATS * 4, dynamic=True)
+        self.surface_ibo = ctx.buffer(reserve=1024 * 3 * 4, dynamic=True)
+        self.surface_vao, self.surface_depth_vao = self._surface_arrays()
+        self.surface_count = 0
         self.hud = HudText(ctx)
         self._samples = samples
         self._offscreen = None
@@ -98,13 +112,15 @@ class WorldRenderer:
         target = np.asarray(view.target, np.float64)
         distance = max(float(np.linalg.norm(eye - target)), 1e-6)
         frame = WorldFrame(world, target, distance)
-        solids, spheres, lines, points = [], [], [], []
+        solids, spheres, surfaces, lines, points = [], [], [], [], []
+        kinds = {Solids: solids, Spheres: spheres, Surface: surfaces, Lines: lines, Points: points}
         for name, drawable in DRAWABLES.items():
             if name in layers:
                 for item in drawable.draw(frame):
-                    {Solids: solids, Spheres: spheres, Lines: lines, Points: points}[type(item)].append(item)
+                    kinds[type(item)].append(item)
         opaque, translucent = self._upload(solids)
         self._upload_spheres(spheres, eye)
+        self._upload_surfaces(surfaces)
         scene_lines = [x for x in lines if x.in_scene]
         lines = [x for x in lines if not x.in_scene]
 
@@ -119,6 +135,8 @@ class WorldRenderer:
         self.depth["u_light_view_proj"].write(_f32(light_vp))
         for m in opaque:
             m.depth.render(instances=m.count)
+        if self.surface_count:
+            self.surface_depth_vao.render(vertices=self.surface_count, instances=1)
         if self.sphere_count:
             d = self.spheres_depth
             d["u_light_view_proj"].write(_f32(light_vp))
@@ -143,6 +161,8 @@ class WorldRenderer:
         s["u_alpha"].value = 1.0
         for m in opaque:
             m.solid.render(instances=m.count)
+        if self.surface_count:
+            self.surface_vao.render(vertices=self.surface_count, instances=1)
         if self.sphere_count:
             p = self.spheres
             p["u_view_proj"].write(_f32(vp))
@@ -219,20 +239,48 @@ class WorldRenderer:
             rows[k:k + m, 4:7] = x.colors
             k += m
         offset = rows[:, 0:3] - eye.astype(np.float32)
-        raw = rows[np.argsort(np.einsum("ij,ij->i", offset, offset))].tobytes()
-        if len(raw) > self.sphere_vbo.size:
-            self.sphere_vbo.orphan(max(len(raw), 2 * self.sphere_vbo.size))
-        self.sphere_vbo.write(raw)
+        _write(self.sphere_vbo, rows[np.argsort(np.einsum("ij,ij->i", offset, offset))].tobytes())
+
+    def _surface_arrays(self):
+        """The indexed vertex arrays of the surface buffers for the solids' lit and shadow programs: the
+        vertices carry their colour and pattern, and one instance of the identity places them (they are in
+        world space already)."""
+        identity = self.ctx.buffer(np.eye(4, dtype=np.float32).tobytes())
+        lit = self.ctx.vertex_array(self.solid, [(self.surface_vbo, "3f 3f 4f", "in_pos", "in_normal", "in_color"),
+                                                 (identity, "16f/i", "in_model")],
+                                    index_buffer=self.surface_ibo, index_element_size=4)
+        depth = self.ctx.vertex_array(self.depth, [(self.surface_vbo, "3f 28x", "in_pos"),
+                                                   (identity, "16f/i", "in_model")],
+                                      index_buffer=self.surface_ibo, index_element_size=4)
+        return lit, depth
+
+    def _upload_surfaces(self, surfaces):
+        """Write the vertices (position, normal, colour, pattern) and the triangles of every :class:`Surface`
+        to the surface buffers, as one mesh."""
+        n = sum(len(x.positions) for x in surfaces)
+        self.surface_count = 3 * sum(len(x.triangles) for x in surfaces)
+        if not self.surface_count:
+            return
+        rows = np.empty((n, _SURFACE_FLOATS), np.float32)
+        indices = []
+        k = 0
+        for x in surfaces:
+            m = len(x.positions)
+            rows[k:k + m, 0:3] = x.positions
+            rows[k:k + m, 3:6] = x.normals
+            rows[k:k + m, 6:9] = x.color
+            rows[k:k + m, 9] = x.pattern
+            indices.append(np.asarray(x.triangles, np.int64).reshape(-1) + k)
+            k += m
+        _write(self.surface_vbo, rows.tobytes())
+        _write(self.surface_ibo, np.concatenate(indices).astype(np.uint32).tobytes())
 
     def _overlay(self, program, vao, mode, vp, size, parts):
         """Draw ``parts`` ((K, 3) positions, (K, 3) colours, pixels) with ``program`` as ``mode`` primitives."""
         if not parts:
             return
         rows = np.concatenate([np.column_stack([p, c, np.full(len(p), px)]) for p, c, px in parts])
-        raw = rows.astype(np.float32).tobytes()
-        if len(raw) > self.overlay_vbo.size:
-            self.overlay_vbo.orphan(max(len(raw), 2 * self.overlay_vbo.size))
-        self.overlay_vbo.write(raw)
+        _write(self.overlay_vbo, rows.astype(np.float32).tobytes())
         program["u_view_proj"].write(_f32(vp))
         program["u_viewport"].value = tuple(float(v) for v in size)
         vao.render(mode, vertices=len(rows))

@@ -1,9 +1,19 @@
 """GLSL of the world renderer: instanced lit solids with sun shadows, their shadow depth pass, ray-cast
-spheres (particles) lit and shadowed alike, and lines and dots of constant pixel size.
+spheres (particles) lit and shadowed alike, and lines and dots of constant pixel size.  Surfaces (cloth) are
+drawn by the solids' programs too, as one instance of the identity with a colour per vertex.
 
 The solids' lighting follows the game renderer's (``renderer.py``): a sun with a 3 x 3 PCF shadow
 map, a sky term from the normal's height, a small specular highlight; distances (grid cell, fog) are
-uniforms so any scale of world reads well.
+uniforms so any scale of world reads well.  A face seen from behind is lit with its normal turned to the
+eye, and a thin sheet (pattern 3, cloth) lets part of the sun that falls on one face through to the other.
+"""
+
+#: The fraction of the sunlight on one face of a thin sheet (cloth) that shows on the other (GLSL
+#: ``SHEET_THROUGH``; the game's renderer lights its cloth flag alike).
+SHEET_THROUGH = 0.45
+#: The GLSL declaration of :data:`SHEET_THROUGH`.
+SHEET_THROUGH_GLSL = f"""
+const float SHEET_THROUGH = {SHEET_THROUGH!r};
 """
 
 SOLID_VS = """
@@ -12,8 +22,8 @@ uniform mat4 u_view_proj;
 uniform mat4 u_light_view_proj;
 in vec3 in_pos;
 in vec3 in_normal;
-in mat4 in_model;
-in vec4 in_color;               // rgb, pattern code
+in mat4 in_model;               // per instance (a surface: one instance, the identity)
+in vec4 in_color;               // rgb, pattern code; per instance (a surface: per vertex)
 out vec3 v_world;
 out vec3 v_local;
 out vec3 v_normal;
@@ -63,12 +73,14 @@ uniform vec2 u_fog;             // distance where fog starts, and over which it 
 uniform vec3 u_background;
 
 // colour of a surface of colour base with unit normal n at world point p, reached by the fraction sun of
-// the sunlight
-vec4 shade(vec3 base, vec3 n, vec3 p, float sun) {
-    float diffuse = max(dot(n, u_sun), 0.0) * sun;
+// the sunlight; a thin sheet lets the fraction through of the sunlight on its other face through (diffusely,
+// Lambert's cosine on the lit face), a solid none
+vec4 shade(vec3 base, vec3 n, vec3 p, float sun, float through) {
+    float lit = max(dot(n, u_sun), 0.0) * sun;
+    float diffuse = lit + through * max(-dot(n, u_sun), 0.0) * sun;
     float sky = 0.5 + 0.5 * n.y;
     vec3 v = normalize(u_eye - p);
-    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), 24.0) * 0.18 * diffuse;
+    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), 24.0) * 0.18 * lit;
     vec3 c = base * (0.30 * sky + 0.14 + 0.74 * diffuse) + vec3(spec);
     float fog = clamp((length(u_eye - p) - u_fog.x) / u_fog.y, 0.0, 1.0);
     return vec4(mix(pow(c, vec3(1.0 / 1.1)), u_background, fog), u_alpha);
@@ -79,12 +91,13 @@ SOLID_FS = """
 #version 330
 """ + _SUN + _SHADOW + _SHADE + """
 uniform float u_grid;           // grid cell (m)
+""" + SHEET_THROUGH_GLSL + """
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
 in vec4 v_light;
 in vec3 v_color;
-flat in int v_pattern;          // 0 plain, 1 grid, 2 octants
+flat in int v_pattern;          // 0 plain, 1 grid, 2 octants, 3 a thin sheet (plain)
 out vec4 f_color;
 
 void main() {
@@ -103,7 +116,7 @@ void main() {
         vec3 d = v_local;
         base = d.x * d.y * d.z > 0.0 ? v_color : v_color * 0.55;
     }
-    f_color = shade(base, n, v_world, shadow_factor(v_light, n, 0.0));
+    f_color = shade(base, n, v_world, shadow_factor(v_light, n, 0.0), v_pattern == 3 ? SHEET_THROUGH : 0.0);
 }
 """
 
@@ -314,7 +327,7 @@ void main() {
     // a sphere a few pixels wide is shaded with normals bent towards the eye: a pixel's centre is no fair
     // sample of the part of the sphere the pixel covers, and a 1-pixel particle would take the colour of
     // whichever edge the centre falls on
-    f_color = shade(v_color, normalize(mix(-dir, n, v_sharp)), p, v_sun);
+    f_color = shade(v_color, normalize(mix(-dir, n, v_sharp)), p, v_sun, 0.0);
 }
 """
 

@@ -136,7 +136,8 @@ class MarbellousEnv(gym.Env):
             from ...render.context import headless_context
             from ...render.renderer import Renderer
 
-            self._renderer = Renderer(headless_context(), self.level, self._game.spec.radius, self.size)
+            self._renderer = Renderer(headless_context(), self.level, self._game.spec.radius, self.size,
+                                      flag=self._game.flag)
         g = self._game
         return self._renderer.render_to_array(g.camera.view(), g.marble.position, g.marble_rotation(), g.hud_lines())
 
