@@ -40,7 +40,8 @@ and MuJoCo, converted by ``bench/peers/axes.py``), friction 0.5 everywhere, thic
   bending stiffness: a flex gets it only from ``<elasticity>``, whose forces are explicit, and with
   ``young = 12 B / t^3`` (``elastic2d="bend"``, ``t`` = 0.01 m) or with the membrane's ``young = 1e4 / t``
   (``elastic2d="both"``) the sheet blew up at 60 Hz (N = 32).  Again as ``mujoco-implicitfast`` with the
-  integrator MuJoCo recommends.
+  integrator MuJoCo recommends.  At N = 128 MuJoCo refuses the model (a grid's spacing, 7.9 mm, must exceed the
+  flex's diameter, 1 cm): reported as failed rather than run with a thinner sheet.
 Reported per engine and N: ms per step (best of ``--repeats``), the slowest single step (ms, in that run), and
 from the final vertex positions: the deepest any vertex is inside the sphere (m, ``r - |x - c|``; below 0: none
 is), the deepest any is under the plane (m, ``-y``), and the relative stretch ``|d| / L - 1`` of the grid's
@@ -144,9 +145,10 @@ def measures(x0, x, n):
     return inside, float(np.max(-x[:, 1])), float(np.max(stretch)), float(np.mean(stretch))
 
 
-def _timed_steps(step, what):
+def _timed_steps(step, what, positions=None):
     """``(ms per step, slowest step (ms))`` over ``STEPS`` calls of ``step`` after an untimed one; Capped when the
-    steps so far average over ``CAP_S`` after ``CAP_AFTER`` of them."""
+    steps so far average over ``CAP_S`` after ``CAP_AFTER`` of them, saying how far apart the vertices
+    ``positions()`` then are (a sheet that blew up spreads over metres, and its steps slow down)."""
     step()
     seconds, slowest = 0.0, 0.0
     for k in range(STEPS):
@@ -156,8 +158,12 @@ def _timed_steps(step, what):
         seconds += took
         slowest = max(slowest, took)
         if k + 1 >= CAP_AFTER and seconds / (k + 1) > CAP_S:
+            spread = ""
+            if positions is not None:
+                x = positions()
+                spread = f", its vertices then {float(np.max(np.ptp(x, axis=0))):.3g} m apart at most"
             raise Capped(f"capped: {what} took {seconds / (k + 1):.1f} s a step over its first {k + 1} timed steps "
-                         f"(slowest {slowest:.1f} s); stopped")
+                         f"(slowest {slowest:.1f} s){spread}; stopped")
     return 1e3 * seconds / STEPS, 1e3 * slowest
 
 
@@ -172,7 +178,7 @@ def run_marbellous(n, self_collision=True):
     c = w.add_cloth(vertices, triangles, mass=MASS, thickness=THICKNESS, friction=FRICTION,
                     self_collision=self_collision, position=(0.0, HEIGHT, 0.0))
     x0 = c.positions
-    ms, slowest = _timed_steps(lambda: w.step(DT), f"Marbellous' cloth of {n} x {n}")
+    ms, slowest = _timed_steps(lambda: w.step(DT), f"Marbellous' cloth of {n} x {n}", lambda: c.positions)
     return ms, slowest, *measures(x0, c.positions, n)
 
 
@@ -220,7 +226,7 @@ def run_pybullet(n):
             return from_peer(p.getMeshData(cloth, -1, flags=p.MESH_DATA_SIMULATION_MESH, **kw)[1])
 
         x0 = positions()
-        ms, slowest = _timed_steps(lambda: p.stepSimulation(**kw), f"PyBullet's cloth of {n} x {n}")
+        ms, slowest = _timed_steps(lambda: p.stepSimulation(**kw), f"PyBullet's cloth of {n} x {n}", positions)
         return ms, slowest, *measures(x0, positions(), n)
     finally:
         p.disconnect(**kw)
@@ -230,7 +236,7 @@ def run_pybullet(n):
 def run_mujoco(n, integrator="Euler"):
     import mujoco
     h = spacing(n)
-    model = mujoco.MjModel.from_xml_string(
+    xml = (
         f'<mujoco><option timestep="{DT:.17g}" gravity="0 0 -{G:.17g}" integrator="{integrator}"/>'
         f'<size memory="2G"/>'
         f'<worldbody><geom type="plane" size="50 50 1" friction="{FRICTION:.17g} 0.005 0.0001"/>'
@@ -240,11 +246,16 @@ def run_mujoco(n, integrator="Euler"):
         f'pos="{_f(to_peer((0.0, HEIGHT, 0.0)))}" radius="{MJ_RADIUS:.17g}" mass="{MASS:.17g}">'
         f'<contact condim="3" friction="{FRICTION:.17g} 0.005 0.0001" selfcollide="auto"/>'
         f'<edge equality="true"/></flexcomp></worldbody></mujoco>')
+    try:
+        model = mujoco.MjModel.from_xml_string(xml)
+    except ValueError as e:         # (at N = 128: a spacing of 7.9 mm under the flex's diameter of 1 cm)
+        raise RuntimeError(f"MuJoCo refuses the flex of {n} x {n} with radius {MJ_RADIUS} m and spacing "
+                           f"{h:.3g} m: {' '.join(str(e).split())}") from None
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     x0 = from_peer(data.flexvert_xpos)
     what = f"MuJoCo's cloth of {n} x {n} ({integrator})"
-    ms, slowest = _timed_steps(lambda: mujoco.mj_step(model, data), what)
+    ms, slowest = _timed_steps(lambda: mujoco.mj_step(model, data), what, lambda: from_peer(data.flexvert_xpos))
     if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
         raise RuntimeError(f"MuJoCo flagged {what} unstable (NaN or huge accelerations) and reset the state")
     if abs(data.time - (STEPS + 1) * model.opt.timestep) > 1e-6:
