@@ -47,9 +47,14 @@ from the final vertex positions: the deepest any vertex is inside the sphere (m,
 is), the deepest any is under the plane (m, ``-y``), and the relative stretch ``|d| / L - 1`` of the grid's
 structural edges (the pairs of vertices one spacing apart at the start; ``L`` their starting distance): the
 largest and the mean.  A run whose positions end non-finite fails; so does one MuJoCo flags unstable (NaN or huge
-accelerations, after which it resets the state) or whose clock it reset.  A run slower than 2 s a step (over its
-first 3 or more steps) is stopped and reported as capped, and that engine is not run at larger N; after a run
-longer than 60 s the engine's other repeats are left out (their timing noise is small next to such a step).
+accelerations, after which it resets the state) or whose clock it reset.  After each step, outside the timed
+part, the vertices are read: a run in which one moved faster than 100 m/s in a step (the sheet reaches 3.1 m/s
+in its fall), or whose positions are not finite, is stopped and reported as blown up (``blew_up``): a cloth that
+blows up slows down by orders of magnitude and its contact tables grow without bound (Marbellous' 128 x 128 with
+self collision asked for 12 GB in its third step after blowing up).  A run slower than 2 s a step (over its first
+3 or more steps) is stopped and reported as capped; an engine capped or blown up is not run at larger N
+(``not_run``); after a run longer than 60 s the engine's other repeats are left out (their timing noise is small
+next to such a step).  A run that runs out of memory fails.
 
     python bench/bench_cloth.py [--quick] [--repeats N] [--json FILE]
 """
@@ -94,6 +99,7 @@ PB_MARGIN = 0.01            # collisionMargin (m)
 PB_VOXEL = 0.25             # sparseSdfVoxelSize (m)
 MJ_RADIUS = 0.5 * THICKNESS  # the flex's radius (m)
 
+MAX_SPEED = 100.0           # a vertex faster than this (m/s, from its move in a step) means the run blew up
 CAP_S = 2.0                 # a run slower than this a step (s) is stopped
 CAP_AFTER = 3               # ... judged over at least this many steps
 LONG_RUN_S = 60.0           # after a run this long (s), no more repeats of that engine at that N
@@ -101,6 +107,11 @@ LONG_RUN_S = 60.0           # after a run this long (s), no more repeats of that
 
 class Capped(RuntimeError):
     """A run too slow to finish: stopped, and its engine not run at larger N."""
+
+
+class BlewUp(RuntimeError):
+    """A run whose vertices went non-finite or faster than ``MAX_SPEED``: stopped, and its engine not run at
+    larger N."""
 
 
 class NotAvailable(Exception):
@@ -145,11 +156,18 @@ def measures(x0, x, n):
     return inside, float(np.max(-x[:, 1])), float(np.max(stretch)), float(np.mean(stretch))
 
 
-def _timed_steps(step, what, positions=None):
-    """``(ms per step, slowest step (ms))`` over ``STEPS`` calls of ``step`` after an untimed one; Capped when the
-    steps so far average over ``CAP_S`` after ``CAP_AFTER`` of them, saying how far apart the vertices
-    ``positions()`` then are (a sheet that blew up spreads over metres, and its steps slow down)."""
+def _spread(x):
+    """How far apart the vertices ``x`` are at most along an axis (m)."""
+    return float(np.max(np.ptp(x, axis=0)))
+
+
+def _timed_steps(step, what, positions):
+    """``(ms per step, slowest step (ms))`` over ``STEPS`` calls of ``step`` after an untimed one.  After each
+    step, untimed, the vertices ``positions()``: BlewUp when they are not finite or one moved faster than
+    ``MAX_SPEED``; Capped when the steps so far average over ``CAP_S`` after ``CAP_AFTER`` of them, saying how far
+    apart the vertices then are (a sheet that blew up spreads over metres, and its steps slow down)."""
     step()
+    before = positions()
     seconds, slowest = 0.0, 0.0
     for k in range(STEPS):
         t = time.perf_counter()
@@ -157,11 +175,15 @@ def _timed_steps(step, what, positions=None):
         took = time.perf_counter() - t
         seconds += took
         slowest = max(slowest, took)
+        x = positions()
+        speed = float(np.max(np.linalg.norm(x - before, axis=1))) / DT if np.all(np.isfinite(x)) else np.inf
+        if not speed <= MAX_SPEED:
+            raise BlewUp(f"blew up: {what}, at step {k + 2} of {STEPS + 1}, a vertex moved at "
+                         f"{speed:.3g} m/s (over {MAX_SPEED:g}), its vertices then {_spread(x):.3g} m apart at "
+                         f"most; that step took {took:.1f} s; stopped")
+        before = x
         if k + 1 >= CAP_AFTER and seconds / (k + 1) > CAP_S:
-            spread = ""
-            if positions is not None:
-                x = positions()
-                spread = f", its vertices then {float(np.max(np.ptp(x, axis=0))):.3g} m apart at most"
+            spread = f", its vertices then {_spread(x):.3g} m apart at most"
             raise Capped(f"capped: {what} took {seconds / (k + 1):.1f} s a step over its first {k + 1} timed steps "
                          f"(slowest {slowest:.1f} s){spread}; stopped")
     return 1e3 * seconds / STEPS, 1e3 * slowest
@@ -178,7 +200,8 @@ def run_marbellous(n, self_collision=True):
     c = w.add_cloth(vertices, triangles, mass=MASS, thickness=THICKNESS, friction=FRICTION,
                     self_collision=self_collision, position=(0.0, HEIGHT, 0.0))
     x0 = c.positions
-    ms, slowest = _timed_steps(lambda: w.step(DT), f"Marbellous' cloth of {n} x {n}", lambda: c.positions)
+    what = f"Marbellous' cloth of {n} x {n}" + ("" if self_collision else " without self collision")
+    ms, slowest = _timed_steps(lambda: w.step(DT), what, lambda: c.positions)
     return ms, slowest, *measures(x0, c.positions, n)
 
 
@@ -275,8 +298,8 @@ RUNS = {"marbellous": run_marbellous, "marbellous-noself": run_marbellous_noself
 # --- the run --------------------------------------------------------------------------------------------------
 def best_of(run, repeats, n):
     """The fastest of up to ``repeats`` runs of ``run(n)`` as a results dict (fewer after a run over
-    ``LONG_RUN_S``), or ``{"failed": ...}``, ``{"capped": ...}``, ``{"skipped": ...}``; ImportError (a peer not
-    installed) passes through."""
+    ``LONG_RUN_S``), or ``{"failed": ...}``, ``{"blew_up": ...}``, ``{"capped": ...}``, ``{"skipped": ...}``;
+    ImportError (a peer not installed) passes through."""
     best, runs = None, 0
     for _ in range(repeats):
         start = time.perf_counter()
@@ -286,8 +309,12 @@ def best_of(run, repeats, n):
             return {"skipped": str(e)}
         except Capped as e:
             return {"capped": str(e)}
+        except BlewUp as e:
+            return {"blew_up": str(e)}
         except RuntimeError as e:
             return {"failed": str(e)}
+        except MemoryError as e:
+            return {"failed": f"out of memory: {' '.join(str(e).split())}"}
         runs += 1
         if best is None or r[0] < best[0]:
             best = r
@@ -301,18 +328,19 @@ def main():
     args = bench_arguments(__doc__)
     sizes = (32,) if args.quick else (32, 64, 128)
     results = {}
-    stopped = {}                  # engine -> why it is not run at larger N
+    stopped = {}                  # engine -> why it is not run at larger N (capped or blown up)
     for n in sizes:
         for name, run in RUNS.items():
             if name in stopped:
-                results.setdefault(str(n), {})[name] = {"capped": f"not run: {stopped[name]}"}
+                results.setdefault(str(n), {})[name] = {"not_run": stopped[name]}
                 continue
             try:
                 r = best_of(run, args.repeats, n)
             except ImportError:
                 continue
-            if "capped" in r:
-                stopped[name] = f"capped at N = {n}"
+            for why in ("capped", "blew_up"):
+                if why in r:
+                    stopped[name] = f"{why.replace('_', ' ')} at N = {n}"
             results.setdefault(str(n), {})[name] = r
             print(f"  N = {n} {name}: " + (", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
                                                    for k, v in r.items())), file=sys.stderr, flush=True)
