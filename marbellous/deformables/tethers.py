@@ -1,6 +1,6 @@
 """Tethers (long-range attachments, Kim, Chentanez and Mueller 2012): no particle of an inextensible network
 or of a cloth gets farther from its nearest world pin than the network's rods and cables (the cloth's edges)
-allow.
+allow (a cloth that can tear, ``tear_strain``, has none: they would hold it back from its tear).
 
 One position pass per sub-step hands a load up a chain of rods one link per pass: a 50 kg box hanging from
 a rope of ten 50 g beads, 1 m long, sank 58 mm (5.8 %) below the rope's length at 16 sub-steps (a 5 kg box:
@@ -28,7 +28,7 @@ import numpy as np
 
 from .._numba.jit import njit
 from .edge_constraints import end_mass, move_end
-from .particle_layout import (E_A, E_B, E_FLAGS, E_KIND, E_REST, EB_BROKEN, EK_CABLE, EK_ROD, P_CLOTH, P_FLAGS,
+from .particle_layout import (E_A, E_B, E_FLAGS, E_KIND, E_REST, E_TEAR, EB_BROKEN, EK_CABLE, EK_ROD, P_CLOTH, P_FLAGS,
                               P_PIN_BODY, P_POS, PP_PINNED)
 
 #: how far past its path's rest length a tether lets a particle go, as a fraction of it
@@ -43,7 +43,8 @@ def find_tethers(pf, pi, n, ef, ei, ne):
     none = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
     pinned = (pi[:n, P_FLAGS] & PP_PINNED) != 0
     anchors = np.flatnonzero(pinned & (pi[:n, P_PIN_BODY] < 0))
-    cloth = (pi[ei[:ne, E_A], P_CLOTH] >= 0) & (pi[ei[:ne, E_B], P_CLOTH] >= 0)
+    # (a cloth that can tear must be free to stretch to its tear)
+    cloth = (pi[ei[:ne, E_A], P_CLOTH] >= 0) & (pi[ei[:ne, E_B], P_CLOTH] >= 0) & np.isinf(ef[:ne, E_TEAR])
     inextensible = np.isin(ei[:ne, E_KIND], (EK_ROD, EK_CABLE)) | cloth
     keep = np.flatnonzero(inextensible & ((ei[:ne, E_FLAGS] & EB_BROKEN) == 0))
     if anchors.size == 0 or keep.size == 0:
