@@ -58,7 +58,8 @@ n = 20: largest strain at the end 0.199 both at k = 1e2, 0.0426 both at k = 1e4.
 
     python bench/bench_cloth_integrators.py [--quick] [--json FILE]
 
-Writes ``bench/results/2026-12-03-vm-cloth-integrators.json`` unless ``--json`` names another file.
+A full run writes ``bench/results/2026-12-03-vm-cloth-integrators.json`` unless ``--json`` names another file;
+a ``--quick`` run writes only where ``--json`` says.
 """
 import argparse
 import json
@@ -145,9 +146,11 @@ class Sheet:
         return self.m * G * float(np.sum(x[:, 1])) + 0.5 * self.k * float(stretch @ stretch)
 
     def energy(self, x, v):
+        """Kinetic plus potential energy (J) at positions ``x`` and velocities ``v``."""
         return 0.5 * self.m * float(np.sum(v * v)) + self.potential(x)
 
     def strains(self, x):
+        """Each spring's strain ``|d| / L - 1`` at positions ``x``."""
         return np.linalg.norm(x[self.a] - x[self.b], axis=1) / self.rest - 1.0
 
     def stiffness(self, x):
@@ -162,8 +165,9 @@ class Sheet:
         r3 = np.arange(3)
         rows, cols, vals = [], [], []
         for p, q, s in ends:
-            rows.append((3 * p[:, None, None] + r3[None, :, None]) + 0 * r3[None, None, :])
-            cols.append((3 * q[:, None, None] + r3[None, None, :]) + 0 * r3[None, :, None])
+            shape = (p.size, 3, 3)
+            rows.append(np.broadcast_to(3 * p[:, None, None] + r3[None, :, None], shape))
+            cols.append(np.broadcast_to(3 * q[:, None, None] + r3[None, None, :], shape))
             vals.append(s * block)
         size = 3 * self.n * self.n
         return sp.csr_matrix((np.concatenate(vals).ravel(), (np.concatenate(rows).ravel(),
@@ -304,7 +308,8 @@ def run(sheet, name):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="n = 20 only, k = 1e2, 1e4, 1e6")
-    parser.add_argument("--json", default=DEFAULT_JSON, help="write the results to this file")
+    parser.add_argument("--json", default=None, help="write the results to this file (a full run: by default "
+                        "bench/results/2026-12-03-vm-cloth-integrators.json)")
     args = parser.parse_args()
     sizes = (20,) if args.quick else (20, 40)
     stiffnesses = (1e2, 1e4, 1e6) if args.quick else (1e2, 1e3, 1e4, 1e5, 1e6)
@@ -355,13 +360,16 @@ def main():
                       f"k = {factor * limit:7.4g} (h w_max {check['h_omega_max']:.2f}): "
                       f"{'stable' if r['stable'] else 'blew up at ' + format(r['blew_up_at_s'], '.2f') + ' s'}",
                       flush=True)
+    out = args.json or (None if args.quick else DEFAULT_JSON)
+    if out is None:
+        return
     machine = describe(ROOT, {"scipy": scipy.__version__})
-    with open(args.json, "w") as f:
+    with open(out, "w") as f:
         json.dump({"benchmark": "cloth-integrators", "machine": machine, "quick": args.quick, "dt": DT,
                    "steps": STEPS, "gravity": G, "size_m": SIZE, "mass_kg": MASS, "substeps": SUBSTEPS,
                    "passes": PASSES, "blown_up_above_j": BLOWN, "results": results,
                    "lambert_check": lambert}, f, indent=1)
-    print(f"wrote {os.path.relpath(args.json)}")
+    print(f"wrote {os.path.relpath(out)}")
 
 
 if __name__ == "__main__":
