@@ -26,6 +26,16 @@ def cell_key(x, y, z, cell, table):
 
 
 @njit
+def add_key(keys, n_keys, key):
+    """Append ``key`` to the first ``n_keys`` of ``keys`` unless it is there already; returns the new count."""
+    for k in range(n_keys):
+        if keys[k] == key:
+            return n_keys
+    keys[n_keys] = key
+    return n_keys + 1
+
+
+@njit
 def joined(adjacent_start, adjacent, a, b):
     """Whether an edge joins particle rows ``a`` and ``b``."""
     for k in range(adjacent_start[a], adjacent_start[a + 1]):
@@ -92,14 +102,8 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
         for di in range(-1, 2):
             for dj in range(-1, 2):
                 for dk in range(-1, 2):
-                    key = cell_key(xa + di * cell, ya + dj * cell, za + dk * cell, cell, table)
-                    new = True
-                    for k in range(n_keys):
-                        if keys[k] == key:
-                            new = False
-                    if new:
-                        keys[n_keys] = key
-                        n_keys += 1
+                    n_keys = add_key(keys, n_keys, cell_key(xa + di * cell, ya + dj * cell, za + dk * cell, cell,
+                                                             table))
         for k in range(n_keys):
             for slot in range(cell_start[keys[k]], cell_start[keys[k] + 1]):
                 b = cell_entries[slot]

@@ -36,7 +36,7 @@ from .._numba.jit import njit
 from .particle_contacts import append_pair
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
                               P_RADIUS, P_REST, P_STATIC_FRICTION, P_VEL, PP_COLLIDE, T_A, T_CLOTH)
-from .particle_pairs import cell_key, joined
+from .particle_pairs import add_key, cell_key, joined
 
 #: how fast (m/s) a point and a triangle that overlap at the start of a sub-step are pushed apart
 PUSH_SPEED = 1.0
@@ -131,14 +131,7 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, sl
         for x in (lo[0], hi[0]):
             for y in (lo[1], hi[1]):
                 for z in (lo[2], hi[2]):
-                    key = cell_key(x, y, z, cell, table)
-                    new = True
-                    for k in range(n_keys):
-                        if keys[k] == key:
-                            new = False
-                    if new:
-                        keys[n_keys] = key
-                        n_keys += 1
+                    n_keys = add_key(keys, n_keys, cell_key(x, y, z, cell, table))
         a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
         own = tri[t, T_CLOTH]
         for k in range(n_keys):
