@@ -103,6 +103,22 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through():
     assert np.min(x[over, 1]) > c.thickness
 
 
+def test_an_edge_falling_across_an_edge_rests_on_it():
+    # two ribbons of two triangles standing on edge, crossed: A (in the plane x = 0) held, B (in z = 0) falls
+    # onto A's top edge from 10 cm; no vertex of either is over the other's triangles, so only the edges meet
+    w = mb.World()
+    a = w.add_cloth([(0, 0.4, -0.5), (0, 0.4, 0.5), (0, 0.5, -0.5), (0, 0.5, 0.5)], [(0, 1, 2), (1, 3, 2)], mass=0.05)
+    a.pin([0, 1, 2, 3])
+    b = w.add_cloth([(-0.5, 0.6, 0), (0.5, 0.6, 0), (-0.5, 0.7, 0), (0.5, 0.7, 0)], [(0, 1, 2), (1, 3, 2)], mass=0.05)
+    lowest = np.inf
+    for _ in range(60):
+        w.step(DT)
+        lowest = min(lowest, b.positions[:2, 1].min())
+    # B's lower edge ends a thickness above A's upper edge (the two edges' radii), never nearer than half of it
+    assert lowest > 0.5 + 0.5 * b.thickness
+    assert b.positions[:2, 1] == pytest.approx(0.5 + b.thickness, abs=0.1 * b.thickness)
+
+
 def _patch_on_a_cloth_slope(degrees, mu, steps):
     """How far (m, down the slope) a 0.3 m patch of cloth lying on a 1 m sheet tilted by ``degrees`` (held
     in place by pins at every vertex), both of friction ``mu``, slides in ``steps`` steps."""

@@ -64,6 +64,7 @@ class ParticleState:
         self.cloths = []                 # ClothRecord of the live cloths, in creation order
         self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
         self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
+        self.edge_pairs = np.zeros((64, 3), dtype=np.int64)
 
     # --- sets and networks ----------------------------------------------------------------------------------
     def _next_serial(self):
@@ -240,6 +241,7 @@ class ParticleState:
         table = 1 << max(4, int(2 * n - 1).bit_length())
         cell_start = np.zeros(table + 1, dtype=np.int64)
         cell_entries = np.zeros(n, dtype=np.int64)
+        edge_entries = np.zeros(max(ne, 1), dtype=np.int64)
         aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
         bx = np.zeros((max(nb, 1), BX_COLS))
         if self.tethers is None:
@@ -247,24 +249,27 @@ class ParticleState:
         while True:
             counts = find_candidates(q, self.pf, self.pi, n, self.ei, ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
                                      st.sf, st.si, st.geom_f, st.geom_i, nb, aabbs, bx, self.shape_pairs,
-                                     self.particle_pairs, self.triangle_pairs, adjacent_start, adjacent, cell_start,
-                                     cell_entries, self.scratch_f, self.scratch_i, self.sphere, self.vec[0],
-                                     self.rot_a, self.vec[1], self.rot_s, self.q_s)
-            n_shape, n_pair, n_triangle = counts
+                                     self.particle_pairs, self.triangle_pairs, self.edge_pairs, adjacent_start,
+                                     adjacent, cell_start, cell_entries, edge_entries, self.scratch_f,
+                                     self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s,
+                                     self.q_s)
+            n_shape, n_pair, n_triangle, n_edge = counts
             if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0] \
-                    and n_triangle <= self.triangle_pairs.shape[0]:
+                    and n_triangle <= self.triangle_pairs.shape[0] and n_edge <= self.edge_pairs.shape[0]:
                 break
             self.shape_pairs = _grown(self.shape_pairs, n_shape)
             self.particle_pairs = _grown(self.particle_pairs, n_pair)
             self.triangle_pairs = _grown(self.triangle_pairs, n_triangle)
+            self.edge_pairs = _grown(self.edge_pairs, n_edge)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
         self.broken, most = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
                                            ne, bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf,
                                            st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx, self.shape_pairs,
                                            n_shape, self.particle_pairs, n_pair, self.triangle_pairs, n_triangle,
-                                           self.kf, self.ki, self.scratch_f, self.scratch_i, self.sphere,
-                                           self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start)
+                                           self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f, self.scratch_i,
+                                           self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s,
+                                           body_start)
         if self.broken:
             self.tethers = None
             for record in list(self.cloths):

@@ -17,8 +17,9 @@ may meet in the step.  Each sub-step, in order:
     bends           the cloths' hinges (bend_constraints.py)
     tethers         no particle farther from its world pin than its rods and cables allow (tethers.py)
     pins            again, where the edges have moved the bodies
-    contacts        overlaps with other particles, with cloth triangles and with the shapes removed; static
-                    friction (particle_pairs.py, triangle_contacts.py, particle_contacts.py)
+    contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
+                    removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
+                    particle_contacts.py); with cloth, the triangles, edges and shapes twice
     velocities      v = (x - x_prev) / h
     velocity pass   dynamic friction and restitution of the sub-step's contacts
 
@@ -36,6 +37,7 @@ from .._numba.jit import njit
 from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
+from .edge_contacts import edge_candidates, edge_contacts
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
                               P_PREV, P_VEL, P_VEL0, PP_PINNED, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
@@ -47,29 +49,39 @@ from .triangle_contacts import triangle_candidates, triangle_contacts
 
 @njit
 def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
-                    aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, adjacent_start, adjacent, cell_start,
-                    cell_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                    aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
+                    cell_start, cell_entries, edge_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s,
+                    q_s):
     """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
-    candidates into ``particle_pairs`` and the ``(point, triangle, side)`` candidates into ``triangle_pairs``;
-    returns the three counts (a count past an array's length: grow it and call again).  The reach: how far a
+    candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs`` and the
+    ``(edge, edge, side)`` candidates into ``edge_pairs``; returns the four counts (a count past an array's
+    length: grow it and call again).  The reach: how far a
     particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep; how far two points may close:
-    twice the fastest one's sweep and reach."""
+    twice the fastest one's sweep (relative to the points' mean velocity) and reach."""
     dt = params[Q_DT]
     g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
     reach = g * dt * dt
     clear_motion(bx, nb)
     n_shape = shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
                                shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
+    # (a sheet falling as a whole then needs no wider cells than one at rest)
+    mean = [0.0, 0.0, 0.0]
+    for p in range(n_particles):
+        for k in range(3):
+            mean[k] += pf[p, P_VEL + k] / n_particles
     fastest = 0.0
     for p in range(n_particles):
-        fastest = max(fastest, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2))
+        fastest = max(fastest, math.sqrt((pf[p, P_VEL] - mean[0]) ** 2 + (pf[p, P_VEL + 1] - mean[1]) ** 2
+                                         + (pf[p, P_VEL + 2] - mean[2]) ** 2))
     edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent)
     margin = 2.0 * (fastest * dt + reach)
     n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
                                  particle_pairs)
     n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, reach, cell_start,
                                      cell_entries, adjacent_start, adjacent, triangle_pairs)
-    return n_shape, n_pair, n_triangle
+    n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, margin, dt, reach, cell_start, edge_entries, edge_pairs)
+    return n_shape, n_pair, n_triangle, n_edge
 
 
 @njit
@@ -146,8 +158,8 @@ def _velocities(pf, n_particles, h):
 @njit
 def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
                    tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
-                   particle_pairs, n_pair, triangle_pairs, n_triangle, kf, ki, scratch_f, scratch_i, sphere, pos_a,
-                   rot_a, pos_s, rot_s, q_s, body_start):
+                   particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
+                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start):
     """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
     (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step); returns
     ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
@@ -173,6 +185,7 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
         # spread them apart by 5 cm in 10 s)
         nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
         triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
+        edge_contacts(pf, ei, edge_pairs, n_edge, h)
         nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         if n_triangle > 0:
@@ -180,6 +193,7 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
             # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
             # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
             triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
+            edge_contacts(pf, ei, edge_pairs, n_edge, h)
             shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         most = max(most, nk)
