@@ -57,7 +57,9 @@ self collision asked for 12 GB in its third step after blowing up).  A run slowe
 (``not_run``); after a run longer than 60 s the engine's other repeats are left out (their timing noise is small
 next to such a step).  A run that runs out of memory fails.
 
-    python bench/bench_cloth.py [--quick] [--repeats N] [--json FILE]
+    python bench/bench_cloth.py [--quick] [--repeats N] [--json FILE] [--engines marbellous,marbellous-noself]
+
+``--engines`` runs only the engines named (default: all of them).
 """
 import json
 import os
@@ -326,12 +328,14 @@ def best_of(run, repeats, n):
 
 
 def main():
-    args = bench_arguments(__doc__)
+    args = bench_arguments(__doc__, list(RUNS))
     sizes = (32,) if args.quick else (32, 64, 128)
     results = {}
     stopped = {}                  # engine -> why it is not run at larger N (capped or blown up)
     for n in sizes:
         for name, run in RUNS.items():
+            if name not in args.engines:
+                continue
             if name in stopped:
                 results.setdefault(str(n), {})[name] = {"not_run": stopped[name]}
                 continue
@@ -359,11 +363,13 @@ def main():
                   f"{r['inside_sphere_m']:14.2e} {r['under_plane_m']:12.2e} {r['stretch_max']:12.2e} "
                   f"{r['stretch_mean']:10.2e}")
     if args.json:
-        machine = describe(ROOT, {e: version(e) for e in ("pybullet", "mujoco")})
+        machine = describe(ROOT, {e: version(e) for e in ("pybullet", "mujoco")
+                                 if any(name.startswith(e) for name in args.engines)})
         with open(args.json, "w") as f:
-            json.dump({"benchmark": "cloth", "machine": machine, "quick": args.quick, "steps": STEPS, "dt": DT,
-                       "repeats": args.repeats, "sizes": list(sizes), "side_m": SIZE, "mass_kg": MASS,
-                       "sphere_radius_m": RADIUS, "sphere_centre_m": CENTRE.tolist(), "start_height_m": HEIGHT,
+            json.dump({"benchmark": "cloth", "machine": machine, "engines": args.engines, "quick": args.quick,
+                       "steps": STEPS, "dt": DT, "repeats": args.repeats, "sizes": list(sizes), "side_m": SIZE,
+                       "mass_kg": MASS, "sphere_radius_m": RADIUS, "sphere_centre_m": CENTRE.tolist(),
+                       "start_height_m": HEIGHT,
                        "thickness_m": THICKNESS, "friction": FRICTION, "cap_s_per_step": CAP_S,
                        "pybullet": {"spring_elastic_stiffness": PB_STRETCH, "num_substeps": PB_SUBSTEPS,
                                     "spring_damping_stiffness": PB_DAMPING, "collision_margin_m": PB_MARGIN,

@@ -4,14 +4,25 @@ import argparse
 import time
 
 
-def bench_arguments(doc):
+def bench_arguments(doc, engines=None):
     """The command line every side-by-side bench takes (``--quick``, ``--repeats``, ``--json FILE``), described
-    by the first line of its docstring ``doc``: the parsed arguments."""
+    by the first line of its docstring ``doc``: the parsed arguments.  Given ``engines`` (the bench's engine
+    names), also ``--engines A,B``: the ones to run (``args.engines``, a list; all of them by default)."""
     parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a smaller scene and fewer steps")
     parser.add_argument("--repeats", type=int, default=3, help="runs per engine, the fastest kept")
     parser.add_argument("--json", help="write the results to this file")
-    return parser.parse_args()
+    if engines is not None:
+        parser.add_argument("--engines", default=",".join(engines),
+                            help=f"comma-separated engines to run, of {', '.join(engines)} (default: all)")
+    args = parser.parse_args()
+    if engines is not None:
+        args.engines = [e.strip() for e in args.engines.split(",") if e.strip()]
+        unknown = [e for e in args.engines if e not in engines]
+        if unknown or not args.engines:
+            parser.error(f"unknown engines {', '.join(unknown)}; choose from {', '.join(engines)}" if unknown
+                         else "no engine given")
+    return args
 
 
 def best_results(runs, repeats, *scene):
