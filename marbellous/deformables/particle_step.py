@@ -19,7 +19,7 @@ may meet in the step.  Each sub-step, in order:
     pins            again, where the edges have moved the bodies
     contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
                     removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
-                    particle_contacts.py); with cloth, the triangles, edges and shapes twice
+                    particle_contacts.py); with cloth, the triangles and shapes twice
     velocities      v = (x - x_prev) / h
     velocity pass   dynamic friction and restitution of the sub-step's contacts
 
@@ -80,7 +80,7 @@ def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf
                                  particle_pairs)
     n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, reach, cell_start,
                                      cell_entries, adjacent_start, adjacent, triangle_pairs)
-    n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, margin, dt, reach, cell_start, edge_entries, edge_pairs)
+    n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, dt, reach, cell_start, edge_entries, edge_pairs)
     return n_shape, n_pair, n_triangle, n_edge
 
 
@@ -193,7 +193,6 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
             # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
             # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
             triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-            edge_contacts(pf, ei, edge_pairs, n_edge, h)
             shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         most = max(most, nk)
