@@ -217,6 +217,7 @@ class World:
     @integrator.setter
     def integrator(self, value: str) -> None:
         self._integrator = as_choice("integrator", value, INTEGRATORS)
+        self._state.invalidate()      # (the step's tier depends on it: world_state.scene_tier)
         self._parameters_changed()
 
     @property

@@ -25,8 +25,8 @@ import numpy as np
 from .._numba.clock import cycle_counter
 from .._numba.jit import njit, njit_calls_parallel, njit_inline
 from .._numba.wide import LANES
-from ..collision.broadphase import find_pairs
-from ..collision.shape_types import COVERAGES
+from ..collision.broadphase import GRID, find_pairs
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, COVERAGES
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
@@ -40,7 +40,7 @@ from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, ap
                                        warm_start_listed)
 from ..dynamics.ccd import shape_reach
 from ..dynamics.forces import is_driven, is_moving
-from ..dynamics.integrators import integrate_positions, integrate_velocities
+from ..dynamics.integrators import SEMI_IMPLICIT_EULER, integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
 from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, fill_joint_rows,
                                    push_rigid_joints,
@@ -76,6 +76,13 @@ __doc__ += "\n".join("    " + line for line in describe().splitlines()) + "\n"
 OK = 0
 GROW_PAIRS = 1
 GROW_CONTACTS = 2
+
+#: The step's tiers.  A LEAN step is compiled without what a world of the default settings with no
+#: constraint and few contacts cannot meet: joints, springs, rods and cables; coloured bundles and threads
+#: (which need a contact table grown past its first rows); broad phases but the grid; integrators but
+#: semi-implicit Euler.  A first world compiles about half as much.  ``world_state.scene_tier`` picks it.
+LEAN = 0
+FULL = 1
 
 
 # --- the profile clock -------------------------------------------------------------------------------------
@@ -128,9 +135,10 @@ def stage_aabbs(ctx):
     lap(ctx, ST_AABBS)
 
 
-@njit
-def stage_broad_phase(ctx):
-    """Stage "broad phase": candidate pairs into ``pairs`` (their number in ``ctx.n_pairs``)."""
+@njit_inline
+def _broad_phase(ctx, tier):
+    """Stage "broad phase": candidate pairs into ``pairs`` (their number in ``ctx.n_pairs``), by the world's
+    broad phase (``LEAN``: the grid, the only one a lean world has)."""
     bi, nb = ctx.bi, ctx.nb
     n_pairs = 0
     if _needs_pairs(ctx.bf, bi, nb):
@@ -143,13 +151,29 @@ def stage_broad_phase(ctx):
             filters[1, i] = bi[i, GROUP]
             filters[2, i] = bi[i, MASK]
             jointed = jointed or (bi[i, FLAGS] & F_JOINTED) != 0
-        n_pairs = find_pairs(ctx.params_i[PI_BROADPHASE], ctx.aabbs, filters[0], filters[1], filters[2],
-                             nb, ctx.bp_f, ctx.bp_i, ctx.pairs)
-        if jointed and n_pairs <= ctx.pairs.shape[0]:
-            n_pairs = drop_joined_pairs(ctx.pairs, n_pairs, bi, ctx.ki, ctx.nk)
+        if tier == FULL:
+            n_pairs = find_pairs(ctx.params_i[PI_BROADPHASE], ctx.aabbs, filters[0], filters[1], filters[2],
+                                 nb, ctx.bp_f, ctx.bp_i, ctx.pairs)
+            if jointed and n_pairs <= ctx.pairs.shape[0]:
+                n_pairs = drop_joined_pairs(ctx.pairs, n_pairs, bi, ctx.ki, ctx.nk)
+        else:
+            n_pairs = find_pairs(GRID, ctx.aabbs, filters[0], filters[1], filters[2], nb, ctx.bp_f, ctx.bp_i,
+                                 ctx.pairs)
     ctx.n_pairs = n_pairs
     ctx.stats[STAT_PAIRS] = n_pairs
     lap(ctx, ST_BROAD_PHASE)
+
+
+@njit
+def stage_broad_phase(ctx):
+    """Stage "broad phase" (:func:`_broad_phase`)."""
+    _broad_phase(ctx, FULL)
+
+
+@njit
+def stage_broad_phase_lean(ctx):
+    """Stage "broad phase" of a lean step."""
+    _broad_phase(ctx, LEAN)
 
 
 @njit_inline
@@ -172,17 +196,10 @@ def stage_narrow_phase(ctx, coverage):
 
 
 @njit_inline
-def collide(ctx, coverage):
-    """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with,
-    by the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns OK, or which buffer is too small
-    (nothing but scratch changed), or the time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
-    ctx.n_resting = 0
-    stage_aabbs(ctx)
-    stage_broad_phase(ctx)
-    if ctx.n_pairs > ctx.pairs.shape[0]:
-        return GROW_PAIRS
-    if ctx.n_pairs > MAX_PAIRS_PER_BODY * ctx.nb:      # bodies spawned into one another: bound the contacts
-        ctx.n_pairs = limit_pairs_per_body(ctx.pairs, ctx.n_pairs, ctx.bi, ctx.nb, MAX_PAIRS_PER_BODY)
+def _find_contacts(ctx, coverage):
+    """Stages "narrow phase" and "time of impact", by the pair tests of ``coverage``, with the resting
+    pairs' contacts kept from the cache.  Returns OK, GROW_CONTACTS (nothing but scratch changed), or the
+    time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
     stage_narrow_phase(ctx, coverage)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
@@ -199,6 +216,57 @@ def collide(ctx, coverage):
         ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi,
                                                True)
     return status
+
+
+# --- the contact stages of each coverage: a world compiles the one of its own -----------------------------------
+@njit
+def find_contacts_spheres(ctx):
+    """:func:`_find_contacts` with the pair tests of ``COVER_SPHERES``."""
+    return _find_contacts(ctx, COVER_SPHERES)
+
+
+@njit
+def find_contacts_ground(ctx):
+    """:func:`_find_contacts` with the pair tests of ``COVER_GROUND``."""
+    return _find_contacts(ctx, COVER_GROUND)
+
+
+@njit
+def find_contacts_all(ctx):
+    """:func:`_find_contacts` with every pair test."""
+    return _find_contacts(ctx, COVER_ALL)
+
+
+#: the contact stages of each coverage, ``FIND_CONTACTS[coverage]``
+FIND_CONTACTS = (find_contacts_spheres, find_contacts_ground, find_contacts_all)
+
+
+@njit_inline
+def find_contacts(ctx, coverage):
+    """The contact stages of ``coverage`` (a constant where this is inlined)."""
+    if coverage == COVER_SPHERES:
+        return find_contacts_spheres(ctx)
+    if coverage == COVER_GROUND:
+        return find_contacts_ground(ctx)
+    return find_contacts_all(ctx)
+
+
+@njit_inline
+def collide(ctx, coverage, tier):
+    """Stages "aabbs", "broad phase", "narrow phase" and "time of impact", at the poses the step began with,
+    by the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns OK, or which buffer is too small
+    (nothing but scratch changed), or the time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
+    ctx.n_resting = 0
+    stage_aabbs(ctx)
+    if tier == FULL:
+        stage_broad_phase(ctx)
+    else:
+        stage_broad_phase_lean(ctx)
+    if ctx.n_pairs > ctx.pairs.shape[0]:
+        return GROW_PAIRS
+    if ctx.n_pairs > MAX_PAIRS_PER_BODY * ctx.nb:      # bodies spawned into one another: bound the contacts
+        ctx.n_pairs = limit_pairs_per_body(ctx.pairs, ctx.n_pairs, ctx.bi, ctx.nb, MAX_PAIRS_PER_BODY)
+    return find_contacts(ctx, coverage)
 
 
 @njit
@@ -261,8 +329,8 @@ def _rescale_warm_start(ctx):
         scale_joint_impulses(ctx.kf, ctx.ki, ctx.nk, scale)
 
 
-@njit
-def stage_prepare(ctx, may_bundle, may_turn, shock):
+@njit_inline
+def _prepare(ctx, tier, may_bundle, may_turn, shock):
     """Stage "prepare": the step's start poses, the solver bodies, the contacts' basis, masses and materials,
     and the execution variant of the contact passes, chosen once: coloured bundles (``may_bundle``, the
     sequential-impulse scheme, and enough contacts, in regions when ``threads`` > 1) or one scalar pass
@@ -280,10 +348,11 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     ctx.h = dt / ctx.substeps
     _rescale_warm_start(ctx)
     ctx.iterations = 0
-    joint_totals = ctx.joint_totals
-    for c in range(nk):
-        joint_totals[c] = 0.0
-    clear_joint_sums(ctx.kf, ctx.ki, nk)
+    if tier == FULL:
+        joint_totals = ctx.joint_totals
+        for c in range(nk):
+            joint_totals[c] = 0.0
+        clear_joint_sums(ctx.kf, ctx.ki, nk)
     for i in range(nb):
         for k in range(3):
             bf[i, POS0 + k] = bf[i, POS + k]
@@ -299,8 +368,10 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     # world's threads: pipeline/context.py.)
     wide_i = ctx.wide_i
     bottom_up = ctx.params_i[PI_SOLVE_ORDER] == BOTTOM_UP
-    bundled = (may_bundle and not bottom_up and nc >= MIN_BUNDLED_CONTACTS
-               and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
+    bundled = False
+    if tier == FULL:
+        bundled = (may_bundle and not bottom_up and nc >= MIN_BUNDLED_CONTACTS
+                   and bundle_capacity(nc, 2) * BUNDLE_ROWS * LANES <= wide_i.shape[0])
     threads = 1
     if bundled:
         threads = ctx.params_i[PI_THREADS]
@@ -312,13 +383,16 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     if nc > 0:
         cf, ci, order = ctx.cf, ctx.ci, ctx.contact_order
         prepare_contacts(bf, cf, ci, nc, sb, params_f[PF_SLIDE_SPEED])
-        regions = order_contacts(bf, bi, ci, nc, nb, threads, ctx.slab, order, ctx.region_starts)
-        if bundled:
-            wide_f = ctx.wide_f
-            bundles = bundle_regions(cf, ci, order, ctx.region_starts, regions, sb, ctx.colour_used,
-                                     ctx.colour_of, ctx.colour_fill, wide_f, wide_i,
-                                     ctx.part_bundles, ctx.overflow, ctx.part_overflow)
-            load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
+        if tier == FULL:
+            regions = order_contacts(bf, bi, ci, nc, nb, threads, ctx.slab, order, ctx.region_starts)
+            if bundled:
+                wide_f = ctx.wide_f
+                bundles = bundle_regions(cf, ci, order, ctx.region_starts, regions, sb, ctx.colour_used,
+                                         ctx.colour_of, ctx.colour_fill, wide_f, wide_i,
+                                         ctx.part_bundles, ctx.overflow, ctx.part_overflow)
+                load_bundle_bodies(wide_f, wide_i, bundles, sb, True)
+        else:
+            regions = order_contacts(bf, bi, ci, nc, nb, 1, ctx.slab, order, ctx.region_starts)
     ctx.regions = regions
     ctx.bundles = bundles
     adaptive = ctx.params_i[PI_ADAPTIVE] == 1
@@ -347,32 +421,62 @@ def stage_prepare(ctx, may_bundle, may_turn, shock):
     # velocities in a 40 us interval were metres per second, and the relax pass left part of them)
     soft_coefficients(RIGID_JOINT_RATE * ctx.params_i[PI_SUBSTEPS] / params_f[PF_STEP_DT], params_f[PF_JOINT_ZETA],
                       ctx.h, soft[2])
-    if nk > 0:
-        clear_spring_forces(ctx.kf, ctx.ki, nk)
-        classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
+    if tier == FULL:
+        if nk > 0:
+            clear_spring_forces(ctx.kf, ctx.ki, nk)
+            classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
     lap(ctx, ST_PREPARE)
 
 
-# --- sub-step stages -----------------------------------------------------------------------------------------
 @njit
-def stage_integrate_velocities(ctx, penalty):
+def stage_prepare(ctx, may_bundle, may_turn, shock):
+    """Stage "prepare" (:func:`_prepare`)."""
+    _prepare(ctx, FULL, may_bundle, may_turn, shock)
+
+
+@njit
+def stage_prepare_lean(ctx):
+    """Stage "prepare" of a lean step (sequential impulses: no bundles, turning and shock passes on)."""
+    _prepare(ctx, LEAN, False, True, True)
+
+
+# --- sub-step stages -----------------------------------------------------------------------------------------
+@njit_inline
+def _integrate_velocities(ctx, tier, penalty):
     """Stage "integrate velocities": all forces over the sub-step by the chosen integrator (with the penalty
-    scheme's contact springs added to the user's forces for its duration, when ``penalty``)."""
-    bf, bi, nb, nk = ctx.bf, ctx.bi, ctx.nb, ctx.nk
+    scheme's contact springs added to the user's forces for its duration, when ``penalty``).  A lean step
+    integrates by semi-implicit Euler, with no springs (its world has none)."""
+    bf, bi, nb = ctx.bf, ctx.bi, ctx.nb
     params_f, params_i = ctx.params_f, ctx.params_i
     h = ctx.h
     sb, user_forces = ctx.solver_bodies, ctx.user_forces
-    if penalty:
-        add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ], user_forces,
-                           params_f[PF_RESTITUTION_SPEED])
-    integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, nk,
-                         params_f[PF_GRAVITY:PF_GRAVITY + 3], ctx.forces, ctx.torques, h,
-                         ctx.ws[W_PREV_DT], 1.0 / ctx.substeps, ctx.implicit, ctx.vecs)
-    if penalty:
-        restore_user_forces(bf, nb, user_forces)
+    gravity = params_f[PF_GRAVITY:PF_GRAVITY + 3]
+    if tier == FULL:
+        if penalty:
+            add_penalty_forces(bf, ctx.cf, ctx.ci, ctx.nc, sb, nb, h, params_f[PF_PENALTY_HERTZ], user_forces,
+                               params_f[PF_RESTITUTION_SPEED])
+        integrate_velocities(params_i[PI_INTEGRATOR], bf, bi, ctx.kf, ctx.ki, nb, ctx.nk, gravity, ctx.forces,
+                             ctx.torques, h, ctx.ws[W_PREV_DT], 1.0 / ctx.substeps, ctx.implicit, ctx.vecs)
+        if penalty:
+            restore_user_forces(bf, nb, user_forces)
+    else:
+        integrate_velocities(SEMI_IMPLICIT_EULER, bf, bi, ctx.kf, ctx.ki, nb, 0, gravity, ctx.forces,
+                             ctx.torques, h, ctx.ws[W_PREV_DT], 1.0 / ctx.substeps, ctx.implicit, ctx.vecs)
     if ctx.constrained:
         prepare_solver_bodies(bf, bi, nb, sb)
     lap(ctx, ST_INTEGRATE_VELOCITIES)
+
+
+@njit
+def stage_integrate_velocities(ctx, penalty):
+    """Stage "integrate velocities" (:func:`_integrate_velocities`)."""
+    _integrate_velocities(ctx, FULL, penalty)
+
+
+@njit
+def stage_integrate_velocities_lean(ctx):
+    """Stage "integrate velocities" of a lean step."""
+    _integrate_velocities(ctx, LEAN, False)
 
 
 @njit_inline
@@ -382,19 +486,34 @@ def _warm_start_joints(ctx):
         warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
 
 
-@njit
-def stage_warm_start(ctx):
+@njit_inline
+def _warm_start(ctx, tier):
     """Stage "warm start" (sequential impulses): last sub-step's impulses of joints and contacts again."""
-    _warm_start_joints(ctx)
     sb, cf, ci = ctx.solver_bodies, ctx.cf, ctx.ci
-    if ctx.bundled:
-        wide_f, wide_i = ctx.wide_f, ctx.wide_i
-        load_bundle_bodies(wide_f, wide_i, ctx.bundles, sb, False)
-        warm_start_bundles(wide_f, wide_i, ctx.bundles, sb)
-        warm_start_listed(cf, ci, ctx.overflow, ctx.n_overflow, sb)
+    if tier == FULL:
+        _warm_start_joints(ctx)
+        if ctx.bundled:
+            wide_f, wide_i = ctx.wide_f, ctx.wide_i
+            load_bundle_bodies(wide_f, wide_i, ctx.bundles, sb, False)
+            warm_start_bundles(wide_f, wide_i, ctx.bundles, sb)
+            warm_start_listed(cf, ci, ctx.overflow, ctx.n_overflow, sb)
+        elif ctx.nc > 0:
+            warm_start_contacts(cf, ci, ctx.nc, sb)
     elif ctx.nc > 0:
         warm_start_contacts(cf, ci, ctx.nc, sb)
     lap(ctx, ST_WARM_START)
+
+
+@njit
+def stage_warm_start(ctx):
+    """Stage "warm start" (:func:`_warm_start`)."""
+    _warm_start(ctx, FULL)
+
+
+@njit
+def stage_warm_start_lean(ctx):
+    """Stage "warm start" of a lean step."""
+    _warm_start(ctx, LEAN)
 
 
 @njit_inline
@@ -407,7 +526,7 @@ def _push_depth(ctx):
 
 
 @njit_inline
-def _contact_pass(ctx, pushing, first_pass, softened):
+def _contact_pass(ctx, tier, pushing, first_pass, softened):
     """One sequential-impulse pass over the contacts in the step's execution variant: on the velocities
     (solve: ``softened``, shallow overlap opened softly; relax: rigid), or, when ``pushing``, on the
     pseudo-velocities of the split impulses (``first_pass``: the sub-step's first); returns the largest
@@ -417,10 +536,11 @@ def _contact_pass(ctx, pushing, first_pass, softened):
     rate = ctx.soft[0, 0]
     max_push = ctx.params_f[PF_MAX_PUSH]
     soft = (rate, ctx.soft[0, 1], ctx.soft[0, 2], rate * _push_depth(ctx)) if softened else (0.0, 1.0, 0.0, 0.0)
-    if ctx.bundled:
-        return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles, ctx.overflow, ctx.part_overflow,
-                                 ctx.regions, sb, ctx.push_bodies, ctx.push_impulse, h, pushing, rate, max_push,
-                                 first_pass, soft, ctx.wide_change, ctx.region_change)
+    if tier == FULL:
+        if ctx.bundled:
+            return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles, ctx.overflow,
+                                     ctx.part_overflow, ctx.regions, sb, ctx.push_bodies, ctx.push_impulse, h,
+                                     pushing, rate, max_push, first_pass, soft, ctx.wide_change, ctx.region_change)
     if ctx.nc == 0:
         return 0.0
     if pushing:
@@ -430,9 +550,11 @@ def _contact_pass(ctx, pushing, first_pass, softened):
 
 
 @njit_inline
-def _joint_pass(ctx, use_bias):
-    """One sequential-impulse pass over the rods, cables and implicit springs; returns the largest velocity
-    change (m/s)."""
+def _joint_pass(ctx, tier, use_bias):
+    """One sequential-impulse pass over the rods, cables, implicit springs and joints (none in a lean step);
+    returns the largest velocity change (m/s)."""
+    if tier == LEAN:
+        return 0.0
     if ctx.nk == 0:
         return 0.0
     bf, kf, ki, nk, sb, h = ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h
@@ -460,18 +582,19 @@ JOINT_PUSH_PASSES = 4
 
 
 @njit_inline
-def _push_pass(ctx, contacts, first_pass, joints):
+def _push_pass(ctx, tier, contacts, first_pass, joints):
     """One push pass over the contacts (when ``contacts``) and (when ``joints``) the joints; returns the
     largest change."""
-    change = _contact_pass(ctx, True, first_pass, False) if contacts else 0.0
-    if joints and ctx.nk > 0:
-        change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies, ctx.h,
-                                               ctx.params_f[PF_MAX_PUSH], ctx.joint_cache))
+    change = _contact_pass(ctx, tier, True, first_pass, False) if contacts else 0.0
+    if tier == FULL:
+        if joints and ctx.nk > 0:
+            change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies,
+                                                   ctx.h, ctx.params_f[PF_MAX_PUSH], ctx.joint_cache))
     return change
 
 
 @njit_inline
-def _push_out(ctx, contacts):
+def _push_out(ctx, tier, contacts):
     """The position correction by split impulses (``contact_solver``) of the contacts (when ``contacts``)
     and the joints (``joint_rows.push_rigid_joints``): push passes on the pseudo-velocities, from zero,
     until none changes by more than the tolerance or ``iterations`` passes are done; then the contacts'
@@ -484,13 +607,13 @@ def _push_out(ctx, contacts):
     if not contacts and ctx.nk == 0:
         return
     clear_push(ctx.push_bodies, ctx.nb)
-    change = _push_pass(ctx, contacts, True, True)
+    change = _push_pass(ctx, tier, contacts, True, True)
     if change == 0.0:
         return
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
     while change >= stop_change(passes, ctx.params_i[PI_ITERATIONS], tolerance) and passes < ctx.iteration_cap:
-        change = _push_pass(ctx, contacts, False, passes < JOINT_PUSH_PASSES)
+        change = _push_pass(ctx, tier, contacts, False, passes < JOINT_PUSH_PASSES)
         passes += 1
     if contacts:
         _supported_pass(ctx, True, False)
@@ -500,17 +623,17 @@ def _push_out(ctx, contacts):
     apply_push(ctx.bf, ctx.bi, ctx.nb, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH])
 
 
-@njit_calls_parallel
-def stage_solve(ctx, contacts):
+@njit_inline
+def _solve(ctx, tier, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
     until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
     tolerance = ctx.params_f[PF_TOLERANCE]
     base = ctx.params_i[PI_ITERATIONS]
     for k in range(ctx.iteration_cap):
         ctx.iterations += 1
-        change = _joint_pass(ctx, True)
+        change = _joint_pass(ctx, tier, True)
         if contacts:
-            change = max(change, _contact_pass(ctx, False, False, True))
+            change = max(change, _contact_pass(ctx, tier, False, False, True))
         if change < stop_change(k, base, tolerance):
             break
     if contacts:
@@ -518,6 +641,18 @@ def stage_solve(ctx, contacts):
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
     lap(ctx, ST_SOLVE)
+
+
+@njit_calls_parallel
+def stage_solve(ctx, contacts):
+    """Stage "solve" (:func:`_solve`)."""
+    _solve(ctx, FULL, contacts)
+
+
+@njit
+def stage_solve_lean(ctx):
+    """Stage "solve" of a lean step (no joints, one scalar pass: nothing runs on threads, so it is cached)."""
+    _solve(ctx, LEAN, True)
 
 
 @njit_inline
@@ -547,12 +682,15 @@ def stage_solve_lcp(ctx):
     lap(ctx, ST_SOLVE)
 
 
-@njit
-def stage_integrate_positions(ctx):
-    """Stage "integrate positions": poses from velocities by the chosen integrator, and the rotation since
-    the step began (for the solver's separations)."""
+@njit_inline
+def _integrate_positions(ctx, tier):
+    """Stage "integrate positions": poses from velocities by the chosen integrator (semi-implicit Euler in a
+    lean step), and the rotation since the step began (for the solver's separations)."""
     bf, bi, nb, h = ctx.bf, ctx.bi, ctx.nb, ctx.h
-    integrate_positions(ctx.params_i[PI_INTEGRATOR], bf, bi, nb, h)
+    if tier == FULL:
+        integrate_positions(ctx.params_i[PI_INTEGRATOR], bf, bi, nb, h)
+    else:
+        integrate_positions(SEMI_IMPLICIT_EULER, bf, bi, nb, h)
     for i in range(nb):
         for k in range(3):
             bf[i, DTHETA + k] += bf[i, OMEGA + k] * h
@@ -561,29 +699,56 @@ def stage_integrate_positions(ctx):
         prepare_solver_bodies(bf, bi, nb, sb)
         if ctx.turning:     # (the contact table's too when bundled: the overflow and restitution read it)
             refresh_turning_masses(ctx.cf, ctx.ci, None, ctx.nc, sb)
-            if ctx.bundled:
-                refresh_bundle_masses(ctx.wide_f, ctx.wide_i, ctx.bundles, sb)
+            if tier == FULL:
+                if ctx.bundled:
+                    refresh_bundle_masses(ctx.wide_f, ctx.wide_i, ctx.bundles, sb)
     lap(ctx, ST_INTEGRATE_POSITIONS)
 
 
-@njit_calls_parallel
-def stage_relax(ctx, contacts):
+@njit
+def stage_integrate_positions(ctx):
+    """Stage "integrate positions" (:func:`_integrate_positions`)."""
+    _integrate_positions(ctx, FULL)
+
+
+@njit
+def stage_integrate_positions_lean(ctx):
+    """Stage "integrate positions" of a lean step."""
+    _integrate_positions(ctx, LEAN)
+
+
+@njit_inline
+def _relax(ctx, tier, contacts):
     """Stage "relax" (sequential impulses): one pass over the joints without position bias, so that their
     correction leaves no velocity behind, and (when ``contacts``) one rigid pass over the contacts, which
     stops what the soft solve passes let close; then the contacts' overlap pushed out by split impulses,
     which move the poses and leave the velocities alone."""
-    if ctx.nk > 0:
-        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (the poses just integrated)
-        _joint_pass(ctx, False)
+    if tier == FULL:
+        if ctx.nk > 0:
+            fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (the poses just integrated)
+            _joint_pass(ctx, tier, False)
     if contacts and ctx.nc > 0:
-        if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
-            load_bundle_bodies(ctx.wide_f, ctx.wide_i, ctx.bundles, ctx.solver_bodies, False)
-        _contact_pass(ctx, False, False, False)
+        if tier == FULL:
+            if ctx.bundled:      # (the bundles' masses and separations, from the poses just integrated)
+                load_bundle_bodies(ctx.wide_f, ctx.wide_i, ctx.bundles, ctx.solver_bodies, False)
+        _contact_pass(ctx, tier, False, False, False)
         _supported_pass(ctx, False, False)
     if ctx.constrained:
         store_velocities(ctx.bf, ctx.bi, ctx.nb, ctx.solver_bodies)
-    _push_out(ctx, contacts)
+    _push_out(ctx, tier, contacts)
     lap(ctx, ST_RELAX)
+
+
+@njit_calls_parallel
+def stage_relax(ctx, contacts):
+    """Stage "relax" (:func:`_relax`)."""
+    _relax(ctx, FULL, contacts)
+
+
+@njit
+def stage_relax_lean(ctx):
+    """Stage "relax" of a lean step (no joints, one scalar pass; cached)."""
+    _relax(ctx, LEAN, True)
 
 
 @njit_calls_parallel
@@ -594,36 +759,52 @@ def stage_relax_lcp(ctx):
     if ctx.nk > 0:
         _lcp_pass(ctx, False)
         fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (for the push passes)
-    _push_out(ctx, True)
+    _push_out(ctx, FULL, True)
     lap(ctx, ST_RELAX)
 
 
-@njit
-def stage_sum_impulses(ctx):
+@njit_inline
+def _sum_impulses(ctx, tier):
     """Stage "sum impulses": the sub-step's impulses of contacts and joints added to the step's totals."""
     cf = ctx.cf
-    if ctx.bundled:
-        accumulate_bundles(ctx.wide_f, ctx.bundles)
-        accumulate_listed(cf, ctx.overflow, ctx.n_overflow)
+    if tier == FULL:
+        if ctx.bundled:
+            accumulate_bundles(ctx.wide_f, ctx.bundles)
+            accumulate_listed(cf, ctx.overflow, ctx.n_overflow)
+        elif ctx.nc > 0:
+            accumulate_applied(cf, ctx.ci, ctx.nc)
+        kf, joint_totals = ctx.kf, ctx.joint_totals
+        for c in range(ctx.nk):
+            joint_totals[c] += kf[c, K_IMPULSE]
     elif ctx.nc > 0:
         accumulate_applied(cf, ctx.ci, ctx.nc)
-    kf, joint_totals = ctx.kf, ctx.joint_totals
-    for c in range(ctx.nk):
-        joint_totals[c] += kf[c, K_IMPULSE]
     ctx.ws[W_PREV_DT] = ctx.h
     lap(ctx, ST_SUM_IMPULSES)
 
 
-# --- end of step -----------------------------------------------------------------------------------------------
 @njit
-def stage_restitution(ctx, on_body_table):
+def stage_sum_impulses(ctx):
+    """Stage "sum impulses" (:func:`_sum_impulses`)."""
+    _sum_impulses(ctx, FULL)
+
+
+@njit
+def stage_sum_impulses_lean(ctx):
+    """Stage "sum impulses" of a lean step."""
+    _sum_impulses(ctx, LEAN)
+
+
+# --- end of step -----------------------------------------------------------------------------------------------
+@njit_inline
+def _restitution(ctx, tier, on_body_table):
     """Stage "restitution": the bundles' impulses back to the contact table, then closing contacts bounce.
     ``on_body_table``: the scheme's last pass worked on the body table (LCP), so the solver bodies are
     loaded from it first."""
     bf, bi, nb, nc = ctx.bf, ctx.bi, ctx.nb, ctx.nc
     cf, ci, sb = ctx.cf, ctx.ci, ctx.solver_bodies
-    if ctx.bundled:
-        store_bundles(ctx.wide_f, ctx.wide_i, ctx.bundles, cf)
+    if tier == FULL:
+        if ctx.bundled:
+            store_bundles(ctx.wide_f, ctx.wide_i, ctx.bundles, cf)
     if nc > 0:
         if on_body_table:
             prepare_solver_bodies(bf, bi, nb, sb)
@@ -633,16 +814,41 @@ def stage_restitution(ctx, on_body_table):
 
 
 @njit
-def stage_store_impulses(ctx):
+def stage_restitution(ctx, on_body_table):
+    """Stage "restitution" (:func:`_restitution`)."""
+    _restitution(ctx, FULL, on_body_table)
+
+
+@njit
+def stage_restitution_lean(ctx):
+    """Stage "restitution" of a lean step."""
+    _restitution(ctx, LEAN, False)
+
+
+@njit_inline
+def _store_impulses(ctx, tier):
     """Stage "store impulses": each contact's friction state for the next step's warm start (a contact at
     the cone whose points slide, slides); the joints' forces over the step."""
     if ctx.nc > 0:
         store_friction_state(ctx.bf, ctx.cf, ctx.ci, ctx.nc, ctx.params_f[PF_SLIDE_SPEED])
-    if ctx.nk > 0:
-        record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
-                            ctx.joint_totals, ctx.implicit, ctx.vecs)
-        record_rigid_joint_forces(ctx.bf, ctx.bi, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT])
+    if tier == FULL:
+        if ctx.nk > 0:
+            record_joint_forces(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT],
+                                ctx.joint_totals, ctx.implicit, ctx.vecs)
+            record_rigid_joint_forces(ctx.bf, ctx.bi, ctx.kf, ctx.ki, ctx.nk, ctx.params_f[PF_DT])
     lap(ctx, ST_STORE_IMPULSES)
+
+
+@njit
+def stage_store_impulses(ctx):
+    """Stage "store impulses" (:func:`_store_impulses`)."""
+    _store_impulses(ctx, FULL)
+
+
+@njit
+def stage_store_impulses_lean(ctx):
+    """Stage "store impulses" of a lean step."""
+    _store_impulses(ctx, LEAN)
 
 
 @njit
@@ -700,7 +906,7 @@ def swap_contact_tables(record):
 def step_sequential_impulse(ctx, coverage):
     """A step with contacts and joints solved by sequential impulses (the default scheme)."""
     start_clock(ctx)
-    status = collide(ctx, coverage)
+    status = collide(ctx, coverage, FULL)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -720,11 +926,35 @@ def step_sequential_impulse(ctx, coverage):
 
 
 @njit_inline
+def step_lean(ctx, coverage):
+    """The sequential-impulse step of a lean world (:func:`scene_tier`): the same stages, each compiled
+    without what such a world cannot meet (joints and springs, coloured bundles, the other broad phases
+    and integrators); its results are those of :func:`step_sequential_impulse`, bit for bit."""
+    start_clock(ctx)
+    status = collide(ctx, coverage, LEAN)
+    if status != OK:
+        return status
+    stage_match_and_wake(ctx)
+    stage_prepare_lean(ctx)
+    for _ in range(ctx.substeps):
+        stage_integrate_velocities_lean(ctx)
+        stage_warm_start_lean(ctx)
+        stage_solve_lean(ctx)
+        stage_integrate_positions_lean(ctx)
+        stage_relax_lean(ctx)
+        stage_sum_impulses_lean(ctx)
+    stage_restitution_lean(ctx)
+    stage_store_impulses_lean(ctx)
+    stage_islands_and_sleep(ctx)
+    return finish_step(ctx)
+
+
+@njit_inline
 def step_penalty(ctx, coverage):
     """A step with contacts as penalty springs (their damping gives the restitution) and joints by
     sequential impulses."""
     start_clock(ctx)
-    status = collide(ctx, coverage)
+    status = collide(ctx, coverage, FULL)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -747,7 +977,7 @@ def step_penalty(ctx, coverage):
 def step_lcp(ctx, coverage):
     """A step with contacts and joints solved as one assembled LCP per sub-step (projected Gauss-Seidel)."""
     start_clock(ctx)
-    status = collide(ctx, coverage)
+    status = collide(ctx, coverage, FULL)
     if status != OK:
         return status
     stage_match_and_wake(ctx)
@@ -773,16 +1003,19 @@ def _completed(record, status):
     return status
 
 
-def _entry(scheme, coverage):
+def _entry(scheme, coverage, tier):
     """The compiled entry of ``scheme``'s step (SEQUENTIAL_IMPULSE, PENALTY, LCP) with the pair tests of
-    ``coverage`` (``shape_types.COVER_*``): it runs the step on the context at ``address``
-    (``_numba.record.record_address``), which passes an int rather than the context (~0.1 us less per call).
-    Both codes are constants of the compiled function, so it holds only its own scheme's stages and its
-    coverage's pair tests (Numba caches each such closure apart, keyed by them)."""
+    ``coverage`` (``shape_types.COVER_*``), the lean step (:func:`step_lean`) when ``tier`` is LEAN: it runs
+    the step on the context at ``address`` (``_numba.record.record_address``), which passes an int rather
+    than the context (~0.1 us less per call).  The codes are constants of the compiled function, so it
+    holds only its own scheme's stages and its coverage's pair tests (Numba caches each such closure
+    apart, keyed by them)."""
     @njit
     def step_at(address):
         record = context_at(address)
-        if scheme == SEQUENTIAL_IMPULSE:
+        if tier == LEAN:
+            status = step_lean(view(record), coverage)
+        elif scheme == SEQUENTIAL_IMPULSE:
             status = step_sequential_impulse(view(record), coverage)
         elif scheme == PENALTY:
             status = step_penalty(view(record), coverage)
@@ -792,8 +1025,11 @@ def _entry(scheme, coverage):
     return step_at
 
 
-#: the compiled entry of each scheme's step, ``STEPS[scheme][coverage]`` (scheme: SEQUENTIAL_IMPULSE,
-#: PENALTY, LCP; coverage: ``shape_types.COVER_*``); each compiles on its first call
-STEPS = tuple(tuple(_entry(scheme, coverage) for coverage in range(COVERAGES))
+#: the compiled entry of each scheme's step, ``STEPS[scheme][coverage][tier]`` (scheme: SEQUENTIAL_IMPULSE,
+#: PENALTY, LCP; coverage: ``shape_types.COVER_*``; tier: LEAN or FULL, a lean step for sequential impulses
+#: only, None for the others); each compiles on its first call
+STEPS = tuple(tuple((_entry(scheme, coverage, LEAN) if scheme == SEQUENTIAL_IMPULSE else None,
+                     _entry(scheme, coverage, FULL))
+                    for coverage in range(COVERAGES))
               for scheme in (SEQUENTIAL_IMPULSE, PENALTY, LCP))
-assert (SEQUENTIAL_IMPULSE, PENALTY, LCP) == (0, 1, 2)
+assert (SEQUENTIAL_IMPULSE, PENALTY, LCP) == (0, 1, 2) and (LEAN, FULL) == (0, 1)

@@ -18,8 +18,12 @@ from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..deformables.particle_state import ParticleState
 from ..pipeline.context import pack_context
+from ..pipeline.precompile import shared
 from ..pipeline.stages import STAGES
-from ..pipeline.step import GROW_CONTACTS, GROW_PAIRS, STEPS
+from ..collision.broadphase import GRID
+from ..dynamics.contact_bundles import MIN_BUNDLED_CONTACTS
+from ..dynamics.integrators import SEMI_IMPLICIT_EULER
+from ..pipeline.step import FULL, GROW_CONTACTS, GROW_PAIRS, LEAN, STEPS
 from . import layout as L
 from .slots import Slots
 
@@ -45,6 +49,19 @@ def scene_coverage(bi, si, end):
     if np.any((kinds == st.MESH) | (kinds == st.HEIGHTFIELD)):
         return st.COVER_GROUND
     return st.COVER_SPHERES
+
+
+def scene_tier(solver, params_i, n_constraints, contact_rows):
+    """``pipeline.step.LEAN`` if the step of a world can leave out all the step's lean tier leaves out, else
+    ``FULL``: sequential impulses, no constraint row in use (``n_constraints``: the constraint slots'
+    end), the grid broad phase, semi-implicit Euler, and contact tables of ``contact_rows`` still at
+    their first rows (the context then has no bundle tables, ``pipeline/context.py``, so no step could
+    bundle).  A world that outgrows it
+    (a joint added, contacts past the first rows) is packed again and steps with the full tier, with
+    the same results: the lean step differs only in what it cannot meet."""
+    lean = (solver == L.SEQUENTIAL_IMPULSE and n_constraints == 0 and params_i[L.PI_BROADPHASE] == GRID
+            and params_i[L.PI_INTEGRATOR] == SEMI_IMPLICIT_EULER and contact_rows <= MIN_BUNDLED_CONTACTS)
+    return LEAN if lean else FULL
 
 
 def grow(arr, needed):
@@ -101,6 +118,7 @@ class WorldState:
         # The step context of the current tables (None whenever one of them is replaced), the address the
         # compiled step takes, and that step's entry point.
         self.context = self._entry = self._address = None
+        self.tier = None      # the tier of that step (pipeline/step.py: LEAN or FULL)
 
     # --- the step -----------------------------------------------------------------------------------------
     def invalidate(self):
@@ -120,7 +138,11 @@ class WorldState:
                                         self.impact_f)
             self._address = record_address(self.context)
             coverage = scene_coverage(self.bi, self.si, self.bodies.end)
-            self._entry = compiled_entry(STEPS[self.solver][coverage], self._address)
+            self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
+                                   max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]))
+            step = STEPS[self.solver][coverage][self.tier]
+            with shared(step, coverage, self.tier == LEAN):
+                self._entry = compiled_entry(step, self._address)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too

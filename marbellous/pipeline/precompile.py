@@ -1,0 +1,120 @@
+"""A cold lean step compiled on two cores: this process and a helper process share out its stages.
+
+Numba compiles one kernel at a time, holding the interpreter, so a first world's step (about a minute of
+compiling) would use one core however many the machine has.  The lean step's stages (``pipeline/step.py``)
+each take only the step context's view, so another process can compile them for the same type without
+the world, and whatever either process compiles goes to the kernel cache (``_numba/cache.py``).  When
+the step begins to compile (it was not in the cache), this process starts a helper; both go down one
+list of the stages, the dearest first, and each compiles the stages it is the first to claim (a file
+created in a shared directory, which only one process can create).  When the list is done and the helper
+has finished, the step compiles on, loading from the cache the stages the helper compiled.
+
+Only the lean step is shared out: the full step's solve and relax stages are compiled with the step
+(``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads from the cache,
+when the cache is off, or on one core.  ``python -m marbellous.pipeline.precompile CLAIMS COVERAGE`` is
+the helper.
+"""
+import contextlib
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+from numba.core import event
+
+from .._numba import cache
+from .._numba.record import RecordView
+from .context import STEP_CONTEXT
+from .step import (FIND_CONTACTS, finish_step, stage_aabbs, stage_broad_phase_lean, stage_integrate_positions_lean,
+                   stage_integrate_velocities_lean, stage_islands_and_sleep, stage_match_and_wake, stage_prepare_lean,
+                   stage_relax_lean, stage_restitution_lean, stage_solve_lean, stage_store_impulses_lean,
+                   stage_sum_impulses_lean, stage_warm_start_lean)
+
+
+def lean_stages(coverage):
+    """The lean step's stage kernels for ``coverage``, the dearest to compile first (measured on a cold
+    cache: the contact stages ~24 s, the broad phase ~13 s, prepare and relax ~7 s each, the rest 0.1 to
+    4 s), so that the two processes end at about the same time."""
+    return (FIND_CONTACTS[coverage], stage_broad_phase_lean, stage_prepare_lean, stage_relax_lean,
+            stage_integrate_velocities_lean, stage_solve_lean, stage_aabbs, stage_integrate_positions_lean,
+            stage_store_impulses_lean, stage_restitution_lean, stage_warm_start_lean, stage_match_and_wake,
+            stage_islands_and_sleep, stage_sum_impulses_lean, finish_step)
+
+
+def compile_claimed(stages, claims):
+    """Compile (or load) each of ``stages`` that this process is the first to claim in directory
+    ``claims``."""
+    signature = (RecordView(STEP_CONTEXT),)
+    for k, stage in enumerate(stages):
+        try:
+            os.close(os.open(os.path.join(claims, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            continue
+        stage.compile(signature)
+
+
+def _cores():
+    """CPU cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:        # (not on every platform)
+        return os.cpu_count() or 1
+
+
+def share_out(coverage):
+    """Compile the lean step's stages for ``coverage`` with a helper process, and wait for it; without a
+    cache or a second core, nothing."""
+    if cache.CACHE_DIR is None or _cores() < 2:
+        return
+    claims = tempfile.mkdtemp(prefix="marbellous-claims-")
+    try:
+        package_parent = os.path.dirname(cache.PACKAGE_DIR)
+        env = dict(os.environ, MARBELLOUS_PROGRESS="0",
+                   PYTHONPATH=os.pathsep.join([package_parent] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
+        helper = subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims, str(coverage)],
+                                  env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL)
+        try:
+            compile_claimed(lean_stages(coverage), claims)
+        finally:
+            helper.wait()      # (a helper that failed leaves its stages to the step, which compiles them)
+    finally:
+        shutil.rmtree(claims, ignore_errors=True)
+
+
+class _ShareOnCompile(event.Listener):
+    """Shares out the stages when ``entry`` begins to compile (it was not in the cache)."""
+
+    def __init__(self, entry, coverage):
+        self.entry = entry
+        self.coverage = coverage
+        self.done = False
+
+    def on_start(self, ev):
+        if ev.data.get("dispatcher") is self.entry and not self.done:
+            self.done = True
+            share_out(self.coverage)
+
+    def on_end(self, ev):
+        pass
+
+
+@contextlib.contextmanager
+def shared(entry, coverage, lean):
+    """Around the first call of step ``entry`` (a dispatcher) of ``coverage``: if it compiles and the step is
+    ``lean``, its stages are first shared out (:func:`share_out`)."""
+    if not lean:
+        yield
+        return
+    with event.install_listener("numba:compile", _ShareOnCompile(entry, coverage)):
+        yield
+
+
+def main(claims, coverage):
+    """The helper."""
+    compile_claimed(lean_stages(int(coverage)), claims)
+
+
+if __name__ == "__main__":
+    main(*sys.argv[1:3])
