@@ -16,6 +16,7 @@ from ._validate import (MAX_ACCELERATION, MAX_COORD, MAX_DENSITY, MAX_DT, MAX_HE
                         as_direction, as_filter_bits, as_flag, as_float, as_int, as_limits, as_motor_speed, as_quat,
                         as_vec3)
 from .body import Body
+from .collision.broadphase import GRID
 from .collision.broadphase import METHODS as BROADPHASE_CODES
 from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, Slider, Spring
 from .deformables import particle_layout as P
@@ -30,7 +31,7 @@ from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .pipeline.contact_events import approach_table, contact_events
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
-from .pipeline.raycast import query_box_world, raycast_world
+from .pipeline.raycast import query_box_world, raycast_world, raycast_world_grid
 from .pipeline.shape_cast import shape_cast_world
 from .pipeline.time_stepping import StepLoop
 from .reports import Contact, ContactEvent, RayHit, StepReport
@@ -998,8 +999,12 @@ class World:
         hit = np.zeros(8)
         nb = st.bodies.end
         candidates = np.zeros(max(nb, 1), dtype=np.int64)
-        found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
-                              st.broadphase_code, nb, o, d, max_distance, mask, candidates, hit)
+        if st.broadphase_code == GRID:
+            found = raycast_world_grid(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f,
+                                       st.bp_i, nb, o, d, max_distance, mask, candidates, hit)
+        else:
+            found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
+                                  st.broadphase_code, nb, o, d, max_distance, mask, candidates, hit)
         ps = st.particles
         if ps.n:
             nearest = hit[0] if found else max_distance

@@ -7,16 +7,17 @@ nearest exact hit found so far.
 """
 import numpy as np
 
-from .._numba.jit import njit
-from ..collision.broadphase import query_aabb, query_ray, update
+from .._numba.jit import njit, njit_inline
+from ..collision.broadphase import GRID, query_aabb, query_ray, update
 from ..collision.ray.raycast import raycast_shape
 from ..state.layout import FLAGS, GROUP, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, SHAPE_COUNT, SHAPE_START
 from .collide import pose_tables, shape_pose, update_aabbs
 
 
-@njit
+@njit_inline
 def refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb):
-    """The bodies' boxes (no sweep) and the broad phase at the bodies' current poses."""
+    """The bodies' boxes (no sweep) and the broad phase ``method`` (a constant where this is inlined: only
+    its broad phase compiled) at the bodies' current poses."""
     sweep = np.empty(nb)
     pos_t, rot_t, _, q = pose_tables(sf.shape[0])
     update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, 0.0, 0.0, 0.0, pos_t, rot_t, q)
@@ -37,8 +38,25 @@ def raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb,
     """Nearest hit of the ray on the bodies whose ``group & mask`` is nonzero; writes
     ``hit = [distance, body, px, py, pz, nx, ny, nz]`` and returns True.
 
-    ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.
+    ``candidates`` is scratch of at least ``nb`` ints; ``direction`` is a unit vector.  ``method``: the
+    world's broad phase (for the grid, :func:`raycast_world_grid` compiles no other).
     """
+    return _raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, origin, direction,
+                          max_distance, mask, candidates, hit)
+
+
+@njit
+def raycast_world_grid(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, nb, origin, direction, max_distance, mask,
+                       candidates, hit):
+    """:func:`raycast_world` in a world of the grid broad phase (the default)."""
+    return _raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, GRID, nb, origin, direction,
+                          max_distance, mask, candidates, hit)
+
+
+@njit_inline
+def _raycast_world(bf, bi, sf, si, geom_f, geom_i, aabbs, bp_f, bp_i, method, nb, origin, direction,
+                   max_distance, mask, candidates, hit):
+    """:func:`raycast_world`, inlined."""
     refresh_boxes(bf, bi, sf, si, aabbs, bp_f, bp_i, method, nb)
     count = query_ray(method, aabbs, bi[:, FLAGS], nb, bp_f, bp_i, origin, direction, max_distance, candidates)
     best = max_distance

@@ -183,7 +183,7 @@ def _collect_box_query(method, aabbs, flags, n_bodies, state_f, state_i, box_min
                            state_i[I_N_NODES], aabbs, box_min, box_max, buf)
 
 
-@njit
+@njit_inline
 def _collect_ray_query(method, aabbs, flags, n_bodies, state_f, state_i, origin, unit,
                        max_distance, buf):
     """Bodies whose box the ray enters into ``buf`` (while it has room); returns the count."""
@@ -214,12 +214,13 @@ def query_aabb(method, aabbs, flags, n_bodies, state_f, state_i, box_min, box_ma
     return write_indices(buf, count, out)
 
 
-@njit
+@njit_inline
 def query_ray(method, aabbs, flags, n_bodies, state_f, state_i, origin, direction, max_distance,
               out):
     """Live bodies whose box the ray from ``origin`` along ``direction`` (any non-zero length) enters
     within ``max_distance`` (m), sorted by entry distance then index, into ``out``; returns the full
-    count (at most ``len(out)`` are written)."""
+    count (at most ``len(out)`` are written).  Inlined: where ``method`` is a constant, only its broad
+    phase is compiled."""
     _check(method, aabbs, flags, n_bodies, state_i)
     if state_i[I_N_PREV] != n_bodies:
         update(method, aabbs, flags, n_bodies, state_f, state_i)

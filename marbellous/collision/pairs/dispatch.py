@@ -15,8 +15,10 @@ from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
 from ..shape_types import COVER_ALL, COVER_SPHERES
 from ..hull.hull_pairs import collide_hull_shape
+from ..hull.polytope import hull_polytope
+from ..hull.round_polytope import collide_segment_polytope
 from ..mesh.heightfield_collide import collide_convex_heightfield
-from ..mesh.mesh_collide import collide_convex_mesh
+from ..mesh.mesh_collide import collide_convex_mesh, collide_sphere_mesh
 from ..vec3 import load, mat_column, matrix
 from .box_box import collide_box_box
 from .capsule_box import collide_capsule_box
@@ -154,3 +156,26 @@ def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
     """
     return collide_pair_covering(COVER_ALL, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f,
                                  geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)
+
+
+@njit_inline
+def collide_sphere_shape(pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f_b, off_i_b,
+                         prediction, out_f, out_i, n):
+    """:func:`collide_pair` of a sphere a (radius ``params_a[0]``, m) with shape b of any kind, normals from the
+    sphere to b, with the sphere's pair tests only (a particle's: no box, capsule or hull test against
+    other shapes is compiled for it)."""
+    if type_b <= st.PLANE:
+        hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
+                                                 (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
+        return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
+    if type_b == st.MESH:
+        return collide_sphere_mesh(load(pos_a), params_a[0], load(pos_b), matrix(rot_b), params_b, geom_f, geom_i,
+                                   off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_b == st.HEIGHTFIELD:
+        return collide_convex_heightfield(st.SPHERE, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
+                                          off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if type_b == st.HULL:
+        verts, planes, starts, loops, edges = hull_polytope(pos_b, rot_b, geom_f, geom_i, off_f_b, off_i_b)
+        return collide_segment_polytope(True, load(pos_a), (0.0, 0.0, 0.0), params_a[0], verts, planes, starts,
+                                        loops, edges, prediction, out_f, out_i, n)
+    return n
