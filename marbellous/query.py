@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._validate import as_quat, as_vec3
-from .collision.pairs.dispatch import collide_pair
+from .collision.pairs.dispatch import collide_pair, collide_sphere_pair
+from .collision.shape_types import SPHERE
 from .math3d import quat_to_matrix_np
 from .shapes.primitives import Shape
 
@@ -55,12 +56,14 @@ def collide(shape_a: Shape, shape_b: Shape, *, position_a: ArrayLike = (0.0, 0.0
     geom_i = np.ascontiguousarray(np.concatenate([geom_i_a, geom_i_b]), dtype=np.int64)
     off_f_b = len(geom_f_a)
     off_i_b = len(geom_i_a)
+    # (a sphere's pairs by the kernel compiled with the sphere's tests alone)
+    pair_test = collide_sphere_pair if SPHERE in (shape_a._type, shape_b._type) else collide_pair
     capacity = 16
     while True:
         out_f = np.zeros((capacity, 7))
         out_i = np.zeros(capacity, np.int64)
-        n = collide_pair(shape_a._type, pos_a, rot_a, params_a, shape_b._type, pos_b, rot_b, params_b,
-                         geom_f, geom_i, 0, 0, off_f_b, off_i_b, 0.0, out_f, out_i, 0)
+        n = pair_test(shape_a._type, pos_a, rot_a, params_a, shape_b._type, pos_b, rot_b, params_b,
+                      geom_f, geom_i, 0, 0, off_f_b, off_i_b, 0.0, out_f, out_i, 0)
         if n <= capacity:
             break
         capacity = n

@@ -29,6 +29,7 @@ from marbellous.collision.pairs.sphere_capsule import collide_sphere_capsule
 from marbellous.collision.pairs.sphere_sphere import collide_sphere_sphere
 from marbellous.pipeline.collide import (narrow_phase_all, narrow_phase_ground, narrow_phase_spheres, pose_tables,
                                          shape_pose, update_aabbs)
+from marbellous.dynamics.soft import SOFT_DEPTH
 from marbellous.state.world_state import scene_coverage
 from marbellous.state import layout as L
 
@@ -220,6 +221,10 @@ def test_a_world_has_the_coverage_of_its_moving_shapes():
     assert coverage() == st.COVER_SPHERES
     w.add_static(mb.TriangleMesh([(0, 0, 0), (1, 0, 0), (0, 0, 1)], [(0, 2, 1)]), position=(5.0, 0.0, 0.0))
     assert coverage() == st.COVER_GROUND
+    hull = w.add_static(mb.ConvexHull([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]),
+                        position=(-5.0, 0.0, 0.0))
+    assert coverage() == st.COVER_GROUND                # and a static hull
+    w.remove(hull)
     capsule = w.add_body(mb.Capsule(0.2, 0.5), position=(0.0, 6.0, 0.0))
     assert coverage() == st.COVER_ALL
     w.remove(capsule)
@@ -245,6 +250,16 @@ def test_a_sphere_world_that_gains_a_moving_box_steps_with_every_pair_test():
         return box.position[1]
     assert run(False) == pytest.approx(0.5, abs=1e-3)
     assert run(True) == pytest.approx(0.5, abs=1e-3)
+
+
+def test_a_sphere_lands_on_a_static_hull():
+    # moving spheres only, but the hull's pair test is needed: it lands on the hull's top face (y = 0.5)
+    w = mb.World()
+    w.add_static(mb.ConvexHull([(x, y, z) for x in (-1, 1) for y in (-0.5, 0.5) for z in (-1, 1)]))
+    ball = w.add_body(mb.Sphere(0.25), position=(0.0, 2.0, 0.0))
+    for _ in range(120):
+        w.step(1 / 60)
+    assert ball.position[1] == pytest.approx(0.75, abs=SOFT_DEPTH)
 
 
 def test_a_sphere_world_compiles_no_box_or_mesh_pair_test():

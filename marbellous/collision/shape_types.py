@@ -17,9 +17,9 @@ NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh", "hull")
 # Coverage: which pair tests a world's step can need, from the kinds of shape its bodies have.  A world's
 # step is compiled for its coverage (``pipeline/step.py``), so that a first run compiles only the pair
 # tests its scene can meet (static shapes never meet each other):
-#: every moving shape a sphere, no mesh or height field: the sphere-primitive tests alone
+#: every moving shape a sphere, no mesh, height field or hull: the sphere-primitive tests alone
 COVER_SPHERES = 0
-#: every moving shape a sphere, meshes or height fields too (the marble on its level)
+#: every moving shape a sphere, meshes, height fields or static hulls too (the marble on its level)
 COVER_GROUND = 1
 #: capsules, boxes or hulls that move: every pair test
 COVER_ALL = 2

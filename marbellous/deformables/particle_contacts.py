@@ -22,7 +22,7 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision.pairs.dispatch import collide_sphere_shape
-from ..collision.shape_types import N_SHAPE_PARAMS
+from ..collision.shape_types import COVER_ALL, N_SHAPE_PARAMS
 from ..math3d import quat_product, quat_to_matrix
 from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTION, S_BODY, S_LOCAL_POS,
                             S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
@@ -60,7 +60,7 @@ def shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, prediction, 
         pos_s[k] = centre[k]
         pos_a[k] = pf[p, P_POS + k]
     sphere[0] = pf[p, P_RADIUS]
-    m = collide_sphere_shape(pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
+    m = collide_sphere_shape(COVER_ALL, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
                              sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], geom_f, geom_i, si[s, S_OFF_F], si[s, S_OFF_I],
                              prediction, scratch_f, scratch_i, 0)
     return min(m, scratch_f.shape[0]), x_b, q_b

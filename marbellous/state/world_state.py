@@ -33,7 +33,7 @@ install_compile_progress()
 def scene_coverage(bi, si, end):
     """``shape_types.COVER_*`` of the bodies in rows ``0 .. end - 1``: which pair tests their step can need
     (static shapes never meet each other).  ``COVER_ALL`` if a moving body has a shape other than a sphere,
-    else ``COVER_GROUND`` if there is a mesh or height field, else ``COVER_SPHERES``."""
+    else ``COVER_GROUND`` if there is a mesh, height field or hull, else ``COVER_SPHERES``."""
     flags = bi[:end, L.FLAGS]
     rows = np.flatnonzero((flags & L.F_ALIVE) != 0)
     starts, counts = bi[rows, L.SHAPE_START], bi[rows, L.SHAPE_COUNT]
@@ -46,7 +46,7 @@ def scene_coverage(bi, si, end):
     moving = np.repeat((flags[rows] & L.F_STATIC) == 0, counts)
     if np.any(moving & (kinds != st.SPHERE)):
         return st.COVER_ALL
-    if np.any((kinds == st.MESH) | (kinds == st.HEIGHTFIELD)):
+    if np.any((kinds == st.MESH) | (kinds == st.HEIGHTFIELD) | (kinds == st.HULL)):
         return st.COVER_GROUND
     return st.COVER_SPHERES
 

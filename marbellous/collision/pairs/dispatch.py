@@ -13,7 +13,7 @@ cannot meet, so that they are not compiled for it.
 """
 from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
-from ..shape_types import COVER_ALL, COVER_SPHERES
+from ..shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
 from ..hull.hull_pairs import collide_hull_shape
 from ..hull.polytope import hull_polytope
 from ..hull.round_polytope import collide_segment_polytope
@@ -51,15 +51,13 @@ def sphere_primitive(c, r, type_b, pos_b, m_b, params_b, prediction):
 
 
 @njit_inline
-def _ordered_convex_pair(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+def _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                          out_f, out_i, n):
     """Pair test for ``type_a <= type_b``, both primitives; plane-plane has no contacts."""
     if type_a == st.SPHERE:
         hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
                                                  (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
         return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
-    if coverage != COVER_ALL:
-        return n                    # no capsule or box moves: no such pair in this world
     if type_a == st.CAPSULE:
         if type_b == st.CAPSULE:
             return collide_capsule_capsule(pos_a, rot_a, params_a, pos_b, rot_b, params_b, prediction, out_f, out_i, n)
@@ -83,19 +81,6 @@ def flip_normals(out_f, start, stop):
 
 
 @njit_inline
-def _convex_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
-                          out_f, out_i, n):
-    """:func:`collide_convex_pair` with the pair tests of ``coverage`` only."""
-    if type_a <= type_b:
-        return _ordered_convex_pair(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
-                                    prediction, out_f, out_i, n)
-    m = _ordered_convex_pair(coverage, type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
-                             prediction, out_f, out_i, n)
-    flip_normals(out_f, n, m)
-    return m
-
-
-@njit_inline
 def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
                         out_f, out_i, n):
     """Contacts of two primitives (sphere, capsule, box, plane) in any order; returns the new count.
@@ -104,16 +89,32 @@ def collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, pa
     records; ``prediction`` (m) the largest gap still reported; rows appended to ``out_f`` /
     ``out_i`` from row ``n`` (docs/architecture.md), normals from a to b.
     """
-    return _convex_pair_covering(COVER_ALL, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
-                                 prediction, out_f, out_i, n)
+    if type_a <= type_b:
+        return _ordered_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                    prediction, out_f, out_i, n)
+    m = _ordered_convex_pair(type_b, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a,
+                             prediction, out_f, out_i, n)
+    flip_normals(out_f, n, m)
+    return m
 
 
 @njit_inline
 def collide_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
                           off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """:func:`collide_pair` with the pair tests of ``coverage`` (``shape_types.COVER_*``) only: pairs that a
-    world of that coverage cannot meet report no contact."""
-    if coverage == COVER_ALL and (type_a == st.HULL or type_b == st.HULL):
+    world of that coverage cannot meet report no contact.  Below ``COVER_ALL`` every moving shape is a
+    sphere, so every pair has one: the sphere's own tests (:func:`collide_sphere_shape`)."""
+    if coverage != COVER_ALL:
+        if type_a == st.SPHERE:
+            return collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f,
+                                        geom_i, off_f_b, off_i_b, prediction, out_f, out_i, n)
+        if type_b != st.SPHERE:
+            return n
+        m = collide_sphere_shape(coverage, pos_b, rot_b, params_b, type_a, pos_a, rot_a, params_a, geom_f, geom_i,
+                                 off_f_a, off_i_a, prediction, out_f, out_i, n)
+        flip_normals(out_f, n, m)
+        return m
+    if type_a == st.HULL or type_b == st.HULL:
         if type_a == st.HULL:
             return collide_hull_shape(pos_a, rot_a, params_a, off_f_a, off_i_a, type_b, pos_b, rot_b, params_b,
                                       off_f_b, off_i_b, geom_f, geom_i, prediction, out_f, out_i, n)
@@ -122,10 +123,8 @@ def collide_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_
         flip_normals(out_f, n, m)
         return m
     if type_a <= st.PLANE and type_b <= st.PLANE:
-        return _convex_pair_covering(coverage, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
-                                     prediction, out_f, out_i, n)
-    if coverage == COVER_SPHERES:
-        return n                    # no mesh or height field in this world
+        return collide_convex_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, prediction,
+                                   out_f, out_i, n)
     if type_a <= st.BOX and type_b == st.MESH:
         return collide_convex_mesh(type_a, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
                                    off_f_b, off_i_b, prediction, out_f, out_i, n)
@@ -159,15 +158,18 @@ def collide_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
 
 
 @njit_inline
-def collide_sphere_shape(pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f_b, off_i_b,
-                         prediction, out_f, out_i, n):
+def collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f_b,
+                         off_i_b, prediction, out_f, out_i, n):
     """:func:`collide_pair` of a sphere a (radius ``params_a[0]``, m) with shape b of any kind, normals from the
-    sphere to b, with the sphere's pair tests only (a particle's: no box, capsule or hull test against
-    other shapes is compiled for it)."""
+    sphere to b, with the sphere's pair tests only (a particle's, or any pair of a world whose moving shapes
+    are spheres: no box, capsule or hull test against other shapes is compiled for it); with ``coverage``
+    ``COVER_SPHERES``, not against meshes, height fields or hulls either."""
     if type_b <= st.PLANE:
         hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
                                                  (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
         return add_contact(out_f, out_i, n, p, normal, depth, 0) if hit else n
+    if coverage == COVER_SPHERES:
+        return n                    # no mesh, height field or hull in this world
     if type_b == st.MESH:
         return collide_sphere_mesh(load(pos_a), params_a[0], load(pos_b), matrix(rot_b), params_b, geom_f, geom_i,
                                    off_f_b, off_i_b, prediction, out_f, out_i, n)
@@ -179,3 +181,12 @@ def collide_sphere_shape(pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
         return collide_segment_polytope(True, load(pos_a), (0.0, 0.0, 0.0), params_a[0], verts, planes, starts,
                                         loops, edges, prediction, out_f, out_i, n)
     return n
+
+
+@njit
+def collide_sphere_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f_a,
+                        off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """:func:`collide_pair` where a or b is a sphere, compiled with the sphere's pair tests only (a query of a
+    sphere, such as the game's goal test, need not wait for every pair test to compile)."""
+    return collide_pair_covering(COVER_GROUND, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                 geom_f, geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)
