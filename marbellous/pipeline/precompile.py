@@ -32,6 +32,11 @@ from .step import (FIND_CONTACTS, finish_step, stage_aabbs, stage_broad_phase_le
                    stage_sum_impulses_lean, stage_warm_start_lean)
 
 
+#: the longest wait (s) for the helper once this process has compiled its share: the helper's last stage
+#: takes seconds, so a helper still busy then is stuck (a machine swapping, a stopped process)
+HELPER_TIMEOUT = 300.0
+
+
 def lean_stages(coverage):
     """The lean step's stage kernels for ``coverage``, the dearest to compile first (measured on a cold
     cache: the contact stages ~24 s, the broad phase ~13 s, prepare and relax ~7 s each, the rest 0.1 to
@@ -78,7 +83,12 @@ def share_out(coverage):
         try:
             compile_claimed(lean_stages(coverage), claims)
         finally:
-            helper.wait()      # (a helper that failed leaves its stages to the step, which compiles them)
+            # (a helper that failed, or is stopped here, leaves its stages to the step, which compiles them)
+            try:
+                helper.wait(timeout=HELPER_TIMEOUT)
+            except subprocess.TimeoutExpired:
+                helper.kill()
+                helper.wait()
     finally:
         shutil.rmtree(claims, ignore_errors=True)
 
