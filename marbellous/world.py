@@ -882,7 +882,7 @@ class World:
                 self._params_dt = dt
         particles = bool(self._living_particles or self._living_cloths)
         if particles:
-            body_start = self._state.bf[:self._state.bodies.end, _BODY_START]
+            body_start = np.ascontiguousarray(self._state.bf[:self._state.bodies.end, _BODY_START])
         status = -1 if self._retroactive else self._state.step()
         self._stepped = True
         if self._gone:

@@ -1,12 +1,18 @@
 """The lean step: a world of the default settings with no constraint and few contacts steps with a step
 compiled without joints, bundles, the other broad phases and integrators, and its results are the full
 step's, bit for bit."""
+import os
+import subprocess
+import sys
+
+import numba
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 
 import marbellous as mb
+from marbellous.pipeline import precompile
 from marbellous.pipeline.step import FULL, LEAN
 from marbellous.state import world_state
 
@@ -98,3 +104,37 @@ def test_the_other_schemes_step_with_their_full_step(solver):
     w.add_body(mb.Sphere(0.25), position=(0.0, 1.0, 0.0))
     w.step(1 / 60)
     assert w._state.tier == FULL
+
+
+def test_the_particle_kernels_are_typed_ahead_as_the_step_calls_them():
+    # what a cold step shares out with the helper must be what the particles' step then calls, or the helper
+    # compiled in vain
+    w = mb.World()
+    w.add_static(mb.Plane())
+    w.add_body(mb.Sphere(0.2), position=(2.0, 1.0, 0.0))
+    vertices, triangles = mb.cloth_grid(1.0, 1.0, 3, 3)
+    w.add_cloth(vertices, triangles, mass=0.1, position=(0.0, 1.0, 0.0))
+    work = w._state.particles.kernel_work(w._state)
+    assert len(work) == 2
+    w.step(1 / 60)
+    for kernel, arguments in work:
+        assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures
+
+
+@pytest.mark.skipif(precompile._cores() < 2, reason="the helper runs only with a second core")
+def test_a_cold_lean_step_is_compiled_with_a_helper_process(tmp_path):
+    # a fresh kernel cache: the first world's step compiles, and some of its stages come from the helper
+    # (loaded from the cache, a cache hit in this process); the ball lands where it always does
+    code = ("import marbellous as mb\n"
+            "from marbellous.pipeline import precompile, step\n"
+            "w = mb.World(); w.add_static(mb.Plane(), friction=0.6)\n"
+            "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
+            "for _ in range(120): w.step(1 / 60)\n"
+            "print(w._state.tier == step.LEAN, round(float(b.position[1]), 4),\n"
+            "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
+    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=900)
+    assert run.returncode == 0, run.stderr
+    lean, height, from_helper = run.stdout.split()
+    assert lean == "True" and float(height) == pytest.approx(0.25, abs=0.01)
+    assert int(from_helper) >= 1

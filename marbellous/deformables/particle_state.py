@@ -224,6 +224,51 @@ class ParticleState:
         return out
 
     # --- the step ---------------------------------------------------------------------------------------------
+    def _step_scratch(self, st):
+        """The per-step scratch of the kernels (adjacency, hash cells, the bodies' boxes and motion) and the
+        cloth tables: ``(tri, bend_f, bend_i, cloth_f, scratch)``."""
+        nb = st.bodies.end
+        tri, bend_f, bend_i, cloth_f = self.kernel_cloth_tables()
+        n, ne = self.n, self.ne
+        table = 1 << max(4, int(2 * n - 1).bit_length())
+        aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
+        scratch = (np.zeros(n + 1, dtype=np.int64), np.zeros(max(2 * ne, 1), dtype=np.int64),
+                   np.zeros(table + 1, dtype=np.int64), np.zeros(n, dtype=np.int64),
+                   np.zeros(max(ne, 1), dtype=np.int64), aabbs, np.zeros((max(nb, 1), BX_COLS)))
+        return tri, bend_f, bend_i, cloth_f, scratch
+
+    def _candidate_arguments(self, st, tri, cloth_f, scratch):
+        """The arguments of ``find_candidates``."""
+        adjacent_start, adjacent, cell_start, cell_entries, edge_entries, aabbs, bx = scratch
+        return (self.params, self.pf, self.pi, self.n, self.ei, self.ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
+                st.sf, st.si, st.geom_f, st.geom_i, st.bodies.end, aabbs, bx, self.shape_pairs, self.particle_pairs,
+                self.triangle_pairs, self.edge_pairs, adjacent_start, adjacent, cell_start, cell_entries,
+                edge_entries, self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1],
+                self.rot_s, self.q_s)
+
+    def _step_arguments(self, st, tri, bend_f, bend_i, cloth_f, scratch, counts, body_start):
+        """The arguments of ``step_particles`` (``counts`` those ``find_candidates`` returned)."""
+        n_shape, n_pair, n_triangle, n_edge = counts
+        bx = scratch[-1]
+        return (self.params, self.pf, self.pi, self.n, self.set_table(), len(self.sets), self.ef, self.ei, self.ne,
+                bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf, st.bi, st.bodies.end, st.sf,
+                st.si, st.geom_f, st.geom_i, bx, self.shape_pairs, n_shape, self.particle_pairs, n_pair,
+                self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
+                self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start)
+
+    def kernel_work(self, st):
+        """``[(kernel, argument types)]`` of the particles' step kernels as the next step will call them (for
+        compiling them ahead, ``pipeline/precompile.py``); empty without particles."""
+        if self.n == 0:
+            return []
+        if self.tethers is None:
+            self.tethers = find_tethers(self.pf, self.pi, self.n, self.ef, self.ei, self.ne)
+        tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
+        body_start = np.zeros((st.bodies.end, 9))
+        return [(step_particles, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0),
+                                                      body_start)),
+                (find_candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
+
     def step(self, st, dt, gravity, substeps, body_start):
         """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``;
         ``body_start`` (nb, 9) the bodies' positions, m, velocities, m/s, and user forces, N, before theirs)."""
@@ -233,26 +278,11 @@ class ParticleState:
         q[P.Q_DT] = dt
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_SUBSTEPS] = substeps
-        nb = st.bodies.end
-        tri, bend_f, bend_i, cloth_f = self.kernel_cloth_tables()
-        n, ne = self.n, self.ne
-        adjacent_start = np.zeros(n + 1, dtype=np.int64)
-        adjacent = np.zeros(max(2 * ne, 1), dtype=np.int64)
-        table = 1 << max(4, int(2 * n - 1).bit_length())
-        cell_start = np.zeros(table + 1, dtype=np.int64)
-        cell_entries = np.zeros(n, dtype=np.int64)
-        edge_entries = np.zeros(max(ne, 1), dtype=np.int64)
-        aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
-        bx = np.zeros((max(nb, 1), BX_COLS))
+        tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         if self.tethers is None:
-            self.tethers = find_tethers(self.pf, self.pi, n, self.ef, self.ei, ne)
+            self.tethers = find_tethers(self.pf, self.pi, self.n, self.ef, self.ei, self.ne)
         while True:
-            counts = find_candidates(q, self.pf, self.pi, n, self.ei, ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
-                                     st.sf, st.si, st.geom_f, st.geom_i, nb, aabbs, bx, self.shape_pairs,
-                                     self.particle_pairs, self.triangle_pairs, self.edge_pairs, adjacent_start,
-                                     adjacent, cell_start, cell_entries, edge_entries, self.scratch_f,
-                                     self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s,
-                                     self.q_s)
+            counts = find_candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
             n_shape, n_pair, n_triangle, n_edge = counts
             if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0] \
                     and n_triangle <= self.triangle_pairs.shape[0] and n_edge <= self.edge_pairs.shape[0]:
@@ -263,13 +293,8 @@ class ParticleState:
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        self.broken, most = step_particles(q, self.pf, self.pi, n, self.set_table(), len(self.sets), self.ef, self.ei,
-                                           ne, bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf,
-                                           st.bi, nb, st.sf, st.si, st.geom_f, st.geom_i, bx, self.shape_pairs,
-                                           n_shape, self.particle_pairs, n_pair, self.triangle_pairs, n_triangle,
-                                           self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f, self.scratch_i,
-                                           self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s,
-                                           body_start)
+        self.broken, most = step_particles(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, counts,
+                                                                 body_start))
         if self.broken:
             self.tethers = None
             for record in list(self.cloths):

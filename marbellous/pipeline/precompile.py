@@ -9,18 +9,22 @@ list of the stages, the dearest first, and each compiles the stages it is the fi
 created in a shared directory, which only one process can create).  When the list is done and the helper
 has finished, the step compiles on, loading from the cache the stages the helper compiled.
 
-Only the lean step is shared out: the full step's solve and relax stages are compiled with the step
-(``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads from the cache,
-when the cache is off, or on one core.  ``python -m marbellous.pipeline.precompile CLAIMS COVERAGE`` is
-the helper.
+The world's particle step kernels, which its step calls next, join the list (typed from the arguments
+they will get).  Only the lean step is shared out: the full step's solve and relax stages are compiled
+with the step (``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads
+from the cache, when the cache is off, or on one core.  ``python -m marbellous.pipeline.precompile CLAIMS``
+is the helper (the list is pickled in the directory ``CLAIMS``).
 """
 import contextlib
+import importlib
 import os
+import pickle
 import shutil
 import subprocess
 import sys
 import tempfile
 
+import numba
 from numba.core import event
 
 from .._numba import cache
@@ -47,16 +51,29 @@ def lean_stages(coverage):
             stage_islands_and_sleep, stage_sum_impulses_lean, finish_step)
 
 
-def compile_claimed(stages, claims):
-    """Compile (or load) each of ``stages`` that this process is the first to claim in directory
-    ``claims``."""
-    signature = (RecordView(STEP_CONTEXT),)
-    for k, stage in enumerate(stages):
+def _name(kernel):
+    """``(module, name)`` of a module-level kernel."""
+    return kernel.py_func.__module__, kernel.py_func.__name__
+
+
+def work_list(coverage, extra):
+    """The kernels to share out: ``[(module, name, argument types or None for the context's view)]``, the
+    dearest first: the lean step's stages for ``coverage`` after the kernels of ``extra``
+    (``[(kernel, arguments)]``: the particles' step, ~25 s, whose arguments are typed here)."""
+    typed = [(*_name(kernel), tuple(numba.typeof(a) for a in arguments)) for kernel, arguments in extra]
+    return typed[:1] + [(*_name(stage), None) for stage in lean_stages(coverage)] + typed[1:]
+
+
+def compile_claimed(work, claims):
+    """Compile (or load) each kernel of ``work`` (:func:`work_list`) that this process is the first to claim in
+    directory ``claims``."""
+    view = (RecordView(STEP_CONTEXT),)
+    for k, (module, name, signature) in enumerate(work):
         try:
             os.close(os.open(os.path.join(claims, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
         except FileExistsError:
             continue
-        stage.compile(signature)
+        getattr(importlib.import_module(module), name).compile(view if signature is None else signature)
 
 
 def _cores():
@@ -67,23 +84,26 @@ def _cores():
         return os.cpu_count() or 1
 
 
-def share_out(coverage):
-    """Compile the lean step's stages for ``coverage`` with a helper process, and wait for it; without a
-    cache or a second core, nothing."""
+def share_out(coverage, extra):
+    """Compile the lean step's stages for ``coverage`` and the kernels of ``extra`` (:func:`work_list`) with a
+    helper process, and wait for it; without a cache or a second core, nothing."""
     if cache.CACHE_DIR is None or _cores() < 2:
         return
     claims = tempfile.mkdtemp(prefix="marbellous-claims-")
     try:
+        work = work_list(coverage, extra)
+        with open(os.path.join(claims, "work"), "wb") as f:
+            pickle.dump(work, f)
         package_parent = os.path.dirname(cache.PACKAGE_DIR)
         env = dict(os.environ, MARBELLOUS_PROGRESS="0",
                    PYTHONPATH=os.pathsep.join([package_parent] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
-        helper = subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims, str(coverage)],
-                                  env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.DEVNULL)
+        helper = subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims], env=env,
+                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
-            compile_claimed(lean_stages(coverage), claims)
+            compile_claimed(work, claims)
         finally:
-            # (a helper that failed, or is stopped here, leaves its stages to the step, which compiles them)
+            # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles
+            # them when it calls them)
             try:
                 helper.wait(timeout=HELPER_TIMEOUT)
             except subprocess.TimeoutExpired:
@@ -94,37 +114,40 @@ def share_out(coverage):
 
 
 class _ShareOnCompile(event.Listener):
-    """Shares out the stages when ``entry`` begins to compile (it was not in the cache)."""
+    """Shares out the kernels when ``entry`` begins to compile (it was not in the cache)."""
 
-    def __init__(self, entry, coverage):
+    def __init__(self, entry, coverage, extra):
         self.entry = entry
         self.coverage = coverage
+        self.extra = extra
         self.done = False
 
     def on_start(self, ev):
         if ev.data.get("dispatcher") is self.entry and not self.done:
             self.done = True
-            share_out(self.coverage)
+            share_out(self.coverage, self.extra())
 
     def on_end(self, ev):
         pass
 
 
 @contextlib.contextmanager
-def shared(entry, coverage, lean):
+def shared(entry, coverage, lean, extra):
     """Around the first call of step ``entry`` (a dispatcher) of ``coverage``: if it compiles and the step is
-    ``lean``, its stages are first shared out (:func:`share_out`)."""
+    ``lean``, its stages and the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other
+    kernels of a step) are first shared out (:func:`share_out`)."""
     if not lean:
         yield
         return
-    with event.install_listener("numba:compile", _ShareOnCompile(entry, coverage)):
+    with event.install_listener("numba:compile", _ShareOnCompile(entry, coverage, extra)):
         yield
 
 
-def main(claims, coverage):
+def main(claims):
     """The helper."""
-    compile_claimed(lean_stages(int(coverage)), claims)
+    with open(os.path.join(claims, "work"), "rb") as f:
+        compile_claimed(pickle.load(f), claims)
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:3])
+    main(sys.argv[1])

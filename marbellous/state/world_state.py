@@ -141,7 +141,7 @@ class WorldState:
             self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
                                    max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]))
             step = STEPS[self.solver][coverage][self.tier]
-            with shared(step, coverage, self.tier == LEAN):
+            with shared(step, coverage, self.tier == LEAN, lambda: self.particles.kernel_work(self)):
                 self._entry = compiled_entry(step, self._address)
 
     def step(self):

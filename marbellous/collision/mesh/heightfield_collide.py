@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from ..._numba.jit import njit
+from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
 from ..aabb import boxes_overlap, ray_span_xz
 from ..ray.triangle_ray import ray_triangle
@@ -133,6 +133,15 @@ def collide_convex_heightfield(type_a, pos_a, rot_a, params_a, pos_b, rot_b, par
 
 
 @njit
+def collide_sphere_heightfield(pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, off_f_b, prediction, out_f,
+                               out_i, n):
+    """:func:`collide_convex_heightfield` of a sphere, compiled with the sphere's triangle test alone."""
+    c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
+    return _convex_heightfield(st.SPHERE, c, rot, params_a, no_polytope(), pos_b, rot_b, params_b, geom_f, off_f_b,
+                               prediction, out_f, out_i, n)
+
+
+@njit
 def collide_hull_heightfield(pos_a, rot_a, params_a, off_f_a, off_i_a, pos_b, rot_b, params_b, geom_f, geom_i,
                              off_f_b, off_i_b, prediction, out_f, out_i, n):
     """Contacts of the convex hull a (its blob slices at ``off_f_a``/``off_i_a``) with the static height
@@ -143,11 +152,11 @@ def collide_hull_heightfield(pos_a, rot_a, params_a, off_f_a, off_i_a, pos_b, ro
                                prediction, out_f, out_i, n)
 
 
-@njit
+@njit_inline
 def _convex_heightfield(type_a, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, off_f_b, prediction,
                         out_f, out_i, n):
     """Contacts of convex shape a (centre ``c`` and rotation ``rot`` in b's frame, a hull placed there as
-    ``poly``) with the static height field b."""
+    ``poly``) with the static height field b (inlined: each caller compiles its own kinds of ``type_a``)."""
     dx, dz, x0, y0, z0 = params_b[0], params_b[1], params_b[2], params_b[3], params_b[4]
     nx, nz = int(params_b[5]), int(params_b[6])
     lo, hi = convex_local_bounds(type_a, c, rot, params_a, prediction)

@@ -17,7 +17,7 @@ from ..shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
 from ..hull.hull_pairs import collide_hull_shape
 from ..hull.polytope import hull_polytope
 from ..hull.round_polytope import collide_segment_polytope
-from ..mesh.heightfield_collide import collide_convex_heightfield
+from ..mesh.heightfield_collide import collide_convex_heightfield, collide_sphere_heightfield
 from ..mesh.mesh_collide import collide_convex_mesh, collide_sphere_mesh
 from ..vec3 import load, mat_column, matrix
 from .box_box import collide_box_box
@@ -174,8 +174,8 @@ def collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b,
         return collide_sphere_mesh(load(pos_a), params_a[0], load(pos_b), matrix(rot_b), params_b, geom_f, geom_i,
                                    off_f_b, off_i_b, prediction, out_f, out_i, n)
     if type_b == st.HEIGHTFIELD:
-        return collide_convex_heightfield(st.SPHERE, pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, geom_i,
-                                          off_f_b, off_i_b, prediction, out_f, out_i, n)
+        return collide_sphere_heightfield(pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, off_f_b, prediction,
+                                          out_f, out_i, n)
     if type_b == st.HULL:
         verts, planes, starts, loops, edges = hull_polytope(pos_b, rot_b, geom_f, geom_i, off_f_b, off_i_b)
         return collide_segment_polytope(True, load(pos_a), (0.0, 0.0, 0.0), params_a[0], verts, planes, starts,

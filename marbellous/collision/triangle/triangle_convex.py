@@ -7,7 +7,7 @@ rows; the box uses the neighbour directions in its axis test and needs them up f
 """
 import numpy as np
 
-from ..._numba.jit import njit, njit_inline
+from ..._numba.jit import njit_inline
 from .. import shape_types as st
 from ..aabb import hull_bounds
 from ..pairs.contact_output import add_contact
@@ -19,11 +19,12 @@ from .triangle_contact import FEATURE_STRIDE, write_row
 from .triangle_sphere import sphere_triangle
 
 
-@njit
+@njit_inline
 def convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch):
     """Candidate contacts of shape ``type_a`` (centre ``c``, rotation ``rot``, ``params_a``; a hull placed
     as ``poly``, ``hull/polytope``) with the triangle ``a b cc`` (unit normal ``n``; neighbour directions
-    ``m2*``, read by boxes and hulls only); returns their number.
+    ``m2*``, read by boxes and hulls only); returns their number.  Inlined: where ``type_a`` is a constant,
+    only its test is compiled.
     """
     if type_a == st.SPHERE:
         feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, n, prediction)
@@ -40,7 +41,7 @@ def convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, n, m2ab, m2bc, m2c
     return box_triangle(c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
 
 
-@njit
+@njit_inline
 def convex_local_bounds(type_a, c, rot, params_a, margin):
     """Axis-aligned box ``(lo, hi)`` (3-tuples, m) of the shape in the static shape's frame,
     grown by ``margin`` (m) on every side."""
