@@ -65,6 +65,6 @@ def __dir__():
     return sorted(set(globals()) | set(_HOME))
 
 
-from .app.envs import register_envs  # noqa: E402  (gymnasium's registry names the environment's module lazily)
+from .app.envs import register_when_imported  # noqa: E402  (gymnasium's registry names the environment's module lazily)
 
-register_envs()
+register_when_imported()

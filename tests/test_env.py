@@ -1,4 +1,7 @@
 """The gymnasium environment "Marbellous-v0"."""
+import subprocess
+import sys
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -97,3 +100,16 @@ def test_rgb_render():
     assert img.shape == (90, 160, 3) and img.dtype == np.uint8 and img.std() > 5
     env.close()
     assert env._renderer is None
+
+
+def test_import_marbellous_registers_the_environment_without_importing_gymnasium():
+    # gymnasium costs a start 0.15 s: it is imported by those who use it, and the environment is there then
+    code = ("import sys\n"
+            "import marbellous\n"
+            "print('gymnasium' in sys.modules)\n"
+            "from gymnasium.spaces import Box\n"
+            "import gymnasium\n"
+            "print('Marbellous-v0' in gymnasium.registry)\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["False", "True"]
