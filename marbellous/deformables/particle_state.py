@@ -225,10 +225,13 @@ class ParticleState:
 
     # --- the step ---------------------------------------------------------------------------------------------
     def _step_scratch(self, st):
-        """The per-step scratch of the kernels (adjacency, hash cells, the bodies' boxes and motion) and the
-        cloth tables: ``(tri, bend_f, bend_i, cloth_f, scratch)``."""
+        """The cloth tables, the tethers (found from the tables' cloth column, so after them) and the per-step
+        scratch of the kernels (adjacency, hash cells, the bodies' boxes and motion):
+        ``(tri, bend_f, bend_i, cloth_f, scratch)``."""
         nb = st.bodies.end
         tri, bend_f, bend_i, cloth_f = self.kernel_cloth_tables()
+        if self.tethers is None:
+            self.tethers = find_tethers(self.pf, self.pi, self.n, self.ef, self.ei, self.ne)
         n, ne = self.n, self.ne
         table = 1 << max(4, int(2 * n - 1).bit_length())
         aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
@@ -261,8 +264,6 @@ class ParticleState:
         compiling them ahead, ``pipeline/precompile.py``); empty without particles."""
         if self.n == 0:
             return []
-        if self.tethers is None:
-            self.tethers = find_tethers(self.pf, self.pi, self.n, self.ef, self.ei, self.ne)
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         body_start = np.zeros((st.bodies.end, 9))
         return [(step_particles, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0),
@@ -279,8 +280,6 @@ class ParticleState:
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_SUBSTEPS] = substeps
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
-        if self.tethers is None:
-            self.tethers = find_tethers(self.pf, self.pi, self.n, self.ef, self.ei, self.ne)
         while True:
             counts = find_candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
             n_shape, n_pair, n_triangle, n_edge = counts
