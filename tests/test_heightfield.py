@@ -1,11 +1,15 @@
 """Height fields: height/normal queries against analytic surfaces, agreement with collisions and rays."""
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as hst
 
 from marbellous.collision import shape_types as st
-from marbellous.collision.mesh.heightfield_collide import collide_convex_heightfield
+from marbellous.collision.mesh.heightfield_collide import collide_convex_heightfield, collide_sphere_heightfield
 from marbellous.collision.mesh.mesh_collide import collide_convex_mesh
 from marbellous.shapes.heightfield import HeightField
 from marbellous.shapes.mesh import TriangleMesh
@@ -171,3 +175,37 @@ def test_shape_interface():
     assert np.allclose(lo, [-1.0, 0.5 + PLANE.heights.min(), 2.0])
     assert np.allclose(hi, [3.0, 0.5 + PLANE.heights.max(), 6.5])
     assert PLANE.bounding_radius() >= np.linalg.norm(hi)
+
+
+@settings(max_examples=100, deadline=None)
+@given(xz, hst.floats(0.05, 0.6), hst.floats(-0.3, 0.8))
+def test_a_spheres_own_height_field_test_is_the_general_one(f, r, lift):
+    # the sphere's kernel (particles, and the pairs of worlds whose moving shapes are spheres) compiles the
+    # general body for the sphere alone: the same contacts, bit for bit
+    x, z = 1.0 + 2.0 * f[0], 1.0 + 2.0 * f[1]
+    centre = (x, WAVE.height_at(x, z) + lift, z)
+    a, ia = run(collide_convex_heightfield, WAVE, st.SPHERE, (r,), centre, prediction=0.02)
+    b, ib = run(lambda _type, *rest: collide_sphere_heightfield(*rest[:7], rest[8], *rest[10:]), WAVE, st.SPHERE,
+                (r,), centre, prediction=0.02)
+    assert np.array_equal(a, b) and np.array_equal(ia, ib)
+
+
+def test_the_spheres_height_field_test_compiles_no_other_shapes_triangle_test(tmp_path):
+    code = ("import numpy as np\n"
+            "import marbellous as mb\n"
+            "from marbellous.collision import shape_types as st\n"
+            "from marbellous.collision.mesh.heightfield_collide import collide_sphere_heightfield\n"
+            "from marbellous.collision.triangle import triangle_box, triangle_capsule, triangle_hull\n"
+            "hf = mb.HeightField(np.zeros((4, 4)), spacing=(1.0, 1.0))\n"
+            "gf, gi = hf._geometry()\n"
+            "p = np.zeros(st.N_SHAPE_PARAMS); p[0] = 0.5\n"
+            "out_f, out_i = np.zeros((64, 7)), np.zeros(64, np.int64)\n"
+            "n = collide_sphere_heightfield(np.array([1.5, 0.4, 1.5]), np.eye(3), p, np.zeros(3), np.eye(3),\n"
+            "                               hf._params(), gf, 0, 0.0, out_f, out_i, 0)\n"
+            "print(n > 0, len(triangle_box.box_triangle.signatures)\n"
+            "      + len(triangle_capsule.capsule_triangle.signatures)\n"
+            "      + len(triangle_hull.hull_triangle.signatures))\n")
+    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
+    run_ = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert run_.returncode == 0, run_.stderr
+    assert run_.stdout.split() == ["True", "0"]

@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from ..._numba.jit import njit, njit_inline
-from .. import shape_types as st
+from ..shape_types import BOX, HULL, SPHERE
 from ..aabb import boxes_overlap, ray_span_xz
 from ..ray.triangle_ray import ray_triangle
 from ..triangle.triangle_contact import MAX_ROWS, N_COLS, SEEN_ROWS, edge_is_true, vertex_ring_passes
@@ -137,7 +137,7 @@ def collide_sphere_heightfield(pos_a, rot_a, params_a, pos_b, rot_b, params_b, g
                                out_i, n):
     """:func:`collide_convex_heightfield` of a sphere, compiled with the sphere's triangle test alone."""
     c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
-    return _convex_heightfield(st.SPHERE, c, rot, params_a, no_polytope(), pos_b, rot_b, params_b, geom_f, off_f_b,
+    return _convex_heightfield(SPHERE, c, rot, params_a, no_polytope(), pos_b, rot_b, params_b, geom_f, off_f_b,
                                prediction, out_f, out_i, n)
 
 
@@ -148,7 +148,7 @@ def collide_hull_heightfield(pos_a, rot_a, params_a, off_f_a, off_i_a, pos_b, ro
     field b; arguments otherwise as :func:`collide_convex_heightfield`."""
     c, rot = to_static_frame(pos_a, rot_a, pos_b, rot_b)
     poly = hull_polytope(c, rot, geom_f, geom_i, off_f_a, off_i_a)
-    return _convex_heightfield(st.HULL, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, off_f_b,
+    return _convex_heightfield(HULL, c, rot, params_a, poly, pos_b, rot_b, params_b, geom_f, off_f_b,
                                prediction, out_f, out_i, n)
 
 
@@ -182,10 +182,10 @@ def _convex_heightfield(type_a, c, rot, params_a, poly, pos_b, rot_b, params_b, 
                 a, b, cc, nrm = cell_triangle(params_b, geom_f, off_f_b, i, j, k)
                 if not boxes_overlap(a, b, cc, lo, hi):
                     continue                          # too far: the cell's box overlaps, not this triangle's
-                if type_a == st.SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
+                if type_a == SPHERE and sphere_triangle(c, params_a[0], a, b, cc, nrm, prediction)[0] < 0:
                     continue                          # missed: decided by values alone (no array call)
                 m0 = m1 = m2 = (0.0, 0.0, 0.0)
-                if type_a == st.BOX or type_a == st.HULL:
+                if type_a == BOX or type_a == HULL:
                     m0 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 0, a, b)
                     m1 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 1, b, cc)
                     m2 = neighbour_direction(params_b, geom_f, off_f_b, i, j, k, 2, cc, a)

@@ -8,7 +8,7 @@ rows; the box uses the neighbour directions in its axis test and needs them up f
 import numpy as np
 
 from ..._numba.jit import njit_inline
-from .. import shape_types as st
+from ..shape_types import CAPSULE, HULL, SPHERE
 from ..aabb import hull_bounds
 from ..pairs.contact_output import add_contact
 from ..vec3 import column, madd, mat_to_world, to_local
@@ -26,17 +26,17 @@ def convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, n, m2ab, m2bc, m2c
     ``m2*``, read by boxes and hulls only); returns their number.  Inlined: where ``type_a`` is a constant,
     only its test is compiled.
     """
-    if type_a == st.SPHERE:
+    if type_a == SPHERE:
         feature, q, normal, depth = sphere_triangle(c, params_a[0], a, b, cc, n, prediction)
         if feature < 0:
             return 0
         return write_row(scratch, 0, q, normal, depth, feature, c)
-    if type_a == st.CAPSULE:
+    if type_a == CAPSULE:
         axis = column(rot, 1)
         hh = params_a[1]
         return capsule_triangle(madd(c, -hh, axis), madd(c, hh, axis), params_a[0], a, b, cc, n, prediction,
                                 scratch)
-    if type_a == st.HULL:
+    if type_a == HULL:
         return hull_triangle(poly, params_a[6], a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
     return box_triangle(c, rot, params_a, a, b, cc, n, m2ab, m2bc, m2ca, prediction, scratch)
 
@@ -45,12 +45,12 @@ def convex_triangle(type_a, c, rot, params_a, poly, a, b, cc, n, m2ab, m2bc, m2c
 def convex_local_bounds(type_a, c, rot, params_a, margin):
     """Axis-aligned box ``(lo, hi)`` (3-tuples, m) of the shape in the static shape's frame,
     grown by ``margin`` (m) on every side."""
-    if type_a == st.SPHERE:
+    if type_a == SPHERE:
         e = (params_a[0], params_a[0], params_a[0])
-    elif type_a == st.CAPSULE:
+    elif type_a == CAPSULE:
         r, hh = params_a[0], params_a[1]
         e = (abs(rot[0, 1]) * hh + r, abs(rot[1, 1]) * hh + r, abs(rot[2, 1]) * hh + r)
-    elif type_a == st.HULL:
+    elif type_a == HULL:
         return hull_bounds(c, rot, params_a, margin)
     else:
         h = params_a
