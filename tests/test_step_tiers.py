@@ -155,3 +155,27 @@ def test_typing_the_particle_kernels_ahead_changes_nothing():
             w.step(1 / 60)
         return w.state_hash()
     assert run(True) == run(False)
+
+
+def test_without_a_helper_the_step_compiles_alone(monkeypatch):
+    # a temporary directory that cannot be written (or no interpreter to start) leaves the sharing out: no
+    # error, nothing claimed, the step then compiles every kernel itself
+    claimed = []
+    monkeypatch.setattr(precompile, "_cores", lambda: 2)
+    monkeypatch.setattr(precompile.cache, "CACHE_DIR", "/nonexistent")
+    monkeypatch.setattr(precompile, "compile_claimed", lambda work, claims: claimed.append(work))
+
+    def unwritable(*args, **kwargs):
+        raise PermissionError("read-only")
+    monkeypatch.setattr(precompile.tempfile, "mkdtemp", unwritable)
+    precompile.share_out(0, [])
+    monkeypatch.undo()
+    monkeypatch.setattr(precompile, "_cores", lambda: 2)
+    monkeypatch.setattr(precompile.cache, "CACHE_DIR", "/nonexistent")
+    monkeypatch.setattr(precompile, "compile_claimed", lambda work, claims: claimed.append(work))
+
+    def no_interpreter(*args, **kwargs):
+        raise FileNotFoundError("python")
+    monkeypatch.setattr(precompile.subprocess, "Popen", no_interpreter)
+    precompile.share_out(0, [])
+    assert claimed == []

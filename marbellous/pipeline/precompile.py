@@ -84,14 +84,13 @@ def _cores():
         return os.cpu_count() or 1
 
 
-def share_out(coverage, extra):
-    """Compile the lean step's stages for ``coverage`` and the kernels of ``extra`` (:func:`work_list`) with a
-    helper process, and wait for it; without a cache or a second core, nothing."""
-    if cache.CACHE_DIR is None or _cores() < 2:
-        return
-    claims = tempfile.mkdtemp(prefix="marbellous-claims-")
+def _start_helper(work):
+    """``(helper, claims)``: the helper process and its claims directory, where the work list is pickled; or
+    ``(None, None)`` where none can start (no writable temporary directory, no interpreter to run): the step
+    then compiles its kernels in this process as it meets them."""
+    claims = None
     try:
-        work = work_list(coverage, extra)
+        claims = tempfile.mkdtemp(prefix="marbellous-claims-")
         with open(os.path.join(claims, "work"), "wb") as f:
             pickle.dump(work, f)
         package_parent = os.path.dirname(cache.PACKAGE_DIR)
@@ -99,17 +98,32 @@ def share_out(coverage, extra):
                    PYTHONPATH=os.pathsep.join([package_parent] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
         helper = subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims], env=env,
                                   stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        try:
-            compile_claimed(work, claims)
-        finally:
-            # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles
-            # them when it calls them)
-            try:
-                helper.wait(timeout=HELPER_TIMEOUT)
-            except subprocess.TimeoutExpired:
-                helper.kill()
-                helper.wait()
+        return helper, claims
+    except (OSError, pickle.PicklingError):
+        if claims is not None:
+            shutil.rmtree(claims, ignore_errors=True)
+        return None, None
+
+
+def share_out(coverage, extra):
+    """Compile the lean step's stages for ``coverage`` and the kernels of ``extra`` (:func:`work_list`) with a
+    helper process, and wait for it; without a cache, a second core or a helper, nothing."""
+    if cache.CACHE_DIR is None or _cores() < 2:
+        return
+    work = work_list(coverage, extra)
+    helper, claims = _start_helper(work)
+    if helper is None:
+        return
+    try:
+        compile_claimed(work, claims)
     finally:
+        # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles them
+        # when it calls them)
+        try:
+            helper.wait(timeout=HELPER_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            helper.kill()
+            helper.wait()
         shutil.rmtree(claims, ignore_errors=True)
 
 
