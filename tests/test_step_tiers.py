@@ -82,14 +82,19 @@ def test_a_world_leaves_the_lean_step_for_what_it_does_not_compile():
 
 
 def test_a_pile_outgrowing_the_first_contact_rows_goes_on_with_the_full_step_unchanged(monkeypatch):
-    # 40 boxes: past 64 contact points the contact table grows, the context gets its bundle tables and the
-    # world steps with the full tier; the run is the full tier's all along
+    # 40 boxes start with the full step (more moving bodies than a lean world has) ...
     def pile():
         w = mb.World()
         w.add_static(mb.Plane())
         for k in range(40):
             w.add_body(mb.Box((0.2, 0.2, 0.2)), position=(0.5 * (k % 4), 0.3 + 0.45 * (k // 4), 0.5 * (k % 3)))
         return w
+    w = pile()
+    w.step(1 / 60)
+    assert w._state.tier == FULL
+    # ... and allowed to start lean, past 64 contact points the contact table grows, the context gets its
+    # bundle tables and the world steps with the full tier; the run is the full tier's all along
+    monkeypatch.setattr(world_state, "LEAN_MAX_BODIES", 40)
     hashed, tiers = _run(pile(), 120)
     assert tiers == {LEAN, FULL}
     with monkeypatch.context() as m:

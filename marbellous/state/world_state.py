@@ -51,16 +51,23 @@ def scene_coverage(bi, si, end):
     return st.COVER_SPHERES
 
 
-def scene_tier(solver, params_i, n_constraints, contact_rows):
+#: most moving bodies of a world that steps lean: more, and its contacts will soon pass the first rows of its
+#: contact table (16 boxes on the ground make 64 points), so it starts with the full step rather than
+#: compiling, or loading, the full step in the middle of its run
+LEAN_MAX_BODIES = 16
+
+
+def scene_tier(solver, params_i, n_constraints, contact_rows, moving_bodies):
     """``pipeline.step.LEAN`` if the step of a world can leave out all the step's lean tier leaves out, else
     ``FULL``: sequential impulses, no constraint row in use (``n_constraints``: the constraint slots'
     end), the grid broad phase, semi-implicit Euler, and contact tables of ``contact_rows`` still at
     their first rows (the context then has no bundle tables, ``pipeline/context.py``, so no step could
-    bundle).  A world that outgrows it
+    bundle), and at most ``LEAN_MAX_BODIES`` ``moving_bodies``.  A world that outgrows it
     (a joint added, contacts past the first rows) is packed again and steps with the full tier, with
     the same results: the lean step differs only in what it cannot meet."""
     lean = (solver == L.SEQUENTIAL_IMPULSE and n_constraints == 0 and params_i[L.PI_BROADPHASE] == GRID
-            and params_i[L.PI_INTEGRATOR] == SEMI_IMPLICIT_EULER and contact_rows <= MIN_BUNDLED_CONTACTS)
+            and params_i[L.PI_INTEGRATOR] == SEMI_IMPLICIT_EULER and contact_rows <= MIN_BUNDLED_CONTACTS
+            and moving_bodies <= LEAN_MAX_BODIES)
     return LEAN if lean else FULL
 
 
@@ -138,8 +145,10 @@ class WorldState:
                                         self.impact_f)
             self._address = record_address(self.context)
             coverage = scene_coverage(self.bi, self.si, self.bodies.end)
+            flags = self.bi[:self.bodies.end, L.FLAGS]
             self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
-                                   max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]))
+                                   max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]),
+                                   np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
             step = STEPS[self.solver][coverage][self.tier]
             with shared(step, coverage, self.tier == LEAN, lambda: self.particles.kernel_work(self)):
                 self._entry = compiled_entry(step, self._address)
