@@ -29,12 +29,14 @@ _HOME = {
     "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
     "Particles": ".particles", "Network": ".particles", "Cloth": ".cloth", "cloth_grid": ".cloth",
+    "SoftBody": ".soft", "tet_box": ".soft", "tetrahedralize": ".soft",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
            "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
            "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
-           "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "__version__"]
+           "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "SoftBody", "tet_box",
+           "tetrahedralize", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
@@ -46,6 +48,7 @@ if TYPE_CHECKING:      # for type checkers and the API reference; at run time th
     from .pipeline.profile import StepProfile
     from .query import ContactPoint, collide
     from .reports import Contact, ContactEvent, RayHit, StepReport
+    from .soft import SoftBody, tet_box, tetrahedralize
     from .shapes import Box, Capsule, ConvexHull, HeightField, Plane, Shape, Sphere, TriangleMesh
     from .state.snapshot import Snapshot
     from .world import World

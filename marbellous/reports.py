@@ -11,8 +11,9 @@ from .body import Body
 class RayHit:
     """The nearest surface a ray hit: ``body``, ``point`` (m), unit ``normal`` there, ``distance`` (m).
 
-    ``object`` is what was hit: the body, or a set of ``Particles``, whose particle ``index`` it was (``body``
-    is then None; ``index`` is None for a body)."""
+    ``object`` is what was hit: the body, a set of ``Particles``, a ``Cloth`` or a ``SoftBody``, whose particle,
+    triangle or surface triangle (``SoftBody.surface_triangles``) ``index`` it was (``body`` is then None;
+    ``index`` is None for a body)."""
 
     body: Body | None
     point: np.ndarray

@@ -22,6 +22,7 @@ from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, S
 from .deformables import particle_layout as P
 from .deformables.particle_queries import raycast_particles, raycast_triangles
 from .cloth import Cloth, new_cloth
+from .soft import SoftBody, new_soft_body
 from .particles import Network, Particles, edge_rows, particle_rows
 from .dynamics.integrators import INTEGRATORS
 from .dynamics.mass_properties import compound_mass_properties, conditioned_inertia
@@ -151,7 +152,7 @@ class World:
                  "_sleeping", "_state", "_body_at", "_constraint_at", "_living", "_living_constraints",
                  "_accumulator", "_time_stepping",
                  "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "_living_particles",
-                 "_living_networks", "_living_cloths", "_particle_substeps", "__weakref__")
+                 "_living_networks", "_living_cloths", "_living_softs", "_particle_substeps", "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -173,6 +174,7 @@ class World:
         self._living_particles = {}    # live Particles handles in creation order
         self._living_networks = {}     # live Network handles in creation order
         self._living_cloths = {}       # live Cloth handles in creation order
+        self._living_softs = {}        # live SoftBody handles in creation order
         self._particle_substeps = DEFAULT_PARTICLE_SUBSTEPS
         self._accumulator = 0.0
         self.gravity = gravity
@@ -438,6 +440,11 @@ class World:
         return list(self._living_cloths)
 
     @property
+    def soft_bodies(self) -> list[SoftBody]:
+        """The live soft bodies, in creation order."""
+        return list(self._living_softs)
+
+    @property
     def particle_substeps(self) -> int:
         """Sub-steps of the particles' step per world step (default 16, 1 to 1000): more make springs and
         rods stiffer and contacts tighter, at proportional cost (deformables/particle_step.py)."""
@@ -505,6 +512,30 @@ class World:
         self._state.particles.add_cloth(record, f, i, ef, ei)
         handle = Cloth(self, record)
         self._living_cloths[handle] = None
+        return handle
+
+    def add_soft_body(self, vertices: ArrayLike, tetrahedra: ArrayLike, *, density: float = 1000.0,
+                      young_modulus: float = 1.0e5, poisson_ratio: float = 0.3, damping: float = 0.0,
+                      friction: float = 0.5, position: ArrayLike = (0.0, 0.0, 0.0),
+                      orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), radius: float | None = None) -> SoftBody:
+        """Add a soft body: the tetrahedral mesh ``vertices`` (m, ``(V, 3)``, its rest shape, placed at
+        ``position`` and ``orientation``) and ``tetrahedra`` (``(K, 4)`` vertex indices; ``tet_box`` and
+        ``tetrahedralize`` make them).
+
+        ``density`` (kg/m^3); ``young_modulus`` (Pa) and ``poisson_ratio`` (below 0.5): the material of linear
+        elasticity, with each tetrahedron's rotation removed (corotated), so that it turns without strain;
+        ``damping`` (s): stiffness-proportional (Rayleigh) damping, a vibration of angular frequency ``w``
+        decays at the rate ``damping w^2 / 2`` (the implicit step damps fast vibrations as well).  The nodes
+        are spheres of ``radius`` (m; None: a quarter of the mesh's shortest edge) with the Coulomb coefficient
+        ``friction``: they collide with every shape of the world's bodies (two ways), with other soft bodies'
+        nodes, with cloths and with particles made with ``collide_particles``.  Each step advances the nodes'
+        velocities by one backward-Euler step of the elastic forces (stable for stiff materials at 60 Hz).
+        """
+        record, f, i, tf, ti = new_soft_body(vertices, tetrahedra, density, young_modulus, poisson_ratio, damping,
+                                             friction, position, orientation, radius)
+        self._state.particles.add_soft(record, f, i, tf, ti)
+        handle = SoftBody(self, record)
+        self._living_softs[handle] = None
         return handle
 
     # --- bodies -------------------------------------------------------------------------------------
@@ -644,11 +675,15 @@ class World:
         obj = body_or_constraint
         if isinstance(obj, (Particles, Network)):
             self._remove_particles_or_network(obj)
-        elif isinstance(obj, Cloth):
+        elif isinstance(obj, (Cloth, SoftBody)):
             if obj._world is not self or not obj._record.alive:
                 raise ValueError("body_or_constraint does not belong to this world (or was removed)")
-            self._state.particles.remove_cloth(obj._record)
-            del self._living_cloths[obj]
+            if isinstance(obj, Cloth):
+                self._state.particles.remove_cloth(obj._record)
+                del self._living_cloths[obj]
+            else:
+                self._state.particles.remove_soft(obj._record)
+                del self._living_softs[obj]
             obj._world = None
         elif isinstance(obj, Body):
             i = self._check_body(obj, "body_or_constraint")
@@ -672,8 +707,8 @@ class World:
             del self._living_constraints[obj]
             obj._world = None
         else:
-            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles, a Network or a Cloth, got "
-                            f"{obj!r}")
+            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles, a Network, a Cloth or a "
+                            f"SoftBody, got {obj!r}")
 
     def _remove_particles_or_network(self, obj):
         """Remove a set of particles (with its networks) or a network."""
@@ -880,7 +915,7 @@ class World:
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
-        particles = bool(self._living_particles or self._living_cloths)
+        particles = bool(self._living_particles or self._living_cloths or self._living_softs)
         if particles:
             body_start = np.ascontiguousarray(self._state.bf[:self._state.bodies.end, _BODY_START])
         status = -1 if self._retroactive else self._state.step()
@@ -1012,9 +1047,12 @@ class World:
             tri = ps.kernel_cloth_tables()[0]
             triangle = raycast_triangles(ps.pf, tri, tri.shape[0], o, d, hit[0] if row >= 0 else nearest, hit)
             if triangle >= 0:
-                cloth = ps.cloths[int(tri[triangle, P.T_CLOTH])]
-                handle = next(h for h in self._living_cloths if h._record is cloth)
-                first = int(np.searchsorted(tri[:, P.T_CLOTH], tri[triangle, P.T_CLOTH]))
+                owner = int(tri[triangle, P.T_CLOTH])
+                if owner < len(ps.cloths):
+                    handle = next(h for h in self._living_cloths if h._record is ps.cloths[owner])
+                else:
+                    handle = next(h for h in self._living_softs if h._record is ps.softs[owner - len(ps.cloths)])
+                first = int(np.searchsorted(tri[:, P.T_CLOTH], owner))
                 return RayHit(None, hit[2:5].copy(), hit[5:8].copy(), float(hit[0]), handle, triangle - first)
             if row >= 0:
                 group = next(g for g in ps.sets if g.start <= row < g.start + g.count)
@@ -1097,9 +1135,10 @@ class World:
             for handle in [h for h in living if not h._group.alive]:
                 handle._world = None
                 del living[handle]
-        for handle in [h for h in self._living_cloths if not h._record.alive]:
-            handle._world = None
-            del self._living_cloths[handle]
+        for living in (self._living_cloths, self._living_softs):
+            for handle in [h for h in living if not h._record.alive]:
+                handle._world = None
+                del living[handle]
         self._accumulator = float(snapshot.accumulator)
         self._stepped = False
 

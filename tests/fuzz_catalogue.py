@@ -208,7 +208,28 @@ KINDS = {
     "cell_size": [v for v in scalar_kind(positive=True, none_ok=True)],
     "weld": [v for v in scalar_kind(positive=True, none_ok=True)] + [("huge", 1e9)],
     "action": _vector_types(2) + _vector_values(2, 1e300)[:3],
+    "modulus": scalar_kind(positive=True, hi=1e15),
+    "poisson": scalar_kind(lo=-0.99, hi=0.49) + [("huge", 0.5), ("negative", -1.0)],
+    "radius_or_none": scalar_kind(lo=1e-6, hi=1e6, positive=True, none_ok=True),
+    "tetrahedra": [("str", "abc"), ("none", None), ("shape", [[0, 1, 2]]), ("shape", [0, 1, 2, 3]),
+                   ("negative", [[0, 1, 2, -1]]), ("huge", [[0, 1, 2, 8]]), ("huge", [[0, 1, 2, 2 ** 62]]),
+                   ("float", [[0, 1, 2, 3.5]]), ("nan", [[0, 1, 2, NAN]]), ("bool", [[True, False, True, False]]),
+                   ("complex", [[0, 1, 2, 3j]]), ("nested", [[0, 1, 2, 3], [0, 1]]), ("zero", np.zeros((0, 4), int)),
+                   ("degenerate", [[0, 1, 1, 2]]), ("flat", [[0, 1, 2, 3], [0, 1, 2, 3]]),
+                   ("object", object())],
+    "resolution": [("str", "3"), ("none", None), ("zero", 0), ("negative", -2), ("float", 2.5), ("huge", 10 ** 6),
+                   ("shape", (2, 2)), ("zero", (2, 0, 2)), ("nan", (2, NAN, 2)), ("bool", True),
+                   ("object", object())],
+    "max_volume": scalar_kind(positive=True, hi=1e12, none_ok=True),
+    "soft_indices": [("str", "abc"), ("float", [0.5]), ("huge", [8]), ("negative", [-9]), ("bool", [True]),
+                     ("complex", [1j]), ("object", object()), ("huge", [2 ** 62])],
+    "soft_rows": [("shape", np.zeros((7, 3))), ("shape", np.zeros((9, 3))), ("nan", np.full((8, 3), NAN)),
+                  ("inf", np.full((8, 3), INF)), ("huge", np.full((8, 3), 1e300)), ("str", "abc"),
+                  ("none", None), ("bool", np.ones((8, 3), bool)), ("object", object())],
 }
+# (a tetrahedron 1e7 m across is a valid soft body, unlike a convex hull of that size)
+KINDS["tet_points"] = [v for v in KINDS["points"] if not (v[0] == "huge" and np.shape(v[1]) == (4, 3)
+                                                            and np.max(np.abs(v[1])) == 1e7)]
 
 
 # --- the world fixture --------------------------------------------------------------------------------
@@ -216,7 +237,8 @@ def make_world():
     """A small world after one step: a plane, a ball, a box, a static box, a spring between the ball and
     the box, an arm on a hinge and a cart on a slider (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``,
     ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``, ``ns.platform``, a kinematic box), three beads on
-    a spring network (``ns.beads``, ``ns.network``) and a cloth of one triangle (``ns.sheet``)."""
+    a spring network (``ns.beads``, ``ns.network``), a cloth of one triangle (``ns.sheet``) and a soft cube of
+    six tetrahedra (``ns.jelly``)."""
     w = mb.World()
     ground = w.add_static(mb.Plane())
     post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
@@ -231,9 +253,10 @@ def make_world():
     beads = w.add_particles([(2, 1, 2), (2.2, 1, 2), (2.4, 1, 2)], radius=0.05, collide_particles=True)
     network = w.add_network(beads, [(0, 1), (1, 2)], kind="spring", stiffness=100.0)
     sheet = w.add_cloth([(3, 1, 3), (3.3, 1, 3), (3, 1, 3.3)], [(0, 1, 2)], mass=0.01)
+    jelly = w.add_soft_body(*mb.tet_box((0.1, 0.1, 0.1), 1), position=(-3, 0.5, 3))
     w.step(1 / 60)
     return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
-                           slider=slider, platform=platform, beads=beads, network=network, sheet=sheet)
+                           slider=slider, platform=platform, beads=beads, network=network, sheet=sheet, jelly=jelly)
 
 
 def _setter(obj_name, attr):
@@ -444,6 +467,41 @@ _add("cloth_grid()", "width", "size", lambda ns, v: mb.cloth_grid(v, 1.0, 3, 3),
 _add("cloth_grid()", "depth", "size", lambda ns, v: mb.cloth_grid(1.0, v, 3, 3), world=False)
 _add("cloth_grid()", "nx", "grid_count", lambda ns, v: mb.cloth_grid(1.0, 1.0, v, 3), world=False)
 _add("cloth_grid()", "nz", "grid_count", lambda ns, v: mb.cloth_grid(1.0, 1.0, 3, v), world=False)
+
+
+def _soft(arg):
+    """A call of ``ns.w.add_soft_body`` (a cube of six tetrahedra) with ``arg`` replaced."""
+    def call(ns, v):
+        vertices, tetrahedra = mb.tet_box((0.2, 0.2, 0.2), 1)
+        kw = dict(vertices=vertices, tetrahedra=tetrahedra, position=(0, 5, 0))
+        if arg == "vertices":
+            kw["tetrahedra"] = [(0, 1, 2, 3)]
+        kw[arg] = v
+        return ns.w.add_soft_body(kw.pop("vertices"), kw.pop("tetrahedra"), **kw)
+    return call
+
+
+for _arg, _kind in (("vertices", "tet_points"), ("tetrahedra", "tetrahedra"), ("density", "density"),
+                    ("young_modulus", "modulus"), ("poisson_ratio", "poisson"), ("damping", "damping"),
+                    ("friction", "friction"), ("position", "vec3"), ("orientation", "quat"),
+                    ("radius", "radius_or_none")):
+    _add("World.add_soft_body", _arg, _kind, _soft(_arg))
+_add("SoftBody setter", "positions", "soft_rows", _setter("jelly", "positions"))
+_add("SoftBody setter", "velocities", "soft_rows", _setter("jelly", "velocities"))
+_add("SoftBody.pin", "indices", "soft_indices", lambda ns, v: ns.jelly.pin(v))
+_add("SoftBody.pin", "body", "body", lambda ns, v: ns.jelly.pin([0], body=v))
+_add("SoftBody.unpin", "indices", "soft_indices", lambda ns, v: ns.jelly.unpin(v))
+_add("SoftBody.apply_force", "force", "force3", lambda ns, v: ns.jelly.apply_force(v))
+_add("SoftBody.apply_force", "indices", "soft_indices", lambda ns, v: ns.jelly.apply_force((1, 0, 0), v))
+_add("tet_box()", "half_extents", "half_extents", lambda ns, v: mb.tet_box(v, 2), world=False)
+_add("tet_box()", "resolution", "resolution", lambda ns, v: mb.tet_box((1, 1, 1), v), world=False)
+_add("tetrahedralize()", "surface_vertices", "tet_points",
+     lambda ns, v: mb.tetrahedralize(v, [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)]), world=False)
+_add("tetrahedralize()", "surface_triangles", "triangles",
+     lambda ns, v: mb.tetrahedralize(np.vstack([np.zeros(3), np.eye(3)]), v), world=False)
+_add("tetrahedralize()", "max_volume", "max_volume",
+     lambda ns, v: mb.tetrahedralize(np.vstack([np.zeros(3), np.eye(3)]), [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)],
+                                     max_volume=v), world=False)
 
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)

@@ -48,7 +48,8 @@ SCALAR_RULES = {   # kind: (lo, hi) of the valid range (None: unbounded; lo > 0 
     "static_friction": (0.0, 1e3), "rolling": (0.0, 1e6), "restitution": (0.0, 1.0), "stiffness": (0.0, 1e15),
     "breaking": (TINY, None), "dt": (1e-6, 1.0), "frame_time": (0.0, None), "max_distance": (0.0, None),
     "hertz": (1e-3, 1e6), "nonneg": (0.0, 1e9), "positive": (TINY, 1e9), "ratio": (0.0, 1e6),
-    "cell_size": (TINY, 1e12), "rest_length": (0.0, 1e6),
+    "cell_size": (TINY, 1e12), "rest_length": (0.0, 1e6), "modulus": (TINY, 1e15), "poisson": (-0.99, 0.49),
+    "radius_or_none": (1e-6, 1e6), "max_volume": (TINY, 1e12),
 }
 
 

@@ -5,6 +5,7 @@ import pathlib
 
 from .._validate import as_vec3
 from ..render.bounds import world_points
+from ..render.drawables import default_layers
 from ..render.orbit_camera import OrbitCamera
 from ..world import World
 
@@ -52,9 +53,9 @@ def check_flag(name, value):
 
 
 def layers_for(contacts, boxes):
-    """The drawable layers to draw: bodies, particles, cloth and constraints (with particle networks), with
-    ``contacts`` and ``boxes`` if asked."""
-    names = ["bodies", "particles", "cloth", "constraints"]
+    """The drawable layers to draw: those shown by default (bodies, particles, cloth, soft bodies and
+    constraints with particle networks), with ``contacts`` and ``boxes`` if asked."""
+    names = list(default_layers())
     if check_flag("contacts", contacts):
         names.append("contacts")
     if check_flag("boxes", boxes):

@@ -30,7 +30,10 @@ from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTI
 from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, to_world
 from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
                               KK_BODY, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV, P_RADIUS,
-                              P_RESTITUTION, P_STATIC_FRICTION, P_VEL, P_VEL0, PP_PINNED)
+                              P_RESTITUTION, P_STATIC_FRICTION, P_SUPPORT, P_VEL, P_VEL0, PP_PINNED, PP_SOFT)
+
+#: a soft body's node touches a shape within this fraction of its radius (shape_contacts)
+SOFT_TOUCH = 1e-3
 
 
 @njit
@@ -189,36 +192,44 @@ def record_contact(kf, ki, nk, p, other, kind, n, point, depth, vn0, mu, e, stuc
 
 
 @njit
-def shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk, scratch_f,
+def shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk, scratch_f,
                    scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """The position pass of the sub-step ending ``back`` s before the step's end over the candidate pairs:
-    overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  Returns the
-    new count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
-    (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
+    overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  A soft
+    body's node also records the contacts it merely touches (within ``SOFT_TOUCH`` of its radius: the
+    implicit step held it on the surface), and its friction counts the normal impulse that step gave it
+    (``P_SUPPORT``) as well as its overlap.  Returns the new count.  Scratch: ``scratch_f`` (m, 7) and
+    ``scratch_i`` (m,) rows of pair-test output, ``sphere`` (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3),
+    ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
     for c in range(n_candidates):
         p, s = candidates[c, 0], candidates[c, 1]
         b = si[s, S_BODY]
-        m, x_b, q_b = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, 0.0, scratch_f, scratch_i,
+        soft = (pi[p, P_FLAGS] & PP_SOFT) != 0
+        touch = SOFT_TOUCH * pf[p, P_RADIUS] if soft else 0.0
+        m, x_b, q_b = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f, scratch_i,
                                   sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         moved0, moved1, moved2 = 0.0, 0.0, 0.0
         for j in range(m):
             # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
             n = (-scratch_f[j, 3], -scratch_f[j, 4], -scratch_f[j, 5])
             depth = scratch_f[j, 6] - (moved0 * n[0] + moved1 * n[1] + moved2 * n[2])
-            if depth <= 0.0:
+            if depth <= -touch or (depth <= 0.0 and not soft):
                 continue
+            # (a soft body's node: the overlap that its support would have made, for friction)
+            grip = max(depth, pf[p, P_SUPPORT] * pf[p, P_INV_MASS] * h) if soft else depth
             half = 0.5 * scratch_f[j, 6]
             point = (scratch_f[j, 0] + n[0] * half, scratch_f[j, 1] + n[1] * half, scratch_f[j, 2] + n[2] * half)
             before = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
             u = point_velocity(bf, bi, bx, b, x_b, point)
             vn0 = (pf[p, P_VEL0] - u[0]) * n[0] + (pf[p, P_VEL0 + 1] - u[1]) * n[1] + (pf[p, P_VEL0 + 2] - u[2]) * n[2]
-            separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True)
+            if depth > 0.0:
+                separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True)
             mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
-            stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, mu_s, h)
+            stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, grip, mu_s, h)
             moved0 += pf[p, P_POS] - before[0]
             moved1 += pf[p, P_POS + 1] - before[1]
             moved2 += pf[p, P_POS + 2] - before[2]
-            nk = record_contact(kf, ki, nk, p, b, KK_BODY, n, point, depth, vn0,
+            nk = record_contact(kf, ki, nk, p, b, KK_BODY, n, point, grip, vn0,
                                 math.sqrt(pf[p, P_FRICTION] * bf[b, FRICTION]),
                                 max(pf[p, P_RESTITUTION], bf[b, RESTITUTION]), stuck)
     return nk

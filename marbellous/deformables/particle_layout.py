@@ -20,7 +20,9 @@ P_DAMPING = 18       # rate (1/s) at which velocity relative to the set's mean v
 P_PIN = 19           # pinned: the world point (m), or the point in the pinning body's frame (m), 3
 P_VEL0 = 22          # velocity at the start of the sub-step (m/s), 3 (scratch of the step)
 P_REST = 25          # a cloth vertex's place in the cloth's rest shape (m), 3 (its edges' and bends' rest state)
-PF_COLS = 28
+P_CONTACT = 28       # a soft body's node: the unit normal of its contact in the last sub-step, 3; zero: none
+P_SUPPORT = 31       # a soft body's node: the normal impulse (N s) its contact gave in the last implicit step
+PF_COLS = 32
 
 # --- particles, int table pi ---------------------------------------------------------------------------------
 P_SET = 0            # row of the particle's set in the set table
@@ -31,6 +33,7 @@ PI_COLS = 4
 
 PP_PINNED = 1        # held at P_PIN (in the world, or on body P_PIN_BODY)
 PP_COLLIDE = 2       # collides with the other particles that carry this bit (collide_particles)
+PP_SOFT = 4          # a node of a soft body: the soft bodies' implicit step gives its velocity (soft_step.py)
 
 # --- particle sets, int table sets -----------------------------------------------------------------------
 SET_START = 0        # first particle row
@@ -77,6 +80,19 @@ BENDI_COLS = 4
 CL_THICKNESS = 0     # the cloth's thickness (m): its triangles keep points this far plus their radius away
 CL_SELF = 1          # 1: the cloth's own vertices collide with its triangles (self_collision)
 CL_COLS = 2
+
+# --- soft bodies: tetrahedral elements, float table tf and int table ti ------------------------------------------
+S_DM_INV = 0         # Dm^-1, Dm = [X1 - X0, X2 - X0, X3 - X0] the rest edges (1/m), 9, row-major
+S_VOLUME = 9         # rest volume V (m^3)
+S_LAMBDA = 10        # Lame's first parameter lambda (Pa)
+S_MU = 11            # shear modulus mu (Pa)
+S_DAMPING = 12       # stiffness-proportional (Rayleigh) damping beta (s)
+S_QUAT = 13          # the element's rotation from its rest shape (w, x, y, z), 4: the last step's
+TF_COLS = 17
+
+S_NODES = 0          # particle rows of the four corners, 4 (X0 .. X3, positive volume)
+S_SOFT = 4           # serial number of the soft body the element belongs to
+TI_COLS = 5
 
 # --- the contacts of a sub-step, float table kf and int table ki (scratch of the step) ------------------------
 K_NORMAL = 0         # unit normal from the other side to the particle, 3

@@ -5,8 +5,8 @@ The hash: cubic cells of side ``cell`` (at least the largest diameter plus how f
 the step), keyed ``(73856093 i ^ 19349663 j ^ 83492791 k) mod table`` (Teschner et al. 2003) and sorted by key
 with a counting sort, so that the pairs are found in a fixed order.  Two particles whose distance is below
 their radii's sum plus the travel margin become a candidate pair for the step, unless an edge of a network
-joins them (a rope's neighbours overlap by design).  Two particles of two different collide-sets and of the
-same set meet alike.
+joins them (a rope's neighbours overlap by design) or they are nodes of one soft body.  Two particles of two
+different collide-sets and of the same set meet alike.
 """
 import math
 
@@ -15,7 +15,7 @@ import numpy as np
 from .._numba.jit import njit
 from .particle_contacts import append_pair, hold_or_slip, record_contact, separate
 from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_RADIUS,
-                              P_RESTITUTION, P_STATIC_FRICTION, P_VEL0, PP_COLLIDE)
+                              P_RESTITUTION, P_SET, P_STATIC_FRICTION, P_VEL0, PP_COLLIDE, PP_SOFT)
 
 
 @njit
@@ -65,6 +65,12 @@ def edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent):
 
 
 @njit
+def _same_soft_body(pi, a, b):
+    """Whether particle rows ``a`` and ``b`` are nodes of one soft body (its elements keep them apart)."""
+    return (pi[a, P_FLAGS] & PP_SOFT) != 0 and pi[a, P_SET] == pi[b, P_SET]
+
+
+@njit
 def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent, out):
     """List the candidate pairs ``(a, b)``, ``a < b``, of the colliding particles into ``out``; returns how
     many there are (rows past ``out``'s end are not written).  ``margin`` (m): how far two particles may close
@@ -111,7 +117,8 @@ def particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, a
                     continue
                 d0, d1, d2 = pf[b, P_POS] - xa, pf[b, P_POS + 1] - ya, pf[b, P_POS + 2] - za
                 reach = pf[a, P_RADIUS] + pf[b, P_RADIUS] + margin
-                if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach and not joined(adjacent_start, adjacent, a, b):
+                if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach and not joined(adjacent_start, adjacent, a, b) \
+                        and not _same_soft_body(pi, a, b):
                     n = append_pair(out, n, a, b)
     return n
 

@@ -12,7 +12,13 @@ from . import particle_layout as P
 from .body_motion import BX_COLS
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
 from .particle_step import find_candidates, step_particles
+from .soft_state import SOFT_TABLES, check_soft_bodies, load_soft_bodies, soft_tables
 from .tethers import find_tethers
+
+#: the soft bodies' solves stop when the residual is this fraction of the first (soft_step.py) ...
+SOFT_TOLERANCE = 1e-3
+#: ... or after this many conjugate-gradient iterations
+SOFT_MAX_ITERATIONS = 500
 
 
 class Group:
@@ -65,6 +71,11 @@ class ParticleState:
         self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
         self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
         self.edge_pairs = np.zeros((64, 3), dtype=np.int64)
+        self.tf = np.zeros((0, P.TF_COLS))
+        self.ti = np.zeros((0, P.TI_COLS), dtype=np.int64)
+        self.nt = 0                      # element rows in use
+        self.softs = []                  # SoftRecord of the live soft bodies, in row order
+        self.soft_solve = (0, 0.0)       # the last step's soft solves: (most iterations, largest residual ratio)
 
     # --- sets and networks ----------------------------------------------------------------------------------
     def _next_serial(self):
@@ -129,8 +140,8 @@ class ParticleState:
                 g.start -= n
         for k, g in enumerate(self.sets):
             self.pi[g.start:g.start + g.count, P.P_SET] = k
-        ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
-        ends[ends > a] -= n
+        for ends in (self.ei[:self.ne, P.E_A:P.E_B + 1], self.ti[:self.nt, P.S_NODES:P.S_NODES + 4]):
+            ends[ends > a] -= n
         group.alive = False
         self.tethers = self.cloth_tables = None
 
@@ -156,8 +167,8 @@ class ParticleState:
         for g in self.sets:
             if g.start > a:
                 g.start += grow
-        ends = self.ei[:self.ne, P.E_A:P.E_B + 1]
-        ends[ends >= a + old] += grow
+        for ends in (self.ei[:self.ne, P.E_A:P.E_B + 1], self.ti[:self.nt, P.S_NODES:P.S_NODES + 4]):
+            ends[ends >= a + old] += grow
         self.tethers = self.cloth_tables = None
 
     def replace_network(self, group, rows_f, rows_i):
@@ -195,15 +206,53 @@ class ParticleState:
         record.alive = False
         self.cloth_tables = None
 
+    def add_soft(self, record, rows_f, rows_i, element_f, element_i):
+        """Append a soft body: its nodes' rows, its elements' rows (corners its own node numbers) and its
+        record."""
+        record.serial = self._next_serial()
+        record.set = self.add_set(rows_f, rows_i)
+        record.set.owner = record.serial
+        n = element_f.shape[0]
+        element_i[:, P.S_NODES:P.S_NODES + 4] += record.set.start
+        element_i[:, P.S_SOFT] = record.serial
+        self.tf = _grown(self.tf, self.nt + n)
+        self.ti = _grown(self.ti, self.nt + n)
+        self.tf[self.nt:self.nt + n] = element_f
+        self.ti[self.nt:self.nt + n] = element_i
+        record.elements = Group(self._next_serial(), self.nt, n, record.set.serial)
+        self.nt += n
+        self.softs.append(record)
+
+    def remove_soft(self, record):
+        """Remove a soft body (its elements and nodes); the later elements move down."""
+        a, n = record.elements.start, record.elements.count
+        for table in (self.tf, self.ti):
+            table[a:self.nt - n] = table[a + n:self.nt]
+            table[self.nt - n:self.nt] = 0
+        self.nt -= n
+        self.softs.remove(record)
+        for s in self.softs:
+            if s.elements.start > a:
+                s.elements.start -= n
+        self.remove_set(record.set)
+        record.alive = record.elements.alive = False
+
     def kernel_cloth_tables(self):
         """The cloths' triangles, hinges and parameters for the kernels, in global particle rows (and each
-        cloth vertex's ``P_CLOTH``)."""
+        cloth vertex's ``P_CLOTH``).  The soft bodies' surfaces follow the cloths' triangles, as cloths
+        without hinges or springs, each as thick as its nodes' diameter and not meeting its own nodes (they
+        keep other soft bodies, cloths and particles out)."""
         if self.cloth_tables is None:
             self.pi[:self.n, P.P_CLOTH] = -1
             tri = [np.zeros((0, P.TRI_COLS), dtype=np.int64)]
             bend_f = [np.zeros((0, P.BENDF_COLS))]
             bend_i = [np.zeros((0, P.BENDI_COLS), dtype=np.int64)]
-            cloth_f = np.zeros((max(len(self.cloths), 1), P.CL_COLS))
+            cloth_f = np.zeros((max(len(self.cloths) + len(self.softs), 1), P.CL_COLS))
+            for j, s in enumerate(self.softs):
+                k, start = len(self.cloths) + j, s.set.start
+                self.pi[start:start + s.set.count, P.P_CLOTH] = k
+                tri.append(np.column_stack([s.surface + start, np.full(s.surface.shape[0], k)]))
+                cloth_f[k, P.CL_THICKNESS] = 2.0 * self.pf[start, P.P_RADIUS]
             for k, c in enumerate(self.cloths):
                 start = c.set.start
                 self.pi[start:start + c.set.count, P.P_CLOTH] = k
@@ -212,9 +261,18 @@ class ParticleState:
                 bend_i.append(c.hinges + start)
                 cloth_f[k, P.CL_THICKNESS] = c.thickness
                 cloth_f[k, P.CL_SELF] = 1.0 if c.self_collision else 0.0
+            tri = tri[:1] + tri[1 + len(self.softs):] + tri[1:1 + len(self.softs)]    # cloths first
             self.cloth_tables = (np.concatenate(tri).astype(np.int64), np.concatenate(bend_f),
                                  np.concatenate(bend_i).astype(np.int64), cloth_f)
         return self.cloth_tables
+
+    def soft_table(self):
+        """The soft-body table the kernel reads: per soft body its first node row, node count, first element row
+        and element count."""
+        out = np.zeros((max(len(self.softs), 1), 4), dtype=np.int64)
+        for k, s in enumerate(self.softs):
+            out[k] = (s.set.start, s.set.count, s.elements.start, s.elements.count)
+        return out
 
     def set_table(self):
         """The set table the kernel reads (``SETS_COLS`` columns per live set)."""
@@ -257,7 +315,9 @@ class ParticleState:
                 bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf, st.bi, st.bodies.end, st.sf,
                 st.si, st.geom_f, st.geom_i, bx, self.shape_pairs, n_shape, self.particle_pairs, n_pair,
                 self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
-                self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start)
+                self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start,
+                self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
+                np.empty((self.nt, 9)), np.empty((9, self.n, 3)))
 
     def kernel_work(self, st):
         """``[(kernel, argument types)]`` of the particles' step kernels as the next step will call them (for
@@ -292,8 +352,9 @@ class ParticleState:
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        self.broken, most = step_particles(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, counts,
-                                                                 body_start))
+        self.broken, most, *soft_solve = step_particles(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f,
+                                                                              scratch, counts, body_start))
+        self.soft_solve = tuple(soft_solve)
         if self.broken:
             self.tethers = None
             for record in list(self.cloths):
@@ -312,7 +373,7 @@ class ParticleState:
                                           dtype=np.int64).reshape(-1, 3),
                 "networks": np.array([(g.serial, g.start, g.count, g.owner) for g in self.networks],
                                      dtype=np.int64).reshape(-1, 4),
-                **cloth_tables(self.cloths)}
+                **cloth_tables(self.cloths), **soft_tables(self.softs, self.tf, self.ti, self.nt)}
 
     def check(self, t, bodies_alive, refuse):
         """Check a snapshot's particle tables ``t`` (see ``state/snapshot.py``): every set and network in it
@@ -347,7 +408,7 @@ class ParticleState:
             refuse("holds a NaN or infinite particle value")
         if np.any(pf[:, P.P_MASS] <= 0.0) or np.any(pf[:, P.P_RADIUS] <= 0.0) or np.any(pf[:, P.P_INV_MASS] < 0.0):
             refuse("holds a particle with a mass or radius out of range")
-        if np.any(pi[:, P.P_FLAGS] & ~(P.PP_PINNED | P.PP_COLLIDE)) or np.any(pi[:, P.P_SET] < 0) \
+        if np.any(pi[:, P.P_FLAGS] & ~(P.PP_PINNED | P.PP_COLLIDE | P.PP_SOFT)) or np.any(pi[:, P.P_SET] < 0) \
                 or np.any(pi[:, P.P_SET] >= max(len(sets), 1)):
             refuse("holds particle rows with unknown flags or sets")
         pinned_to = pi[:, P.P_PIN_BODY]
@@ -361,6 +422,7 @@ class ParticleState:
                             or np.any(ei[:, P.E_FLAGS] & ~P.EB_BROKEN)):
             refuse("holds edges between particles it does not have")
         check_cloths(t, self.cloths, refuse)
+        check_soft_bodies(t, self.softs, refuse)
 
     def load(self, t):
         """Write a checked snapshot's particle tables; sets and networks not in it are removed (their
@@ -391,9 +453,15 @@ class ParticleState:
         self.ei[:self.ne] = t["edge_i"]
         self.cloths = load_cloths(t, self.cloths)
         self.cloth_tables = None
+        self.softs = load_soft_bodies(t, self.softs)
+        self.nt = t["soft_f"].shape[0]
+        self.tf = _grown(np.zeros((0, P.TF_COLS)), self.nt)
+        self.ti = _grown(np.zeros((0, P.TI_COLS), dtype=np.int64), self.nt)
+        self.tf[:self.nt] = t["soft_f"]
+        self.ti[:self.nt] = t["soft_i"]
 
 
 #: the particle tables of a snapshot, their dtypes and column counts (for state/snapshot.py)
 TABLES = {"particle_f": (np.float64, P.PF_COLS), "particle_i": (np.int64, P.PI_COLS),
           "edge_f": (np.float64, P.EF_COLS), "edge_i": (np.int64, P.EI_COLS), "particle_sets": (np.int64, 3),
-          "networks": (np.int64, 4), **CLOTH_TABLES}
+          "networks": (np.int64, 4), **CLOTH_TABLES, **SOFT_TABLES}

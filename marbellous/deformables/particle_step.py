@@ -7,8 +7,12 @@ may meet in the step.  Each sub-step, in order:
 
     drift           pushed bodies go on with the velocity the particles gave them, bodies in free fall
                     fall as particles do (body_motion.py)
-    integrate       v0 = v;  v += h (g + F / m);  internal motion damped;  x_prev = x;  x += h v;
-                    particles pinned to the world put back on their pins
+    soft bodies     their nodes' velocities by one implicit step of their elastic forces (soft_step.py;
+                    once per sub-step, so that a node stopped by a contact pushes back on its neighbours
+                    before they have moved far into it)
+    integrate       v0 = v;  v += h (g + F / m) (not for soft bodies' nodes: their velocity for the step
+                    comes from the soft bodies' implicit step, soft_step.py);  internal motion damped;
+                    x_prev = x;  x += h v;  particles pinned to the world put back on their pins
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
     edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
                     body-pinned particle pulls the body (two ways); the cloths' edges get a second pass
@@ -21,7 +25,8 @@ may meet in the step.  Each sub-step, in order:
                     removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
                     particle_contacts.py); with cloth, the triangles and shapes twice
     velocities      v = (x - x_prev) / h
-    velocity pass   dynamic friction and restitution of the sub-step's contacts
+    velocity pass   dynamic friction and restitution of the sub-step's contacts; the soft bodies' nodes
+                    note their contacts' normals for the next sub-step's implicit step
 
 and at the end the pushed bodies' poses and velocities are written back, the edges whose force of the step
 passed their breaking force break, and the user forces are cleared.
@@ -40,9 +45,10 @@ from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
-                              P_PREV, P_VEL, P_VEL0, PP_PINNED, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
+                              P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
+from .soft_step import record_contact_normals, step_soft_bodies
 from .tethers import solve_tethers
 from .triangle_contacts import triangle_candidates, triangle_contacts
 
@@ -91,7 +97,7 @@ def _integrate(params, pf, pi, n_particles, sets, n_sets, h):
     for p in range(n_particles):
         for k in range(3):
             pf[p, P_VEL0 + k] = pf[p, P_VEL + k]
-        if pf[p, P_INV_MASS] > 0.0:
+        if pf[p, P_INV_MASS] > 0.0 and (pi[p, P_FLAGS] & PP_SOFT) == 0:
             inv_m = pf[p, P_INV_MASS]
             pf[p, P_VEL] += h * (gx + pf[p, P_FORCE] * inv_m)
             pf[p, P_VEL + 1] += h * (gy + pf[p, P_FORCE + 1] * inv_m)
@@ -159,20 +165,30 @@ def _velocities(pf, n_particles, h):
 def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
                    tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
                    particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
-                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start):
+                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
+                   soft_tolerance, soft_iterations, soft_rot, soft_work):
     """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
-    (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step); returns
-    ``(edges broken, most contacts of a sub-step)`` (contacts past ``kf``'s length had no velocity pass)."""
+    (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
+    ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
+    ``step_soft_bodies``); returns ``(edges broken, most contacts of a sub-step, most soft-body solver
+    iterations of a sub-step, its largest residual ratio)``
+    (contacts past ``kf``'s length had no velocity pass)."""
     dt = params[Q_DT]
     substeps = int(params[Q_SUBSTEPS])
     h = dt / substeps
     g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
     start_motion(bf, bi, bx, nb, body_start, dt, (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]))
     clear_edge_forces(ef, ei, ne)
-    most = 0
+    most = soft_most = 0
+    soft_residual = 0.0
     for step in range(substeps):
         back = dt - (step + 1) * h
         drift(bf, bx, nb, h)
+        if n_soft > 0:
+            used, residual = step_soft_bodies(params, pf, pi, soft_bodies, n_soft, tf, ti, h, soft_tolerance,
+                                              soft_iterations, soft_rot, soft_work)
+            soft_most = max(soft_most, used)
+            soft_residual = max(soft_residual, residual)
         _integrate(params, pf, pi, n_particles, sets, n_sets, h)
         _pins(pf, pi, n_particles, bf, bi, bx, back)
         solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, True)
@@ -186,21 +202,23 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
         nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
         triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
         edge_contacts(pf, ei, edge_pairs, n_edge, h)
-        nk = shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
+        nk = shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         if n_triangle > 0:
             # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
             # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
             # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
             triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-            shape_contacts(pf, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
+            shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         most = max(most, nk)
         _velocities(pf, n_particles, h)
         velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
+        if n_soft > 0:
+            record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
     write_back(bf, bi, bx, nb)
     broke = break_edges(pf, ef, ei, ne)
     for p in range(n_particles):
         for k in range(3):
             pf[p, P_FORCE + k] = 0.0
-    return broke, most
+    return broke, most, soft_most, soft_residual

@@ -50,7 +50,7 @@ def _sphere_corners(centers, radii):
 def world_points(world):
     """Points (K, 3) (m) that outline ``world``: those of every shape of its bodies
     (:func:`shape_points`), the fixed world anchors of its constraints, and the corners of the box of every
-    particle and of every cloth's vertex."""
+    particle, of every cloth's vertex and of every soft body's node."""
     parts = []
     for b in world.bodies:
         rot = quat_to_matrix(b.orientation)
@@ -64,4 +64,7 @@ def world_points(world):
     for cloth in world.cloths:
         x = cloth.positions
         parts.append(_sphere_corners(x, np.full(len(x), 0.5 * cloth.thickness)))
+    for body in world.soft_bodies:
+        x = body.positions
+        parts.append(_sphere_corners(x, np.full(len(x), body.radius)))
     return np.concatenate(parts)

@@ -1,4 +1,5 @@
-"""Every cloth of a world as a shaded surface: its triangles as they are now, with smooth normals.
+"""Every cloth and every soft body of a world as a shaded surface: its triangles as they are now, with smooth
+normals (a soft body's triangles are the boundary of its tetrahedra).
 
 A cloth is drawn from its vertices' positions and its current triangles (``Cloth.triangles``, which change as
 it tears: the vertices along a tear are split in two, so a tear opens as a gap).  Each vertex's normal is
@@ -15,7 +16,7 @@ not drawn again as particles, nor its edges as springs (``world_internals.partic
 import numpy as np
 
 from . import palette
-from .draw_lists import SHEET, Surface
+from .draw_lists import PLAIN, SHEET, Points, Surface
 
 #: The normal (+y) of a vertex whose triangles have no area (a sheet crushed to a line or a point).
 _UP = np.array([0.0, 1.0, 0.0])
@@ -33,6 +34,22 @@ def vertex_normals(positions, triangles):
                          for k in range(3)])
     length = np.linalg.norm(n, axis=1, keepdims=True)
     return np.where(length > 0.0, n / np.maximum(length, 1e-300), _UP)
+
+
+def soft_body_surfaces(frame):
+    """A :class:`Surface` of the boundary of every soft body of ``frame.world`` (its surface triangles at the
+    nodes' positions now), in the soft-body colour, smooth-shaded like a cloth, and a raspberry dot on each
+    pinned node."""
+    out = []
+    pinned = []
+    for body in frame.world.soft_bodies:
+        x, t = body.positions, body.surface_triangles
+        out.append(Surface(x, vertex_normals(x, t), t, np.asarray(palette.SOFT_BODY), PLAIN))
+        pinned.append(x[body.pinned])
+    held = np.concatenate(pinned) if pinned else np.zeros((0, 3))
+    if held.shape[0]:
+        out.append(Points(held, np.tile(palette.PINNED_PARTICLE, (held.shape[0], 1)), 8.0))
+    return out
 
 
 def cloth_surfaces(frame):

@@ -70,10 +70,11 @@ class Spheres:
 
 @dataclass
 class Surface:
-    """A triangle mesh in world space whose vertices move every frame (a cloth), lit and shadowed like solids,
-    both faces: ``positions`` (V, 3) (m), ``normals`` (V, 3) unit per-vertex normals (interpolated across
-    each triangle), ``triangles`` (T, 3) vertex indices (counter-clockwise seen from the side the normals
-    point to), ``color`` (3,) RGB in [0, 1], ``pattern`` a pattern code (:data:`SHEET`)."""
+    """A triangle mesh in world space whose vertices move every frame (a cloth, a soft body's surface), lit
+    and shadowed like solids, both faces: ``positions`` (V, 3) (m), ``normals`` (V, 3) unit per-vertex
+    normals (interpolated across each triangle), ``triangles`` (T, 3) vertex indices (counter-clockwise seen
+    from the side the normals point to), ``color`` (3,) RGB in [0, 1], ``pattern`` a pattern code
+    (:data:`SHEET`)."""
 
     positions: np.ndarray
     normals: np.ndarray

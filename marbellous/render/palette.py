@@ -28,6 +28,7 @@ PARTICLE = (0.10, 0.66, 0.64)
 PINNED_PARTICLE = (0.86, 0.10, 0.34)
 #: Cloth (any cloth, both faces): chartreuse, green over red well over blue (no body, particle or overlay has it).
 CLOTH = (0.56, 0.78, 0.12)
+SOFT_BODY = (0.93, 0.45, 0.62)
 #: Contact points and their normals.
 CONTACT = (1.0, 0.88, 0.10)
 #: Contact events of the last step: pairs that began touching (red), and that stopped (pale blue).

@@ -31,23 +31,24 @@ def broadphase_boxes(world, bodies):
 
 
 def cloth_rows(world):
-    """Whether each row of ``world``'s particle table (N,) is a cloth's vertex (each cloth's vertices are
-    the contiguous rows of its set)."""
+    """Whether each row of ``world``'s particle table (N,) is a cloth's vertex or a soft body's node (each
+    cloth's vertices and each soft body's nodes are the contiguous rows of its set)."""
     ps = world._state.particles
     rows = np.zeros(ps.n, dtype=bool)
-    for cloth in ps.cloths:
-        rows[cloth.set.start:cloth.set.start + cloth.set.count] = True
+    for record in (*ps.cloths, *ps.softs):
+        rows[record.set.start:record.set.start + record.set.count] = True
     return rows
 
 
 def particle_table(world):
     """``(positions (N, 3) m, radii (N,) m, pinned (N,) bool)`` of every particle of every set of ``world``
     that is not a cloth's vertex, sets in creation order.  In a world without cloth, ``positions`` and
-    ``radii`` are views of the live table (valid until the next step or change): copy them to keep them."""
+    ``radii`` are views of the live table (valid until the next step or change): copy them to keep them.  (A
+    soft body's nodes are left out as well: it is drawn as its surface.)"""
     ps = world._state.particles
     f = ps.pf[:ps.n]
     table = f[:, P.P_POS:P.P_POS + 3], f[:, P.P_RADIUS], (ps.pi[:ps.n, P.P_FLAGS] & P.PP_PINNED) != 0
-    if not ps.cloths:
+    if not ps.cloths and not ps.softs:
         return table
     keep = ~cloth_rows(world)
     return tuple(column[keep] for column in table)
@@ -60,7 +61,7 @@ def network_edges(world):
     ps = world._state.particles
     ei = ps.ei[:ps.ne]
     keep = (ei[:, P.E_FLAGS] & P.EB_BROKEN) == 0
-    if ps.cloths:
+    if ps.cloths or ps.softs:
         keep &= ~cloth_rows(world)[ei[:, P.E_A]]
     ends = ei[keep][:, P.E_A:P.E_B + 1]
     x = ps.pf[:ps.n, P.P_POS:P.P_POS + 3]
