@@ -17,8 +17,8 @@ import tempfile
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validate import (MAX_COORD, MAX_DAMPING, MAX_DENSITY, MAX_STIFFNESS, MIN_DENSITY, as_float, as_int, as_quat,
-                        as_size, as_vec3)
+from ._validate import (MAX_COORD, MAX_DAMPING, MAX_DENSITY, MAX_SIZE, MAX_STIFFNESS, MIN_DENSITY, MIN_SIZE, as_float,
+                        as_int, as_quat, as_size, as_vec3)
 from .deformables import particle_layout as P
 from .deformables.soft_state import SoftRecord, element_rows, surface_triangles, tet_volumes
 from .material import validated
@@ -41,8 +41,8 @@ def tet_box(half_extents: ArrayLike, resolution: int | ArrayLike) -> tuple[np.nd
     corner (Kuhn's subdivision: the cuts of neighbouring cells meet face to face); every tetrahedron has a
     positive volume (corners 1, 2, 3 counter-clockwise seen from corner 0's far side)."""
     half = as_vec3("half_extents", half_extents)
-    if np.any(half <= 0.0) or np.any(half > MAX_COORD):
-        raise ValueError(f"half_extents must be positive and at most {MAX_COORD:g} m, got {tuple(half)}")
+    if np.any(half < MIN_SIZE) or np.any(half > MAX_SIZE):
+        raise ValueError(f"half_extents must each be in [{MIN_SIZE:g}, {MAX_SIZE:g}] m, got {tuple(half)}")
     if np.ndim(resolution) == 0:
         cells = (as_int("resolution", resolution, lo=1, hi=MAX_CELLS),) * 3
     else:
@@ -88,8 +88,11 @@ def tetrahedralize(surface_vertices: ArrayLike, surface_triangles: ArrayLike, *,
     within 0.1% of the box's diagonal).  ``max_volume`` (m^3): the tetrahedra's target size, as the volume of a
     regular tetrahedron of the target edge length (None: edges about 5% of the box's diagonal).  The
     mesher is the optional package ``pytetwild`` (fTetWild's bindings, MPL-2.0):
-    ``pip install "marbellous[mesh]"``."""
+    ``pip install "marbellous[mesh]"``.  Its meshes differ slightly from run to run (a few percent in the
+    number of tetrahedra): keep the arrays to repeat a simulation exactly."""
     vertices = as_points("surface_vertices", surface_vertices, None, MAX_COORD, "m")
+    if vertices.shape[0] < 4:
+        raise ValueError(f"surface_vertices must hold at least 4 vertices, got {vertices.shape[0]}")
     triangles = as_integers("surface_triangles", surface_triangles)
     if triangles.ndim != 2 or triangles.shape[1] != 3 or triangles.shape[0] < 4:
         raise ValueError(f"surface_triangles must have shape (T, 3) with T >= 4, got {triangles.shape}")
@@ -176,6 +179,9 @@ def new_soft_body(vertices, tetrahedra, density, young_modulus, poisson_ratio, d
         raise ValueError(f"position and orientation put vertices beyond +-{MAX_COORD:g} m")
     if radius is None:
         radius = RADIUS_OF_EDGE * float(np.min(_edge_lengths(rest, tets)))
+        if not radius >= MIN_SIZE:
+            raise ValueError(f"vertices make an edge {radius / RADIUS_OF_EDGE:g} m long: too short for the default "
+                             f"node radius (a quarter of the shortest edge, at least {MIN_SIZE:g} m); give radius")
     radius = as_size("radius", radius)
     tf, ti, mass = element_rows(rest, tets, density, young_modulus, poisson_ratio, damping, q)
     n = rest.shape[0]
@@ -275,7 +281,7 @@ class SoftBody:
 
     def pin(self, indices: ArrayLike, body=None) -> None:
         """Hold the chosen nodes where they are now: fixed in the world (``body=None``), or at their place on
-        ``body``, moving with it (the body carries them; its motion is not slowed by their weight)."""
+        ``body``, moving with it (two ways: the body carries them and feels their weight and pull)."""
         self._live().pin(indices, body)
 
     def unpin(self, indices: ArrayLike) -> None:

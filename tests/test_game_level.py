@@ -123,3 +123,36 @@ def test_heightfield_and_mesh_files_are_checked(tmp_path):
                         'type = "mesh"\nfile = "bad.obj"')
     with pytest.raises(LevelError, match=r"colliders\[0\].file"):
         load_level(write(tmp_path, text))
+
+
+SOFT = GOOD + """
+[[soft_blocks]]
+half_extents = [0.5, 0.3, 0.5]
+position = [2.0, 0.3, 2.0]
+material = "m"
+"""
+
+
+def test_soft_blocks_load_with_defaults(tmp_path):
+    block, = load_level(write(tmp_path, SOFT)).soft_blocks
+    assert block.half_extents == (0.5, 0.3, 0.5) and block.cells == (4, 2, 4) and block.pinned
+    assert (block.young_modulus, block.poisson_ratio, block.density) == (5e4, 0.3, 300.0)
+    assert load_level(write(tmp_path, GOOD)).soft_blocks == []
+
+
+@pytest.mark.parametrize("edit, key", [
+    (("half_extents = [0.5, 0.3, 0.5]", "half_extents = [0.5, 0.0, 0.5]"), "soft_blocks[0].half_extents"),
+    (('position = [2.0, 0.3, 2.0]\nmaterial = "m"', 'position = [2.0, 0.3, 2.0]\nmaterial = "x"'),
+     "soft_blocks[0].material"),
+    (('material = "m"\n', 'material = "m"\ncells = [4, 0, 4]\n'), "soft_blocks[0].cells"),
+    (('material = "m"\n', 'material = "m"\npoisson_ratio = 0.5\n'), "soft_blocks[0].poisson_ratio"),
+    (('material = "m"\n', 'material = "m"\npinned = 1\n'), "soft_blocks[0].pinned"),
+    (('material = "m"\n', 'material = "m"\nshape = "ball"\n'), "soft_blocks[0]"),
+])
+def test_bad_soft_blocks_name_the_key(tmp_path, edit, key):
+    head, tail = SOFT.rsplit("[[soft_blocks]]", 1)           # (the soft block's keys, not the collider's)
+    text = head + "[[soft_blocks]]" + tail.replace(*edit)
+    assert text != SOFT
+    with pytest.raises(LevelError) as err:
+        load_level(write(tmp_path, text))
+    assert key in str(err.value) and "lvl.toml" in str(err.value)

@@ -104,3 +104,19 @@ def test_camera_never_ends_inside_geometry():
     hit = g.raycast_level(view.target, d / np.linalg.norm(d), np.linalg.norm(d))
     assert hit is None
     assert np.linalg.norm(d) < g.camera.distance
+
+
+def test_a_marble_bounces_off_the_soft_bumper_and_restart_rests_it():
+    game = Game(load_level("blocks"), flag=False)
+    bumper, = game.soft_blocks
+    rest = bumper.positions
+    game.marble.position = (-3.5, 0.32, -0.5)
+    game.marble.velocity = (0.0, 0.0, 4.0)
+    dented = 0.0
+    for _ in range(240):
+        game.step()
+        dented = max(dented, np.abs(bumper.positions - rest).max())
+    assert game.marble.velocity[2] < -0.5          # thrown back
+    assert 0.005 < dented < 0.25 and np.all(np.isfinite(bumper.positions))      # dented, not torn through
+    game.restart()
+    assert np.array_equal(bumper.positions, rest) and not bumper.velocities.any()

@@ -134,3 +134,20 @@ def test_video_rejects_bad_input(tmp_path):
     with VideoWriter(tmp_path / "v.gif") as w:
         with pytest.raises(ValueError, match="frame"):
             w.write(np.zeros((4, 4), np.uint8))
+
+
+def test_soft_blocks_are_drawn_in_their_colour(ctx):
+    from marbellous.game.session import Game
+
+    level = load_level("blocks")
+    game = Game(level, flag=False)
+    block = level.soft_blocks[0]
+    r = Renderer(ctx, level, 0.3, SIZE, soft_bodies=game.soft_blocks)
+    view = CameraView(eye=np.add(block.position, (0.0, 1.7, -4.5)), target=np.array(block.position))
+    img = r.render_to_array(view, (0.0, -50.0, 0.0), np.eye(3))
+    colour = np.array(block.material.color) * 255
+    cx, cy = project(view, block.position)
+    patch = img[int(cy) - 8:int(cy) + 8, int(cx) - 8:int(cx) + 8].astype(float)
+    # lit or shaded, the block's pixels keep its hue: pink, red over green and blue
+    assert np.all(patch[..., 0] > patch[..., 1] + 20) and np.all(patch[..., 0] > patch[..., 2] + 5)
+    assert np.linalg.norm(patch.mean(axis=(0, 1)) / patch.mean() - colour / colour.mean()) < 0.35

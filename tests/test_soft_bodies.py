@@ -278,6 +278,21 @@ def test_a_box_on_a_soft_block_sinks_by_its_weight_over_the_stiffness():
     assert 0 < errors[1] < 0.02 and errors[1] < errors[0] / 2.5
 
 
+def test_a_box_pinned_to_a_soft_rope_hangs_where_its_stiffness_says():
+    E, area, length, mass, rho = 1e5, 0.01, 0.5, 1.0, 100.0
+    w, rope, v = _bar((0.05, length / 2, 0.05), (1, 5, 1), gravity=(0, -G, 0), density=rho, young_modulus=E,
+                      poisson_ratio=0.0, damping=0.01)
+    rope.pin(np.nonzero(v[:, 1] > length / 2 - 1e-9)[0])
+    box = w.add_body(mb.Box((0.05, 0.05, 0.05)), mass=mass, position=(0, -length / 2 - 0.05, 0))
+    rope.pin(np.nonzero(v[:, 1] < -length / 2 + 1e-9)[0], body=box)
+    for _ in range(300):
+        w.step(1 / 60)
+    # the box's weight over the whole rope, the rope's own weight over half of it
+    stretch = mass * G * length / (E * area) + rho * G * length ** 2 / (2 * E)
+    assert box.position[1] == pytest.approx(-length / 2 - 0.05 - stretch, abs=0.001 * stretch)
+    assert abs(box.velocity[1]) < 1e-4
+
+
 def test_two_soft_bodies_stack_and_a_ray_finds_the_top_one():
     vertices, tets = mb.tet_box((0.1, 0.1, 0.1), 2)
     w = mb.World(gravity=(0, -G, 0))

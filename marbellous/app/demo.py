@@ -75,7 +75,8 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
         from ..render.renderer import DebugOverlay, Renderer
         from ..render.video import VideoWriter
 
-        renderer = Renderer(headless_context(), lvl, game.spec.radius, size, flag=game.flag)
+        renderer = Renderer(headless_context(), lvl, game.spec.radius, size, flag=game.flag,
+                            soft_bodies=game.soft_blocks)
         writer = VideoWriter(out, fps) if out else None
     render_seconds, frames, kept = 0.0, 0, []
     every = max(1, int(round(frame_interval * fps)))

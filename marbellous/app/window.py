@@ -32,7 +32,8 @@ def play(level=None, size=(1280, 720), debug=False, print_state=False):
     window = pyglet.window.Window(size[0], size[1], caption=f"Marbellous - {lvl.name}", resizable=True,
                                   config=config)
     ctx = moderngl.create_context()
-    renderer = Renderer(ctx, lvl, game.spec.radius, size, flag=game.flag)
+    renderer = Renderer(ctx, lvl, game.spec.radius, size, flag=game.flag,
+                        soft_bodies=game.soft_blocks)
     keys = key.KeyStateHandler()
     window.push_handlers(keys)
     state = {"jump": False, "debug": debug, "view": game.update_camera(0.0), "report": 0.0}

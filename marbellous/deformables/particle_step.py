@@ -186,7 +186,7 @@ def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f
         drift(bf, bx, nb, h)
         if n_soft > 0:
             used, residual = step_soft_bodies(params, pf, pi, soft_bodies, n_soft, tf, ti, h, soft_tolerance,
-                                              soft_iterations, soft_rot, soft_work)
+                                              soft_iterations, soft_rot, soft_work, bf, bi, bx, back)
             soft_most = max(soft_most, used)
             soft_residual = max(soft_residual, residual)
         _integrate(params, pf, pi, n_particles, sets, n_sets, h)

@@ -22,7 +22,9 @@ definite, so the step is stable however stiff the material: a vibration of angul
 ``1 / sqrt(1 + (w h)^2)`` of its amplitude per step and its period lengthens by about ``(w h)^2 / 3``.  The
 stiffness-proportional (Rayleigh) damping ``beta`` (s) makes a mode of angular frequency ``w`` decay at the rate
 ``beta w^2 / 2``.  A pinned node keeps the velocity it has: its row is left out of the system, its value
-enters the rows of its neighbours.
+enters the rows of its neighbours.  A node pinned to a body pulls the body back with the impulse the pin gave
+it, ``J = (A v+ - b)_p`` (its weight and the elastic pull of its neighbours), at the node, over the sub-step
+(``body_motion.push_body``): the body carries the soft body and is held by it.
 """
 import math
 
@@ -30,8 +32,9 @@ import numpy as np
 
 from .._numba.jit import njit
 from ..state.layout import INV_MASS
+from .body_motion import body_pose, push_body
 from .particle_layout import (K_KIND, K_NORMAL, K_OTHER, K_PARTICLE, KK_BODY, P_CONTACT, P_FLAGS, P_FORCE,
-                              P_INV_MASS, P_MASS, P_POS, P_SUPPORT, P_VEL, PP_PINNED, PP_SOFT, Q_GRAVITY,
+                              P_INV_MASS, P_MASS, P_PIN_BODY, P_POS, P_SUPPORT, P_VEL, PP_PINNED, PP_SOFT, Q_GRAVITY,
                               S_DAMPING)
 from .soft_elements import add_element_forces, add_stiffness_diagonal, deformation_gradient, update_rotation
 
@@ -102,22 +105,46 @@ def _restore_momentum(pf, pi, nodes, x, r, normals):
 
 
 @njit
-def step_soft_bodies(params, pf, pi, bodies, n_bodies, tf, ti, h, tolerance, max_iterations, rot, work):
+def step_soft_bodies(params, pf, pi, bodies, n_bodies, tf, ti, h, tolerance, max_iterations, rot, work, bf, bi, bx,
+                     back):
     """The soft bodies' step (module docstring), body by body: their free nodes' velocities ``P_VEL`` for the
     next ``h`` seconds, the elements' rotations updated.  ``bodies`` (``n_bodies`` rows): each soft body's
     first node row, node count, first element row and element count.  Each solve starts from the velocities
     the nodes have and stops when the residual's norm is below ``tolerance`` times the first residual's, or
-    after ``max_iterations``.  Scratch: ``rot`` (elements, 9), ``work`` (9, particles, 3).  Returns ``(most
-    iterations of a body, its largest residual / first residual)``."""
+    after ``max_iterations``.  Scratch: ``rot`` (elements, 9), ``work`` (9, particles, 3).  ``bf``, ``bi``,
+    ``bx``, ``back``: the rigid bodies and the sub-step's time before the step's end, for the nodes pinned to
+    bodies.  Returns ``(most iterations of a body, its largest residual / first residual)``."""
     most, worst = 0, 0.0
     for s in range(n_bodies):
         nodes = range(bodies[s, 0], bodies[s, 0] + bodies[s, 1])
         elements = range(bodies[s, 2], bodies[s, 2] + bodies[s, 3])
         used, residual = _solve_body(params, pf, pi, nodes, tf, ti, elements, h, tolerance, max_iterations, rot,
                                      work)
+        _pull_pinning_bodies(pf, pi, nodes, tf, ti, elements, rot, h, work, bf, bi, bx, back)
         most = max(most, used)
         worst = max(worst, residual)
     return most, worst
+
+
+@njit
+def _pull_pinning_bodies(pf, pi, nodes, tf, ti, elements, rot, h, work, bf, bi, bx, back):
+    """Give each body that a node of this soft body is pinned to the node's pull, ``-J = b_p - (A v+)_p`` (N s)
+    at the node (module docstring), as the positional impulse ``-J h`` over the sub-step."""
+    pinned_to_body = False
+    for p in nodes:
+        pinned_to_body = pinned_to_body or ((pi[p, P_FLAGS] & PP_PINNED) != 0 and pi[p, P_PIN_BODY] >= 0)
+    if not pinned_to_body:
+        return
+    x, b, ap = work[0], work[1], work[5]
+    _apply_system(pf, nodes, tf, ti, elements, rot, h, x, ap)
+    for p in nodes:
+        body = pi[p, P_PIN_BODY]
+        if (pi[p, P_FLAGS] & PP_PINNED) == 0 or body < 0:
+            continue
+        x_b, q_b = body_pose(bf, bi, bx, body, back)
+        point = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
+        pull = ((b[p, 0] - ap[p, 0]) * h, (b[p, 1] - ap[p, 1]) * h, (b[p, 2] - ap[p, 2]) * h)
+        push_body(bf, bi, bx, body, x_b, q_b, point, pull, h, True)
 
 
 @njit

@@ -37,6 +37,17 @@ A level is a TOML file (read with ``tomllib``, never evaluated).  Keys, units in
     #              (greyscale PNG; pixel (row j, column i) is the height y0 + s * grey / 255 at
     #               x0 + i dx, z0 + j dz)
 
+    [[soft_blocks]]                 # optional, any number: boxes of soft material (finite elements)
+    half_extents = [hx, hy, hz]
+    position = [x, y, z]            # its centre at rest
+    cells = [nx, ny, nz]            # optional, default [4, 2, 4]: cells along each side, 6 tetrahedra each
+    young_modulus = 5e4             # optional, Pa (default 5e4: a firm foam)
+    poisson_ratio = 0.3             # optional, in [0, 0.49]
+    density = 300.0                 # optional, kg/m^3
+    damping = 0.01                  # optional, s: stiffness-proportional damping
+    pinned = true                   # optional, default true: its bottom face held in place
+    material = "NAME"               # its friction and colour
+
     [course]                        # optional: the way to the goal, for the autopilot and the rewards
     path = [[x, y, z], ...]         # marble-centre waypoints from start to goal
     speeds = [v, ...]               # optional target speed (m/s) at each waypoint
@@ -93,7 +104,12 @@ _SHAPE_KEYS = {
 }
 _COMMON_KEYS = {"type", "material", "position", "orientation", "axis", "angle"}
 _MATERIAL_KEYS = {"friction", "static_friction", "restitution", "rolling_friction", "color"}
-_TOP_KEYS = {"name", "description", "fall_height", "start", "goal", "materials", "colliders", "course"}
+_TOP_KEYS = {"name", "description", "fall_height", "start", "goal", "materials", "colliders", "soft_blocks", "course"}
+_SOFT_KEYS = {"half_extents", "position", "cells", "young_modulus", "poisson_ratio", "density", "damping", "pinned",
+              "material"}
+#: Most soft blocks of a level, and most cells along a soft block's side.
+MAX_SOFT_BLOCKS = 64
+MAX_SOFT_CELLS = 32
 
 
 class LevelError(ValueError):
@@ -155,6 +171,23 @@ class Collider:
         return HeightField(self.heights, spacing=p["spacing"], origin=p["origin"])
 
 
+@dataclass(frozen=True)
+class SoftBlock:
+    """A box of soft material in a level (``World.add_soft_body``): its ``half_extents`` and rest ``position``
+    (m), ``cells`` along each side, ``young_modulus`` (Pa), ``poisson_ratio``, ``density`` (kg/m^3),
+    ``damping`` (s), whether its bottom face is ``pinned``, and its ``material`` (friction, colour)."""
+
+    half_extents: tuple
+    position: tuple
+    cells: tuple
+    young_modulus: float
+    poisson_ratio: float
+    density: float
+    damping: float
+    pinned: bool
+    material: Material
+
+
 @dataclass
 class Level:
     """A loaded, validated level.  Lengths in metres, angles in radians."""
@@ -171,6 +204,7 @@ class Level:
     colliders: list
     path: np.ndarray = field(default=None)
     speeds: np.ndarray = field(default=None)
+    soft_blocks: list = field(default_factory=list)
 
     @property
     def key(self):
@@ -373,10 +407,37 @@ class _Parser:
         )
         if level.fall_height >= level.start_position[1]:
             self.fail("fall_height", "must be below start.position's height", level.fall_height)
+        blocks = data.get("soft_blocks", [])
+        if not isinstance(blocks, list) or not all(isinstance(b, dict) for b in blocks):
+            self.fail("soft_blocks", "must be an array of tables ([[soft_blocks]])", blocks)
+        if len(blocks) > MAX_SOFT_BLOCKS:
+            self.fail("soft_blocks", f"must have at most {MAX_SOFT_BLOCKS} entries", len(blocks))
+        level.soft_blocks = [self.soft_block(b, f"soft_blocks[{i}]", materials) for i, b in enumerate(blocks)]
         course = self.table(data, "course", required=False)
         if course is not None:
             self.course(course, level)
         return level
+
+    def soft_block(self, b, where, materials):
+        self.unknown(b, _SOFT_KEYS, where)
+        mat = self.string(b, "material", where)
+        if mat not in materials:
+            self.fail(f"{where}.material", f"must name a material in [materials] ({', '.join(materials)})", mat)
+        cells = b.get("cells", [4, 2, 4])
+        if not isinstance(cells, list) or len(cells) != 3 or not all(
+                isinstance(c, int) and not isinstance(c, bool) and 1 <= c <= MAX_SOFT_CELLS for c in cells):
+            self.fail(f"{where}.cells", f"must be three whole numbers in [1, {MAX_SOFT_CELLS}]", cells)
+        pinned = b.get("pinned", True)
+        if not isinstance(pinned, bool):
+            self.fail(f"{where}.pinned", "must be true or false", pinned)
+        return SoftBlock(
+            half_extents=tuple(float(x) for x in self.vector(b, "half_extents", where, positive=True)),
+            position=tuple(float(x) for x in self.vector(b, "position", where)), cells=tuple(cells),
+            young_modulus=self.number(b, "young_modulus", where, default=5e4, lo=1.0, hi=1e12),
+            poisson_ratio=self.number(b, "poisson_ratio", where, default=0.3, lo=0.0, hi=0.49),
+            density=self.number(b, "density", where, default=300.0, lo=1.0, hi=1e5),
+            damping=self.number(b, "damping", where, default=0.01, lo=0.0, hi=10.0),
+            pinned=pinned, material=materials[mat])
 
     def materials(self, table):
         if not table:

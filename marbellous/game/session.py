@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 
+from ..soft import tet_box
 from ..world import World
 from .camera import FollowCamera
 from .controls import control_force
@@ -17,6 +18,18 @@ from .course import CoursePath
 from .flag import GoalFlag
 from .goal import BestTimes, GoalArea, format_time
 from .marble import MarbleSpec
+
+
+def add_soft_block(world, block):
+    """The soft block ``block`` (a level's ``SoftBlock``) added to ``world`` at rest, its bottom face pinned if
+    it asks; returns the ``SoftBody``."""
+    vertices, tetrahedra = tet_box(block.half_extents, block.cells)
+    body = world.add_soft_body(vertices, tetrahedra, density=block.density, young_modulus=block.young_modulus,
+                               poisson_ratio=block.poisson_ratio, damping=block.damping,
+                               friction=block.material.friction, position=block.position)
+    if block.pinned:
+        body.pin(np.nonzero(vertices[:, 1] < -block.half_extents[1] + 1e-9)[0])
+    return body
 
 
 def build_world(level):
@@ -55,6 +68,9 @@ class Game:
         self.world, self.statics = build_world(level)
         self.scenery, _ = build_world(level)
         self.marble = self.spec.add_to(self.world, level.start_position)
+        #: the level's soft blocks (``SoftBody`` handles, in the order of the level file)
+        self.soft_blocks = [add_soft_block(self.world, block) for block in level.soft_blocks]
+        self._soft_rest = [body.positions for body in self.soft_blocks]
         self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
                               self._approach()) if flag else None)
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)
@@ -84,6 +100,9 @@ class Game:
         self._place_at_start()
 
     def _place_at_start(self):
+        for body, rest in zip(self.soft_blocks, self._soft_rest):
+            body.positions = rest
+            body.velocities = np.zeros_like(rest)
         b = self.marble
         b.position = self.level.start_position
         b.orientation = (1.0, 0.0, 0.0, 0.0)

@@ -184,11 +184,13 @@ class Renderer:
     pixels of the offscreen target used by :meth:`render_to_array`.  ``flag`` (None: none) is a cloth flag
     on a pole, drawn as it is at each frame: an object with ``cloth`` (its positions, m, and triangles
     are read every frame; its triangles must not change), ``foot`` and ``top`` (the pole's ends, m) and
-    ``radius`` (the pole's, m), such as the game's ``GoalFlag``.
+    ``radius`` (the pole's, m), such as the game's ``GoalFlag``.  ``soft_bodies`` are the level's soft blocks
+    as ``SoftBody`` handles (``Game.soft_blocks``, in the order of ``level.soft_blocks``), drawn in their
+    materials' colours as their surfaces are at each frame.
     """
 
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
-                 grid_cell=2.0, flag=None):
+                 grid_cell=2.0, flag=None, soft_bodies=()):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
         self.scene = ctx.program(vertex_shader=_SCENE_VS, fragment_shader=_SCENE_FS)
@@ -208,7 +210,13 @@ class Renderer:
         self.flag = flag
         if flag is not None:
             self.poles.append(self._mesh(*collider_triangles(_Pole(flag.foot, flag.top, flag.radius)), POLE_COLOR))
-            self.flag_item = self._cloth_mesh(flag.cloth)
+            self.flag_item, self.flag_vertices = self._moving_mesh(len(flag.cloth.positions), flag.cloth.triangles,
+                                                                   FLAG_COLOR)
+        # each soft block: (body, its surface triangles, its draw item, its vertex buffer)
+        self.soft = []
+        for body, block in zip(soft_bodies, level.soft_blocks):
+            triangles = body.surface_triangles
+            self.soft.append((body, triangles, *self._moving_mesh(len(body), triangles, block.material.color)))
         box = _goal_box_triangles(level.goal_center, level.goal_half_extents)
         self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4))
         quad = np.array([[0, 0, 0, 0, 1], [1.6, 0, 0, 1, 1], [1.6, 1.0, 0, 1, 0],
@@ -235,20 +243,20 @@ class Renderer:
         return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")]),
                 self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")]), tuple(color))
 
-    def _cloth_mesh(self, cloth):
-        """The vertex arrays of ``cloth``'s triangles (indexed; its vertices written by :meth:`_update_cloth`)."""
-        vbo = self.ctx.buffer(reserve=len(cloth.positions) * 6 * 4, dynamic=True)
-        ibo = self.ctx.buffer(cloth.triangles.astype(np.uint32).tobytes())
-        self.flag_vertices = vbo
+    def _moving_mesh(self, n_vertices, triangles, color):
+        """``(draw item, vertex buffer)`` of a mesh of ``n_vertices`` vertices whose places change every frame
+        (the flag, a soft block): indexed by ``triangles``, its vertices written by :meth:`_write_vertices`."""
+        vbo = self.ctx.buffer(reserve=n_vertices * 6 * 4, dynamic=True)
+        ibo = self.ctx.buffer(np.asarray(triangles).astype(np.uint32).tobytes())
         return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo,
                                       index_element_size=4),
                 self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
-                                      index_element_size=4), FLAG_COLOR)
+                                      index_element_size=4), tuple(color)), vbo
 
-    def _update_cloth(self, cloth):
-        """Write the flag's vertices as they are now, with smooth normals from its triangles."""
-        x = cloth.positions
-        self.flag_vertices.write(np.hstack([x, vertex_normals(x, cloth.triangles)]).astype(np.float32).tobytes())
+    @staticmethod
+    def _write_vertices(vbo, positions, triangles):
+        """Write a moving mesh's vertices as they are now, with smooth normals from its triangles."""
+        vbo.write(np.hstack([positions, vertex_normals(positions, triangles)]).astype(np.float32).tobytes())
 
     # ------------------------------------------------------------------ drawing
     def render(self, fbo, view, marble_position, marble_rotation, hud_lines=(), debug=None, viewport=None):
@@ -264,8 +272,11 @@ class Renderer:
         marble_model = model_matrix(marble_position, marble_rotation, self.marble_radius)
         statics = self.items + self.poles
         if self.flag is not None:
-            self._update_cloth(self.flag.cloth)
+            self._write_vertices(self.flag_vertices, self.flag.cloth.positions, self.flag.cloth.triangles)
             statics = statics + [self.flag_item]
+        for body, triangles, item, vbo in self.soft:
+            self._write_vertices(vbo, body.positions, triangles)
+            statics = statics + [item]
 
         # shadow pass: an orthographic sun camera 60 m across around the focus
         light_view = look_at(focus + SUN * 60.0, focus, (0.0, 0.0, 1.0) if abs(SUN[1]) > 0.99 else (0, 1, 0))
@@ -297,7 +308,7 @@ class Renderer:
         s["u_alpha"].value = 1.0
         self.shadow_tex.use(0)
         s["u_shadow"].value = 0
-        self._draw(self.items + self.poles, np.eye(4), pattern=0)
+        self._draw(self.items + self.poles + [item for _, _, item, _ in self.soft], np.eye(4), pattern=0)
         if self.flag is not None:
             self._draw([self.flag_item], np.eye(4), pattern=3)
         s["u_color2"].value = (0.12, 0.28, 0.85)

@@ -137,7 +137,7 @@ class MarbellousEnv(gym.Env):
             from ...render.renderer import Renderer
 
             self._renderer = Renderer(headless_context(), self.level, self._game.spec.radius, self.size,
-                                      flag=self._game.flag)
+                                      flag=self._game.flag, soft_bodies=self._game.soft_blocks)
         g = self._game
         return self._renderer.render_to_array(g.camera.view(), g.marble.position, g.marble_rotation(), g.hud_lines())
 
