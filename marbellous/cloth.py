@@ -10,7 +10,6 @@ a restore) it raises on use.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ._validate import (MAX_COORD, MAX_DAMPING, MAX_MASS, MAX_SIZE, MAX_STIFFNESS, MIN_MASS, as_flag, as_float,
                         as_int, as_quat, as_size, as_vec3)
@@ -19,7 +18,8 @@ from .deformables.cloth_state import ClothRecord, edge_table, vertex_rows
 from .deformables.cloth_topology import triangle_areas
 from .material import validated
 from .math3d import quat_to_matrix_np
-from .particles import MAX_PARTICLES, Particles, as_integers, as_points
+from .deformable import Deformable
+from .particles import MAX_PARTICLES, as_integers, as_points
 
 #: most vertices along a side of ``cloth_grid``
 MAX_GRID = 4096
@@ -93,49 +93,14 @@ def new_cloth(vertices, triangles, mass, stretch_stiffness, bend_stiffness, damp
     return record, f, i, ef, ei
 
 
-class Cloth:
-    """A cloth in a world (``World.add_cloth``).  Vertex indices count from 0 within the cloth; tearing adds
-    vertices at the end (the vertices along a tear are duplicated), never renumbers the others."""
+class Cloth(Deformable):
+    """A cloth in a world (``World.add_cloth``): its points are its vertices.  Vertex indices count from 0
+    within the cloth; tearing adds vertices at the end (the vertices along a tear are duplicated), never
+    renumbers the others.  Its mass is spread over the vertices by area: a third of the area of its triangles
+    at each vertex times the cloth's density."""
 
-    __slots__ = ("_world", "_record", "_vertices", "__weakref__")
-
-    def __init__(self, world, record):
-        self._world = world
-        self._record = record
-        self._vertices = Particles(world, record.set)
-
-    def _live(self):
-        if self._world is None or not self._record.alive:
-            raise ValueError("this cloth has been removed from its world")
-        return self._vertices
-
-    def __len__(self):
-        return len(self._live())
-
-    @property
-    def positions(self) -> np.ndarray:
-        """The vertices' positions (m), ``(V, 3)``; assigning moves them (and the pins of those pinned to the
-        world)."""
-        return self._live().positions
-
-    @positions.setter
-    def positions(self, value: ArrayLike) -> None:
-        self._live().positions = value
-
-    @property
-    def velocities(self) -> np.ndarray:
-        """The vertices' velocities (m/s), ``(V, 3)``; assignable (vertices pinned to the world stay at rest)."""
-        return self._live().velocities
-
-    @velocities.setter
-    def velocities(self, value: ArrayLike) -> None:
-        self._live().velocities = value
-
-    @property
-    def mass(self) -> np.ndarray:
-        """Each vertex's mass (kg), ``(V,)``: a third of the area of its triangles times the cloth's
-        density."""
-        return self._live().mass
+    __slots__ = ()
+    noun = "cloth"
 
     @property
     def triangles(self) -> np.ndarray:
@@ -155,24 +120,6 @@ class Cloth:
         """The thickness (m): how far points stay from the triangles (each vertex a sphere of half of it)."""
         self._live()
         return self._record.thickness
-
-    @property
-    def pinned(self) -> np.ndarray:
-        """Whether each vertex is pinned (to the world or to a body), ``(V,)`` bool."""
-        return self._live().pinned
-
-    def pin(self, indices: ArrayLike, body=None) -> None:
-        """Hold the chosen vertices where they are now: fixed in the world (``body=None``), or at their place
-        on ``body``, moving with it (two ways: the body carries the cloth)."""
-        self._live().pin(indices, body)
-
-    def unpin(self, indices: ArrayLike) -> None:
-        """Let the chosen vertices go."""
-        self._live().unpin(indices)
-
-    def apply_force(self, force: ArrayLike, indices: ArrayLike = None) -> None:
-        """Add the world force ``force`` (N, a 3-vector) on each chosen vertex (None: all) for the next step."""
-        self._live().apply_force(force, indices)
 
     def __repr__(self):
         alive = self._world is not None and self._record.alive

@@ -23,7 +23,8 @@ from .deformables import particle_layout as P
 from .deformables.soft_state import SoftRecord, element_rows, surface_triangles, tet_volumes
 from .material import validated
 from .math3d import quat_to_matrix_np
-from .particles import MAX_PARTICLES, Particles, as_integers, as_points
+from .deformable import Deformable
+from .particles import MAX_PARTICLES, as_integers, as_points
 
 #: most cells along a side of ``tet_box``
 MAX_CELLS = 1024
@@ -200,48 +201,13 @@ def new_soft_body(vertices, tetrahedra, density, young_modulus, poisson_ratio, d
     return SoftRecord(0, float(np.sum(tf[:, P.S_VOLUME])), surface_triangles(tets)), f, i, tf, ti
 
 
-class SoftBody:
-    """A soft body in a world (``World.add_soft_body``).  Node indices count from 0 within the body, in the
-    order of the vertices it was made from."""
+class SoftBody(Deformable):
+    """A soft body in a world (``World.add_soft_body``): its points are its nodes, indexed from 0 in the order
+    of the vertices it was made from.  A node's mass is a quarter of the mass of each tetrahedron it is a
+    corner of."""
 
-    __slots__ = ("_world", "_record", "_nodes", "__weakref__")
-
-    def __init__(self, world, record):
-        self._world = world
-        self._record = record
-        self._nodes = Particles(world, record.set)
-
-    def _live(self):
-        if self._world is None or not self._record.alive:
-            raise ValueError("this soft body has been removed from its world")
-        return self._nodes
-
-    def __len__(self):
-        return len(self._live())
-
-    @property
-    def positions(self) -> np.ndarray:
-        """The nodes' positions (m), ``(V, 3)``; assigning moves them (and the pins of those pinned to the
-        world)."""
-        return self._live().positions
-
-    @positions.setter
-    def positions(self, value: ArrayLike) -> None:
-        self._live().positions = value
-
-    @property
-    def velocities(self) -> np.ndarray:
-        """The nodes' velocities (m/s), ``(V, 3)``; assignable (nodes pinned to the world stay at rest)."""
-        return self._live().velocities
-
-    @velocities.setter
-    def velocities(self, value: ArrayLike) -> None:
-        self._live().velocities = value
-
-    @property
-    def mass(self) -> np.ndarray:
-        """Each node's mass (kg), ``(V,)``: a quarter of the mass of each tetrahedron it is a corner of."""
-        return self._live().mass
+    __slots__ = ()
+    noun = "soft body"
 
     @property
     def radius(self) -> float:
@@ -273,24 +239,6 @@ class SoftBody:
         """The volume at rest (m^3)."""
         self._live()
         return self._record.rest_volume
-
-    @property
-    def pinned(self) -> np.ndarray:
-        """Whether each node is pinned (to the world or to a body), ``(V,)`` bool."""
-        return self._live().pinned
-
-    def pin(self, indices: ArrayLike, body=None) -> None:
-        """Hold the chosen nodes where they are now: fixed in the world (``body=None``), or at their place on
-        ``body``, moving with it (two ways: the body carries them and feels their weight and pull)."""
-        self._live().pin(indices, body)
-
-    def unpin(self, indices: ArrayLike) -> None:
-        """Let the chosen nodes go."""
-        self._live().unpin(indices)
-
-    def apply_force(self, force: ArrayLike, indices: ArrayLike = None) -> None:
-        """Add the world force ``force`` (N, a 3-vector) on each chosen node (None: all) for the next step."""
-        self._live().apply_force(force, indices)
 
     def __repr__(self):
         if self._world is None or not self._record.alive:
