@@ -306,6 +306,27 @@ def test_two_soft_bodies_stack_and_a_ray_finds_the_top_one():
     assert hit is not None and hit.object is upper
 
 
+def test_cloth_and_particles_come_to_rest_on_a_soft_block():
+    w = mb.World(gravity=(0, -G, 0))
+    w.add_static(mb.Plane())
+    vertices, tets = mb.tet_box((0.3, 0.15, 0.3), (4, 2, 4))
+    block = w.add_soft_body(vertices, tets, young_modulus=5e4, position=(0, 0.16, 0))
+    sheet = w.add_cloth(*mb.cloth_grid(0.8, 0.8, 20, 20), mass=0.2, position=(0, 0.6, 0))
+    grains = w.add_particles([(0.1, 1.0, 0.05), (-0.1, 1.2, 0.0)], radius=0.03, collide_particles=True)
+    for _ in range(180):
+        w.step(1 / 60)
+    y = block.positions[:, 1]
+    top = y[vertices[:, 1] > 0.15 - 1e-9]
+    x = sheet.positions
+    over = (np.abs(x[:, 0]) < 0.25) & (np.abs(x[:, 2]) < 0.25)
+    # the sheet lies on the block's top face (its triangles keep the sheet's half thickness and the nodes'
+    # radius away; a position pass per sub-step leaves it pressed in by less than that): above the top nodes'
+    # spheres, nowhere through the block
+    assert top.mean() + block.radius < x[over, 1].min() < top.max() + 0.5 * sheet.thickness + block.radius + 1e-3
+    assert np.all(grains.positions[:, 1] > x[over, 1].min())
+    assert np.abs(grains.velocities).max() < 0.05
+
+
 def test_soft_bodies_carry_rigid_bodies_and_are_pushed_by_them():
     vertices, tets = mb.tet_box((0.1, 0.1, 0.1), 2)
     w = mb.World(gravity=(0, 0, 0))

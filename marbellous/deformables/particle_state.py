@@ -317,7 +317,7 @@ class ParticleState:
                 self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
                 self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start,
                 self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
-                np.empty((self.nt, 9)), np.empty((9, self.n, 3)))
+                np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)))
 
     def kernel_work(self, st):
         """``[(kernel, argument types)]`` of the particles' step kernels as the next step will call them (for
