@@ -18,11 +18,12 @@ default, a quarter of the shortest edge: ``0.125 / n`` m (21, 10 and 6 mm).
 - PyBullet (``pybullet``): its deformable world (``resetSimulation(RESET_USE_DEFORMABLE_WORLD)``), the mesh
   written as a legacy ASCII VTK unstructured grid (cell type 10) and loaded by ``loadSoftBody`` with
   ``useNeoHookean=1``, ``NeoHookeanMu = E / (2 (1 + nu))`` and ``NeoHookeanLambda = E nu / ((1 + nu) (1 - 2
-  nu))`` (38,462 and 57,692 Pa), ``NeoHookeanDamping=0`` (as Marbellous' ``damping=0``), ``mass=125`` (Bullet
-  spreads it evenly over the nodes, not by volume), ``collisionMargin`` the node radius, ``frictionCoeff=0.5``,
-  ``useSelfCollision=0``, ``useFaceContact=1``, ``sparseSdfVoxelSize=0.25`` as in PyBullet's deformable
-  examples; the ground has lateral friction 0.5 (Bullet multiplies a soft body's friction by a rigid body's:
-  0.25 in effect).  Settings, and why:
+  nu))`` (38,462 and 57,692 Pa), ``NeoHookeanDamping=0`` (as Marbellous' ``damping=0``), ``mass=125``
+  (presumably spread evenly over the nodes: Bullet's VTK loader gives every node the same mass, then scales
+  them), ``collisionMargin`` the node radius, ``frictionCoeff=0.5``, ``useSelfCollision=0``,
+  ``useFaceContact=1``, ``sparseSdfVoxelSize=0.25`` as in PyBullet's deformable examples; the ground has
+  lateral friction 0.5 (Bullet multiplies a soft body's friction by a rigid body's: 0.25 in effect).
+  Settings, and why:
   - ``numSubSteps``: 4 at n = 6, 8 at 12, 16 at 20 (sub-steps of 1/240, 1/480 and 1/960 s), the fewest tried
     that held.  With fewer the cube blew up (nodes thousands of metres apart within a few steps): at n = 6
     with 1, 2 and 3 on landing (with 1 also with ``NeoHookeanDamping=0.01``), at n = 12 with 4 in free fall
@@ -47,18 +48,18 @@ default, a quarter of the shortest edge: ``0.125 / n`` m (21, 10 and 6 mm).
   ``flexcomp type="grid" dim="3" count="7 7 7"`` makes 1,296 tetrahedra too (six per cell), and at n = 6
   with ``discrete`` the same lowest and highest node and volume to four digits through the run; ``direct`` is
   used so that every engine has exactly the same mesh.
-Reported per engine and n: ms per step (best of ``--repeats``), the slowest single step (ms, in that run), the
-setup (building the world, loading or compiling the model; s) and the untimed first step (s), and from the
-final node positions: the volume over the starting volume (the sum of the tetrahedra's signed volumes), the
-lowest node's height at the end and the lowest over the whole run (m; a node resting on the ground stands at
-about the node radius, less where contacts are soft; below 0: in the ground), the highest node (m; the cube is
-0.5 m tall at rest), and the fastest node in the last step (m/s, its move over dt).  After each step, outside
-the timed part, the nodes are read: a run in which one moved faster than 100 m/s in a step (the cube lands at
-2.4 m/s), or whose positions are not finite, or that MuJoCo flags unstable (NaN or huge accelerations, after
-which it resets the state), is stopped and reported as blown up (``blew_up``).  A run slower than 5 s a step
-(over its first 3 or more steps) is stopped and reported as capped; an engine capped or blown up is not run at
-larger n (``not_run``); after a run longer than 60 s the engine's other repeats are left out (their timing
-noise is small next to such a step).  A run that runs out of memory fails.
+Reported per engine and n: ms per step (best of ``--repeats``), the slowest single step (ms, in that run), the setup
+(building the world, loading or compiling the model; s) and the untimed first step (s), and from the final node
+positions: the volume over the starting volume (the sum of the tetrahedra's signed volumes), the lowest node's
+height at the end and the lowest over the whole run (m; a node resting on the ground stands at about the node
+radius, less where contacts are soft; below 0: in the ground), the highest node (m; the cube is 0.5 m tall unloaded,
+about 12 mm less at rest under its weight, ``rho g H^2 / (2 E)``), and the fastest node in the last step (m/s, its
+move over dt).  After each step, outside the timed part, the nodes are read: a run in which one moved faster than
+100 m/s in a step (the cube lands at 2.4 m/s), or whose positions are not finite, or that MuJoCo flags unstable (NaN
+or huge accelerations, after which it resets the state), is stopped and reported as blown up (``blew_up``).  A run
+slower than 5 s a step (over its first 3 or more steps) is stopped and reported as capped; an engine capped or blown
+up is not run at larger n (``not_run``); after a run longer than 60 s the engine's other repeats are left out (their
+timing noise is small next to such a step).  A run that runs out of memory fails.
 
     python bench/bench_soft.py [--quick] [--repeats N] [--json FILE] [--engines marbellous,pybullet]
 
