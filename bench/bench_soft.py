@@ -59,7 +59,8 @@ move over dt).  After each step, outside the timed part, the nodes are read: a r
 or huge accelerations, after which it resets the state), is stopped and reported as blown up (``blew_up``).  A run
 slower than 5 s a step (over its first 3 or more steps) is stopped and reported as capped; an engine capped or blown
 up is not run at larger n (``not_run``); after a run longer than 60 s the engine's other repeats are left out (their
-timing noise is small next to such a step).  A run that runs out of memory fails.
+timing noise is small next to such a step).  A run that runs out of memory fails.  MuJoCo's other warnings are
+counted (``warnings``: ``INERTIA`` is its effective-inertia solve stopping short of its tolerance).
 
     python bench/bench_soft.py [--quick] [--repeats N] [--json FILE] [--engines marbellous,pybullet]
 
@@ -299,8 +300,10 @@ def run_mujoco(n, integrator="Euler"):
         return from_peer(data.xpos[bodies])
 
     def unstable():
-        if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-            return (f"MuJoCo flagged NaN or huge accelerations and reset the state (its clock reads "
+        bad = [w for w in ("BADQPOS", "BADQVEL", "BADQACC")
+               if data.warning[getattr(mujoco.mjtWarning, f"mjWARN_{w}")].number > 0]
+        if bad:
+            return (f"MuJoCo flagged NaN or huge values ({', '.join(bad)}) and reset the state (its clock reads "
                     f"{data.time:.2f} s)")
         return None
 
@@ -310,7 +313,9 @@ def run_mujoco(n, integrator="Euler"):
     timed = _timed_steps(lambda: mujoco.mj_step(model, data), what, positions, unstable)
     if abs(data.time - (STEPS + 1) * model.opt.timestep) > 1e-6:
         raise RuntimeError(f"MuJoCo reset {what} to its start (its clock reads {data.time:.2f} s)")
-    return _result(setup, timed, x0, positions(), tets)
+    warnings = {name[len("mjWARN_"):]: int(data.warning[w].number) for name, w in mujoco.mjtWarning.__members__.items()
+                if name.startswith("mjWARN_") and data.warning[w].number > 0}   # (e.g. INERTIA: its solve gave up)
+    return {**_result(setup, timed, x0, positions(), tets), "warnings": warnings}
 
 
 def run_mujoco_discrete(n):
