@@ -5,7 +5,6 @@ import pathlib
 
 from .._validate import as_vec3
 from ..render.bounds import world_points
-from ..render.drawables import default_layers
 from ..render.orbit_camera import OrbitCamera
 from ..world import World
 
@@ -55,6 +54,8 @@ def check_flag(name, value):
 def layers_for(contacts, boxes):
     """The drawable layers to draw: those shown by default (bodies, particles, cloth, soft bodies and
     constraints with particle networks), with ``contacts`` and ``boxes`` if asked."""
+    from ..render.drawables import default_layers     # (the drawing modules load when a world is drawn)
+
     names = list(default_layers())
     if check_flag("contacts", contacts):
         names.append("contacts")
