@@ -79,7 +79,7 @@ from bench.machine import describe  # noqa: E402
 from bench.peers import version  # noqa: E402
 from bench.peers.axes import from_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import bench_arguments  # noqa: E402
+from bench.peers.timing import BlewUp, Capped, NotAvailable, bench_arguments, best_of  # noqa: E402
 
 DT = 1.0 / 60.0
 G = 9.81
@@ -107,18 +107,6 @@ CAP_S = 2.0                 # a run slower than this a step (s) is stopped
 CAP_AFTER = 3               # ... judged over at least this many steps
 LONG_RUN_S = 60.0           # after a run this long (s), no more repeats of that engine at that N
 
-
-class Capped(RuntimeError):
-    """A run too slow to finish: stopped, and its engine not run at larger N."""
-
-
-class BlewUp(RuntimeError):
-    """A run whose vertices went non-finite or faster than ``MAX_SPEED``: stopped, and its engine not run at
-    larger N."""
-
-
-class NotAvailable(Exception):
-    """The engine cannot run this scene in the installed version."""
 
 
 def spacing(n):
@@ -299,32 +287,13 @@ RUNS = {"marbellous": run_marbellous, "marbellous-noself": run_marbellous_noself
 
 
 # --- the run --------------------------------------------------------------------------------------------------
-def best_of(run, repeats, n):
-    """The fastest of up to ``repeats`` runs of ``run(n)`` as a results dict (fewer after a run over
-    ``LONG_RUN_S``), or ``{"failed": ...}``, ``{"blew_up": ...}``, ``{"capped": ...}``, ``{"skipped": ...}``;
-    ImportError (a peer not installed) passes through."""
-    best, runs = None, 0
-    for _ in range(repeats):
-        start = time.perf_counter()
-        try:
-            r = run(n)
-        except NotAvailable as e:
-            return {"skipped": str(e)}
-        except Capped as e:
-            return {"capped": str(e)}
-        except BlewUp as e:
-            return {"blew_up": str(e)}
-        except RuntimeError as e:
-            return {"failed": str(e)}
-        except MemoryError as e:
-            return {"failed": f"out of memory: {' '.join(str(e).split())}"}
-        runs += 1
-        if best is None or r[0] < best[0]:
-            best = r
-        if time.perf_counter() - start > LONG_RUN_S:
-            break
-    return {"ms_per_step": best[0], "slowest_step_ms": best[1], "inside_sphere_m": best[2], "under_plane_m": best[3],
-            "stretch_max": best[4], "stretch_mean": best[5], "runs": runs}
+
+
+def _as_result(measured):
+    """A run's ``(ms per step, slowest step, inside sphere, under plane, stretch max, stretch mean)`` as the
+    results dict."""
+    return dict(zip(("ms_per_step", "slowest_step_ms", "inside_sphere_m", "under_plane_m", "stretch_max",
+                     "stretch_mean"), measured))
 
 
 def main():
@@ -340,7 +309,7 @@ def main():
                 results.setdefault(str(n), {})[name] = {"not_run": stopped[name]}
                 continue
             try:
-                r = best_of(run, args.repeats, n)
+                r = best_of(lambda m, run=run: _as_result(run(m)), args.repeats, n, LONG_RUN_S)
             except ImportError:
                 continue
             for why in ("capped", "blew_up"):

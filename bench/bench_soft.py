@@ -83,7 +83,7 @@ from bench.machine import describe  # noqa: E402
 from bench.peers import version  # noqa: E402
 from bench.peers.axes import from_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
-from bench.peers.timing import bench_arguments  # noqa: E402
+from bench.peers.timing import BlewUp, Capped, NotAvailable, bench_arguments, best_of  # noqa: E402
 
 DT = 1.0 / 60.0
 G = 9.81
@@ -111,18 +111,6 @@ CAP_S = 5.0                 # a run slower than this a step (s) is stopped
 CAP_AFTER = 3               # ... judged over at least this many steps
 LONG_RUN_S = 60.0           # after a run this long (s), no more repeats of that engine at that n
 
-
-class Capped(RuntimeError):
-    """A run too slow to finish: stopped, and its engine not run at larger n."""
-
-
-class BlewUp(RuntimeError):
-    """A run whose nodes went non-finite or faster than ``MAX_SPEED``, or that MuJoCo flagged unstable: stopped,
-    and its engine not run at larger n."""
-
-
-class NotAvailable(Exception):
-    """The engine cannot run this scene in the installed version."""
 
 
 def cube(n):
@@ -327,31 +315,6 @@ RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mu
 
 
 # --- the run --------------------------------------------------------------------------------------------------
-def best_of(run, repeats, n):
-    """The fastest of up to ``repeats`` runs of ``run(n)`` as a results dict (fewer after a run over
-    ``LONG_RUN_S``), or ``{"failed": ...}``, ``{"blew_up": ...}``, ``{"capped": ...}``, ``{"skipped": ...}``;
-    ImportError (a peer not installed) passes through."""
-    best, runs = None, 0
-    for _ in range(repeats):
-        start = time.perf_counter()
-        try:
-            r = run(n)
-        except NotAvailable as e:
-            return {"skipped": str(e)}
-        except Capped as e:
-            return {"capped": str(e)}
-        except BlewUp as e:
-            return {"blew_up": str(e)}
-        except RuntimeError as e:
-            return {"failed": str(e)}
-        except MemoryError as e:
-            return {"failed": f"out of memory: {' '.join(str(e).split())}"}
-        runs += 1
-        if best is None or r["ms_per_step"] < best["ms_per_step"]:
-            best = r
-        if time.perf_counter() - start > LONG_RUN_S:
-            break
-    return {**best, "runs": runs}
 
 
 def main():
@@ -368,7 +331,7 @@ def main():
                 results.setdefault(str(n), {})[name] = {"not_run": stopped[name]}
                 continue
             try:
-                r = best_of(run, args.repeats, n)
+                r = best_of(run, args.repeats, n, LONG_RUN_S)
             except ImportError:
                 continue
             for why in ("capped", "blew_up"):

@@ -1,5 +1,5 @@
-"""Timing the peer engines side by side: the benches' command line, the best of several runs, and MuJoCo's
-step loop with its instability check."""
+"""Timing the peer engines side by side: the benches' command line, the best of several runs (and, for the
+deformable benches, of runs that may blow up or be capped), and MuJoCo's step loop with its instability check."""
 import argparse
 import time
 
@@ -38,6 +38,46 @@ def best_results(runs, repeats, *scene):
         except RuntimeError as e:
             results[name] = {"failed": str(e)}
     return results
+
+
+class Capped(RuntimeError):
+    """A run too slow to finish: stopped, and its engine not run at larger sizes."""
+
+
+class BlewUp(RuntimeError):
+    """A run whose points went non-finite or too fast, or that the engine flagged unstable: stopped, and its
+    engine not run at larger sizes."""
+
+
+class NotAvailable(Exception):
+    """The engine cannot run this scene in the installed version."""
+
+
+def best_of(run, repeats, n, long_run_s):
+    """The fastest (``ms_per_step``) of up to ``repeats`` runs of ``run(n)`` (a results dict) with ``runs``, the
+    number of runs (fewer after a run over ``long_run_s`` seconds), or ``{"failed": ...}``, ``{"blew_up": ...}``,
+    ``{"capped": ...}``, ``{"skipped": ...}``; ImportError (a peer not installed) passes through."""
+    best, runs = None, 0
+    for _ in range(repeats):
+        start = time.perf_counter()
+        try:
+            r = run(n)
+        except NotAvailable as e:
+            return {"skipped": str(e)}
+        except Capped as e:
+            return {"capped": str(e)}
+        except BlewUp as e:
+            return {"blew_up": str(e)}
+        except RuntimeError as e:
+            return {"failed": str(e)}
+        except MemoryError as e:
+            return {"failed": f"out of memory: {' '.join(str(e).split())}"}
+        runs += 1
+        if best is None or r["ms_per_step"] < best["ms_per_step"]:
+            best = r
+        if time.perf_counter() - start > long_run_s:
+            break
+    return {**best, "runs": runs}
 
 
 def time_pybullet(p, kw, steps):
