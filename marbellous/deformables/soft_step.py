@@ -13,8 +13,8 @@ normal through the solve (the residual and search directions of that node are pr
 plane: Baraff and Witkin's filtered conjugate gradients), unless the elastic forces would pull it off the
 contact; the normal impulse the contact had to give, ``J = -n . (b - A v+)``, is kept for the contact's
 friction (``P_SUPPORT``, ``particle_contacts.py``).  Without this the nodes next to a contact only learn of
-it one sub-step late, and a block resting on the ground
-settles lower than its stiffness implies (by 10% for a block two elements high at 16 sub-steps).
+it one sub-step late, and a block resting on the ground settles lower than its stiffness implies (by 10% for
+a block two elements high at 16 sub-steps).
 
 This is backward Euler, ``M (v+ - v) = h (f(x + h v+) + f_user + M g - beta K v+)``, with the elastic force
 linearised at ``x`` with the rotations held, ``f(x + h v+) ~ f(x) - h K v+``.  ``A`` is symmetric positive
