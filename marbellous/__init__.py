@@ -29,13 +29,13 @@ _HOME = {
     "collide": ".query", "ContactPoint": ".query", "StepProfile": ".pipeline.profile",
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
     "Particles": ".particles", "Network": ".particles", "Cloth": ".cloth", "cloth_grid": ".cloth",
-    "SoftBody": ".soft", "tet_box": ".soft", "tetrahedralize": ".soft",
+    "SoftBody": ".soft", "tet_box": ".soft", "tetrahedralize": ".soft", "Fluid": ".fluid",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
            "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
            "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
-           "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "SoftBody", "tet_box",
+           "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "SoftBody", "Fluid", "tet_box",
            "tetrahedralize", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
@@ -44,6 +44,7 @@ if TYPE_CHECKING:      # for type checkers and the API reference; at run time th
     from .body import Body
     from .cloth import Cloth, cloth_grid
     from .constraints import BallJoint, Cable, FixedJoint, Hinge, Joint, Rod, Slider, Spring
+    from .fluid import Fluid
     from .particles import Network, Particles
     from .pipeline.profile import StepProfile
     from .query import ContactPoint, collide

@@ -22,6 +22,8 @@ from .constraints import BallJoint, Cable, Constraint, FixedJoint, Hinge, Rod, S
 from .deformables import particle_layout as P
 from .deformables.particle_queries import raycast_particles, raycast_triangles
 from .cloth import Cloth, new_cloth
+from .fluid import Fluid
+from .fluids.coupling import drag_particles, place_obstacles, push_bodies
 from .soft import SoftBody, new_soft_body
 from .particles import Network, Particles, edge_rows, particle_rows
 from .dynamics.integrators import INTEGRATORS
@@ -152,7 +154,8 @@ class World:
                  "_sleeping", "_state", "_body_at", "_constraint_at", "_living", "_living_constraints",
                  "_accumulator", "_time_stepping",
                  "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "_living_particles",
-                 "_living_networks", "_living_cloths", "_living_softs", "_particle_substeps", "__weakref__")
+                 "_living_networks", "_living_cloths", "_living_softs", "_living_fluids", "_particle_substeps",
+                 "__weakref__")
 
     def __init__(self, gravity=(0.0, -9.81, 0.0), *, solver="sequential_impulse", iterations=None,
                  substeps=None, integrator="semi_implicit_euler", broadphase="grid", ccd=True, sleeping=True,
@@ -175,6 +178,7 @@ class World:
         self._living_networks = {}     # live Network handles in creation order
         self._living_cloths = {}       # live Cloth handles in creation order
         self._living_softs = {}        # live SoftBody handles in creation order
+        self._living_fluids = {}       # fluids stepped with the world, in the order they were added
         self._particle_substeps = DEFAULT_PARTICLE_SUBSTEPS
         self._accumulator = 0.0
         self.gravity = gravity
@@ -445,6 +449,11 @@ class World:
         return list(self._living_softs)
 
     @property
+    def fluids(self) -> list[Fluid]:
+        """The fluids this world steps, in the order they were added."""
+        return list(self._living_fluids)
+
+    @property
     def particle_substeps(self) -> int:
         """Sub-steps of the particles' step per world step (default 16, 1 to 1000): more make springs and
         rods stiffer and contacts tighter, at proportional cost (deformables/particle_step.py)."""
@@ -539,6 +548,21 @@ class World:
         return handle
 
     # --- bodies -------------------------------------------------------------------------------------
+    def add_fluid(self, fluid: Fluid) -> Fluid:
+        """Step ``fluid`` (a 3D :class:`Fluid`) with this world from now on: the bodies are obstacles that the
+        fluid flows around and that push it aside; below ``fluid.surface`` they float (buoyancy for their
+        submerged volume), and bodies, particles and cloth in the fluid feel its drag.  Returns ``fluid``."""
+        if not isinstance(fluid, Fluid):
+            raise TypeError(f"fluid must be a Fluid, got {fluid!r}")
+        if fluid.dimensions != 3:
+            raise ValueError("fluid must be a 3D Fluid to join a world (a 2D fluid has no volume to share with "
+                             "bodies): make it with a resolution (nx, ny, nz)")
+        if fluid._world is not None:
+            raise ValueError("fluid is already in a world (remove it from there first)")
+        fluid._world = self
+        self._living_fluids[fluid] = None
+        return fluid
+
     def add_body(self, shape: ShapeArg, *, position: ArrayLike = (0.0, 0.0, 0.0),
                  orientation: ArrayLike = (1.0, 0.0, 0.0, 0.0), velocity: ArrayLike = (0.0, 0.0, 0.0),
                  angular_velocity: ArrayLike = (0.0, 0.0, 0.0), mass: float | None = None,
@@ -675,6 +699,12 @@ class World:
         obj = body_or_constraint
         if isinstance(obj, (Particles, Network)):
             self._remove_particles_or_network(obj)
+        elif isinstance(obj, Fluid):
+            if obj._world is not self:
+                raise ValueError("body_or_constraint does not belong to this world (or was removed)")
+            del self._living_fluids[obj]
+            obj._world = None
+            obj._clear_obstacles()
         elif isinstance(obj, (Cloth, SoftBody)):
             if obj._world is not self or not obj._record.alive:
                 raise ValueError("body_or_constraint does not belong to this world (or was removed)")
@@ -707,8 +737,8 @@ class World:
             del self._living_constraints[obj]
             obj._world = None
         else:
-            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles, a Network, a Cloth or a "
-                            f"SoftBody, got {obj!r}")
+            raise TypeError(f"body_or_constraint must be a Body, a constraint, Particles, a Network, a Cloth, a "
+                            f"SoftBody or a Fluid, got {obj!r}")
 
     def _remove_particles_or_network(self, obj):
         """Remove a set of particles (with its networks) or a network."""
@@ -916,6 +946,10 @@ class World:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
         particles = bool(self._living_particles or self._living_cloths or self._living_softs)
+        for fluid in self._living_fluids:
+            push_bodies(fluid, self.bodies, self._gravity, dt)
+            if particles:
+                drag_particles(fluid, self._state.particles, self._gravity, dt)
         if particles:
             body_start = np.ascontiguousarray(self._state.bf[:self._state.bodies.end, _BODY_START])
         status = -1 if self._retroactive else self._state.step()
@@ -928,6 +962,9 @@ class World:
             self._last = None
         if particles:
             self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps, body_start)
+        for fluid in self._living_fluids:
+            place_obstacles(fluid, self.bodies)
+            fluid._advance(dt)
 
     def _step_in_intervals(self, dt, status):
         """The step of ``dt`` seconds in several intervals (``pipeline/time_stepping.py``): after a first
@@ -1111,7 +1148,9 @@ class World:
     # --- state -------------------------------------------------------------------------------------------
     def snapshot(self) -> Snapshot:
         """The whole state (bodies, constraints, time, caches) as a picklable :class:`Snapshot`."""
-        return snapshots.take(self._state, self._accumulator)
+        snapshot = snapshots.take(self._state, self._accumulator)
+        snapshot.fluids = tuple(fluid._state() for fluid in self._living_fluids)
+        return snapshot
 
     def restore(self, snapshot: Snapshot) -> None:
         """Return to ``snapshot`` (taken of this world, or of one built the same way).
@@ -1121,6 +1160,12 @@ class World:
         were changed into something this world could not be in; a refused restore changes nothing.
         """
         arrays = snapshots.validate(self._state, snapshot)
+        fluids = list(self._living_fluids)
+        if not isinstance(snapshot.fluids, tuple) or len(snapshot.fluids) > len(fluids):
+            raise ValueError("snapshot holds fluids this world no longer has; restore a snapshot taken of this "
+                             "world or of one built the same way")
+        for fluid, state in zip(fluids, snapshot.fluids):
+            fluid._check_state(state)
         st = self._state
         snapshots.restore(st, arrays)
         for at, living, slots in ((self._body_at, self._living, st.bodies),
@@ -1139,6 +1184,10 @@ class World:
             for handle in [h for h in living if not h._record.alive]:
                 handle._world = None
                 del living[handle]
+        for fluid, state in zip(fluids, snapshot.fluids):
+            fluid._load(state)
+        for fluid in fluids[len(snapshot.fluids):]:
+            self.remove(fluid)
         self._accumulator = float(snapshot.accumulator)
         self._stepped = False
 

@@ -40,10 +40,12 @@ _BOOKKEEPING = ("body_revisions", "constraint_revisions")
 class Snapshot:
     """The whole state of a world at one instant (plain arrays: picklable, comparable by ``state_hash``).
 
-    ``tables``: name -> array (see ``TABLES``); ``accumulator``: the game loop's leftover time (s)."""
+    ``tables``: name -> array (see ``TABLES``); ``accumulator``: the game loop's leftover time (s);
+    ``fluids``: each fluid's arrays (name -> array), in the order the world holds them."""
 
     tables: dict
     accumulator: float
+    fluids: tuple = ()
 
     def state_hash(self):
         """A hash of every state array, bit for bit (hex string)."""
@@ -56,6 +58,12 @@ class Snapshot:
             h.update(str(arr.shape).encode())
             h.update(arr.tobytes())
         h.update(np.float64(self.accumulator).tobytes())
+        for fluid in self.fluids:
+            for key in sorted(fluid):
+                arr = np.ascontiguousarray(fluid[key])
+                h.update(key.encode())
+                h.update(str(arr.shape).encode())
+                h.update(arr.tobytes())
         return h.hexdigest()
 
 
