@@ -226,6 +226,33 @@ KINDS = {
     "soft_rows": [("shape", np.zeros((7, 3))), ("shape", np.zeros((9, 3))), ("nan", np.full((8, 3), NAN)),
                   ("inf", np.full((8, 3), INF)), ("huge", np.full((8, 3), 1e300)), ("str", "abc"),
                   ("none", None), ("bool", np.ones((8, 3), bool)), ("object", object())],
+    "fluid_resolution": [("str", "44"), ("none", None), ("zero", 0), ("number", 4), ("shape", (4,)),
+                         ("shape", (4, 4, 4, 4)), ("zero", (4, 0, 4)), ("negative", (4, -1)), ("float", (4, 2.5)),
+                         ("huge", (4, 10 ** 6)), ("huge", (4096, 4096, 4096)), ("nan", (4, NAN)),
+                         ("bool", (True, 4)), ("object", object())],
+    "fluid_cell": scalar_kind(lo=1e-6, hi=1e3, positive=True),
+    "fluid_density": scalar_kind(lo=1e-3, hi=1e5, positive=True),
+    "fluid_viscosity": scalar_kind(nonneg=True, hi=1e3),
+    "fluid_tolerance": scalar_kind(lo=1e-14, hi=0.1, positive=True),
+    "surface": scalar_kind(lo=-1e12, hi=1e12, none_ok=True),
+    "boundary": [("str", "open"), ("str", ""), ("none", None), ("number", 3), ("shape", ("wall",)),
+                 ("shape", ("wall", "wall", "wall", "wall")), ("str", ("wall", "open", "wall")),
+                 ("object", object())],
+    "fluid_accel3": _vector_types(3) + _vector_values(3, 1e4),
+    "wall_velocity": _vector_types(3) + _vector_values(3, 1e4) + [("normal", [0.0, 1.0, 0.0])],
+    "side": [("str", "w+"), ("str", ""), ("str", "X+"), ("none", None), ("number", 1), ("object", object())],
+    "fluid_velocity": [("shape", np.zeros((4, 4, 4, 2))), ("shape", np.zeros((4, 4, 3, 3))),
+                       ("nan", np.full((4, 4, 4, 3), NAN)), ("inf", np.full((4, 4, 4, 3), INF)),
+                       ("huge", np.full((4, 4, 4, 3), 1e300)), ("str", "abc"), ("none", None),
+                       ("bool", np.ones((4, 4, 4, 3), bool)), ("object", object())],
+    "fluid_dye": [("shape", np.zeros((4, 4))), ("nan", np.full((4, 4, 4), NAN)), ("inf", np.full((4, 4, 4), INF)),
+                  ("huge", np.full((4, 4, 4), 1e300)), ("str", "abc"), ("none", None),
+                  ("bool", np.ones((4, 4, 4), bool)), ("object", object())],
+    "fluid_points": [("shape", np.zeros((2, 2))), ("shape", np.zeros((2, 3, 1))), ("nan", [[NAN, 0.0, 0.0]]),
+                     ("inf", [[0.0, INF, 0.0]]), ("huge", [[1e13, 0.0, 0.0]]), ("str", "abc"), ("none", None),
+                     ("bool", [[True, False, True]]), ("object", object())],
+    "fluid": [("str", "water"), ("none", None), ("number", 3), ("object", object()),
+              ("2d", Lazy(lambda: mb.Fluid((4, 4), 0.1), "Fluid((4, 4), 0.1)"))],
 }
 # (a tetrahedron 1e7 m across is a valid soft body, unlike a convex hull of that size)
 KINDS["tet_points"] = [v for v in KINDS["points"] if not (v[0] == "huge" and np.shape(v[1]) == (4, 3)
@@ -237,8 +264,8 @@ def make_world():
     """A small world after one step: a plane, a ball, a box, a static box, a spring between the ball and
     the box, an arm on a hinge and a cart on a slider (``ns.w``, ``ns.ball``, ``ns.box``, ``ns.ground``,
     ``ns.post``, ``ns.spring``, ``ns.hinge``, ``ns.slider``, ``ns.platform``, a kinematic box), three beads on
-    a spring network (``ns.beads``, ``ns.network``), a cloth of one triangle (``ns.sheet``) and a soft cube of
-    six tetrahedra (``ns.jelly``)."""
+    a spring network (``ns.beads``, ``ns.network``), a cloth of one triangle (``ns.sheet``), a soft cube of
+    six tetrahedra (``ns.jelly``) and a pool of fluid, 4^3 cells (``ns.pool``)."""
     w = mb.World()
     ground = w.add_static(mb.Plane())
     post = w.add_static(mb.Box((0.5, 0.5, 0.5)), position=(4, 0.5, 0))
@@ -254,9 +281,11 @@ def make_world():
     network = w.add_network(beads, [(0, 1), (1, 2)], kind="spring", stiffness=100.0)
     sheet = w.add_cloth([(3, 1, 3), (3.3, 1, 3), (3, 1, 3.3)], [(0, 1, 2)], mass=0.01)
     jelly = w.add_soft_body(*mb.tet_box((0.1, 0.1, 0.1), 1), position=(-3, 0.5, 3))
+    pool = w.add_fluid(mb.Fluid((4, 4, 4), 0.5, origin=(-1, 0, -1), surface=1.0))
     w.step(1 / 60)
     return SimpleNamespace(w=w, ground=ground, post=post, ball=ball, box=box, spring=spring, hinge=hinge,
-                           slider=slider, platform=platform, beads=beads, network=network, sheet=sheet, jelly=jelly)
+                           slider=slider, platform=platform, beads=beads, network=network, sheet=sheet, jelly=jelly,
+                           pool=pool)
 
 
 def _setter(obj_name, attr):
@@ -502,6 +531,32 @@ _add("tetrahedralize()", "surface_triangles", "triangles",
 _add("tetrahedralize()", "max_volume", "max_volume",
      lambda ns, v: mb.tetrahedralize(np.vstack([np.zeros(3), np.eye(3)]), [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)],
                                      max_volume=v), world=False)
+
+# fluids
+def _fluid(arg):
+    """A call of ``mb.Fluid`` (3D, 4^3 cells) with ``arg`` replaced."""
+    def call(ns, v):
+        kw = dict(resolution=(4, 4, 4), cell_size=0.5)
+        kw[arg] = v
+        return mb.Fluid(**kw)
+    return call
+
+
+for _arg, _kind in (("resolution", "fluid_resolution"), ("cell_size", "fluid_cell"), ("origin", "vec3"),
+                    ("density", "fluid_density"), ("viscosity", "fluid_viscosity"), ("boundary", "boundary"),
+                    ("surface", "surface"), ("tolerance", "fluid_tolerance")):
+    _add("Fluid()", _arg, _kind, _fluid(_arg), world=False)
+_add("Fluid setter", "velocity", "fluid_velocity", _setter("pool", "velocity"))
+_add("Fluid setter", "dye", "fluid_dye", _setter("pool", "dye"))
+_add("Fluid setter", "body_force", "fluid_accel3", _setter("pool", "body_force"))
+_add("Fluid setter", "viscosity", "fluid_viscosity", _setter("pool", "viscosity"))
+_add("Fluid setter", "surface", "surface", _setter("pool", "surface"))
+_add("Fluid.set_wall_velocity", "side", "side", lambda ns, v: ns.pool.set_wall_velocity(v, (0.0, 0.0, 0.0)))
+_add("Fluid.set_wall_velocity", "velocity", "wall_velocity", lambda ns, v: ns.pool.set_wall_velocity("y+", v))
+_add("Fluid.velocity_at", "points", "fluid_points", lambda ns, v: ns.pool.velocity_at(v))
+_add("Fluid.dye_at", "points", "fluid_points", lambda ns, v: ns.pool.dye_at(v))
+_add("Fluid.step", "dt", "dt", lambda ns, v: mb.Fluid((4, 4), 0.5).step(v), world=False)
+_add("World.add_fluid", "fluid", "fluid", lambda ns, v: ns.w.add_fluid(v))
 
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)

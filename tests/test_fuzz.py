@@ -49,7 +49,9 @@ SCALAR_RULES = {   # kind: (lo, hi) of the valid range (None: unbounded; lo > 0 
     "breaking": (TINY, None), "dt": (1e-6, 1.0), "frame_time": (0.0, None), "max_distance": (0.0, None),
     "hertz": (1e-3, 1e6), "nonneg": (0.0, 1e9), "positive": (TINY, 1e9), "ratio": (0.0, 1e6),
     "cell_size": (TINY, 1e12), "rest_length": (0.0, 1e6), "modulus": (TINY, 1e15), "poisson": (-0.99, 0.49),
-    "radius_or_none": (1e-6, 1e6), "max_volume": (TINY, 1e12),
+    "radius_or_none": (1e-6, 1e6), "max_volume": (TINY, 1e12), "fluid_cell": (1e-6, 1e3),
+    "fluid_density": (1e-3, 1e5), "fluid_viscosity": (0.0, 1e3), "fluid_tolerance": (1e-14, 0.1),
+    "surface": (-1e12, 1e12),
 }
 
 
@@ -75,10 +77,10 @@ def bad_values(kind):
         nonfinite = _nonfinite().filter(lambda x: x != math.inf) if kind in INF_OK else _nonfinite()
         return st.one_of(listed, _wrong_scalar_types(), nonfinite, _out_of_range(lo, hi), *extra)
     if kind in ("vec3", "speed3", "accel3", "force3", "point3", "offset3", "direction", "quat", "half_extents",
-                "action"):
+                "action", "fluid_accel3", "wall_velocity"):
         n = {"quat": 4, "action": 2}.get(kind, 3)
         bound = {"vec3": 1e12, "speed3": 1e9, "accel3": 1e6, "force3": 1e20, "point3": 1e12, "offset3": 1e6,
-                 "half_extents": 1e6}.get(kind)
+                 "half_extents": 1e6, "fluid_accel3": 1e4, "wall_velocity": 1e4}.get(kind)
         ok = st.floats(-1.0, 1.0)
         bad_item = st.one_of(_nonfinite(), st.text(max_size=3), st.booleans(), st.none(),
                              st.complex_numbers(allow_nan=False, max_magnitude=10).filter(lambda z: z.imag != 0))
