@@ -112,6 +112,7 @@ class Fluid:
         self._precon = np.zeros(shape)
         self._prepared = False
         self._flow = None
+        self._static_cells = None           # (key, solid cells, velocities) of a world's static bodies
         self._world = None
         self._time = 0.0
         self._pressure_iterations = 0
@@ -370,6 +371,7 @@ class Fluid:
     # --- in a world -----------------------------------------------------------------------------------------
     def _clear_obstacles(self):
         """No solid cells: only the walls are fixed."""
+        self._static_cells = None
         self._solid[:] = 0
         self._fixed[:] = 0
         for axis in range(3):

@@ -105,9 +105,19 @@ def cell_centres(fluid, lo, hi):
 
 
 def mark_obstacles(fluid, bodies):
-    """Solid cells (``fluid._solid``) and the velocity (m/s) of the bodies there, ``(3, nx, ny, nz)``."""
-    solid = np.zeros_like(fluid._solid)
-    velocity = np.zeros_like(fluid._q)
+    """Solid cells (``fluid._solid``) and the velocity (m/s) of the bodies there, ``(3, nx, ny, nz)``.  The
+    static bodies' cells are kept from step to step while those bodies stay where they are."""
+    statics = [b for b in bodies if b.is_static]
+    key = tuple((id(b), *b.position, *b.orientation) for b in statics)
+    cached = fluid._static_cells
+    if cached is None or cached[0] != key:
+        cached = (key, *_cells_of(fluid, statics, np.zeros_like(fluid._solid), np.zeros_like(fluid._q)))
+        fluid._static_cells = cached
+    return _cells_of(fluid, [b for b in bodies if not b.is_static], cached[1].copy(), cached[2].copy())
+
+
+def _cells_of(fluid, bodies, solid, velocity):
+    """Mark the cells inside ``bodies`` in ``solid`` and their velocities in ``velocity``; returns both."""
     box_lo, box_hi = fluid._origin, fluid._origin + fluid._n * fluid._h
     for body in bodies:
         x, v, omega = body.position, body.velocity, body.angular_velocity

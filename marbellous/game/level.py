@@ -48,6 +48,15 @@ A level is a TOML file (read with ``tomllib``, never evaluated).  Keys, units in
     pinned = true                   # optional, default true: its bottom face held in place
     material = "NAME"               # its friction and colour
 
+    [[streams]]                     # optional, any number: a box of moving water or air that carries the marble
+    min = [x, y, z]                 # the box's lower corner (m)
+    max = [x, y, z]                 # its upper corner (m)
+    velocity = [vx, 0, vz]          # the stream's mean velocity (m/s, level), held by a pump
+    surface = 0.4                   # optional, m: the water's surface height; without it the box is full (air)
+    cell = 0.2                      # optional, m: the side of the grid's cells (default 0.2)
+    density = 1000.0                # optional, kg/m^3 (default water; air is 1.2)
+    viscosity = 1e-6                # optional, m^2/s (default water; air is 1.5e-5)
+
     [course]                        # optional: the way to the goal, for the autopilot and the rewards
     path = [[x, y, z], ...]         # marble-centre waypoints from start to goal
     speeds = [v, ...]               # optional target speed (m/s) at each waypoint
@@ -104,9 +113,14 @@ _SHAPE_KEYS = {
 }
 _COMMON_KEYS = {"type", "material", "position", "orientation", "axis", "angle"}
 _MATERIAL_KEYS = {"friction", "static_friction", "restitution", "rolling_friction", "color"}
-_TOP_KEYS = {"name", "description", "fall_height", "start", "goal", "materials", "colliders", "soft_blocks", "course"}
+_TOP_KEYS = {"name", "description", "fall_height", "start", "goal", "materials", "colliders", "soft_blocks", "streams",
+             "course"}
 _SOFT_KEYS = {"half_extents", "position", "cells", "young_modulus", "poisson_ratio", "density", "damping", "pinned",
               "material"}
+_STREAM_KEYS = {"min", "max", "velocity", "surface", "cell", "density", "viscosity"}
+#: Most streams of a level, and most grid cells of one.
+MAX_STREAMS = 8
+MAX_STREAM_CELLS = 1 << 18
 #: Most soft blocks of a level, and most cells along a soft block's side.
 MAX_SOFT_BLOCKS = 64
 MAX_SOFT_CELLS = 32
@@ -188,6 +202,26 @@ class SoftBlock:
     material: Material
 
 
+@dataclass(frozen=True)
+class Stream:
+    """A box of moving water or air in a level (a :class:`~marbellous.Fluid` periodic along x and z): its
+    corners ``lower`` and ``upper`` (m), ``velocity`` (m/s, level: its y component is 0), ``surface`` (m, or
+    None: full), ``cell`` (m), ``density`` (kg/m^3) and ``viscosity`` (m^2/s)."""
+
+    lower: tuple
+    upper: tuple
+    velocity: tuple
+    surface: float | None
+    cell: float
+    density: float
+    viscosity: float
+
+    @property
+    def resolution(self):
+        """Cells along x, y and z."""
+        return tuple(max(1, round((hi - lo) / self.cell)) for lo, hi in zip(self.lower, self.upper))
+
+
 @dataclass
 class Level:
     """A loaded, validated level.  Lengths in metres, angles in radians."""
@@ -205,6 +239,7 @@ class Level:
     path: np.ndarray = field(default=None)
     speeds: np.ndarray = field(default=None)
     soft_blocks: list = field(default_factory=list)
+    streams: list = field(default_factory=list)
 
     @property
     def key(self):
@@ -413,10 +448,35 @@ class _Parser:
         if len(blocks) > MAX_SOFT_BLOCKS:
             self.fail("soft_blocks", f"must have at most {MAX_SOFT_BLOCKS} entries", len(blocks))
         level.soft_blocks = [self.soft_block(b, f"soft_blocks[{i}]", materials) for i, b in enumerate(blocks)]
+        streams = data.get("streams", [])
+        if not isinstance(streams, list) or not all(isinstance(b, dict) for b in streams):
+            self.fail("streams", "must be an array of tables ([[streams]])", streams)
+        if len(streams) > MAX_STREAMS:
+            self.fail("streams", f"must have at most {MAX_STREAMS} entries", len(streams))
+        level.streams = [self.stream(b, f"streams[{i}]") for i, b in enumerate(streams)]
         course = self.table(data, "course", required=False)
         if course is not None:
             self.course(course, level)
         return level
+
+    def stream(self, b, where):
+        self.unknown(b, _STREAM_KEYS, where)
+        lower, upper = self.vector(b, "min", where), self.vector(b, "max", where)
+        if not np.all(upper - lower >= MIN_SIZE):
+            self.fail(f"{where}.max", "must lie above min along every axis", b["max"])
+        velocity = self.vector(b, "velocity", where)
+        if velocity[1] != 0.0 or np.abs(velocity).max() > 100.0:
+            self.fail(f"{where}.velocity", "must be level (y = 0) and at most 100 m/s", b["velocity"])
+        cell = self.number(b, "cell", where, default=0.2, lo=0.01, hi=100.0)
+        surface = None if "surface" not in b else self.number(b, "surface", where)
+        stream = Stream(lower=tuple(float(x) for x in lower), upper=tuple(float(x) for x in upper),
+                        velocity=tuple(float(x) for x in velocity), surface=surface, cell=cell,
+                        density=self.number(b, "density", where, default=1000.0, lo=0.01, hi=1e5),
+                        viscosity=self.number(b, "viscosity", where, default=1e-6, lo=0.0, hi=10.0))
+        if math.prod(stream.resolution) > MAX_STREAM_CELLS:
+            self.fail(f"{where}.cell", f"makes {math.prod(stream.resolution)} cells; at most {MAX_STREAM_CELLS} "
+                      "are allowed", cell)
+        return stream
 
     def soft_block(self, b, where, materials):
         self.unknown(b, _SOFT_KEYS, where)

@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 
+from ..fluid import Fluid
 from ..soft import tet_box
 from ..world import World
 from .camera import FollowCamera
@@ -30,6 +31,25 @@ def add_soft_block(world, block):
     if block.pinned:
         body.pin(np.nonzero(vertices[:, 1] < -block.half_extents[1] + 1e-9)[0])
     return body
+
+
+#: how fast (s) a stream's pump brings its mean velocity back to the level's after the marble slows it
+PUMP_TIME = 0.5
+
+
+def add_stream(world, stream):
+    """The level's ``stream`` as a fluid of ``world`` (periodic along x and z, walls below and above), flowing
+    at its velocity; returns the ``Fluid``."""
+    fluid = Fluid(stream.resolution, stream.cell, origin=stream.lower, density=stream.density,
+                  viscosity=stream.viscosity, boundary=("periodic", "wall", "periodic"), surface=stream.surface)
+    fluid.velocity = np.broadcast_to(stream.velocity, fluid.resolution + (3,))
+    return world.add_fluid(fluid)
+
+
+def pump(fluid, velocity):
+    """Hold ``fluid``'s mean velocity at ``velocity`` (m/s): a body force that makes up the difference in
+    ``PUMP_TIME`` (the marble, an obstacle, slows the water it pushes through)."""
+    fluid.body_force = (np.asarray(velocity) - fluid.velocity.mean(axis=(0, 1, 2))) / PUMP_TIME
 
 
 def build_world(level):
@@ -71,6 +91,9 @@ class Game:
         #: the level's soft blocks (``SoftBody`` handles, in the order of the level file)
         self.soft_blocks = [add_soft_block(self.world, block) for block in level.soft_blocks]
         self._soft_rest = [body.positions for body in self.soft_blocks]
+        #: the level's streams (``Fluid`` handles, in the order of the level file)
+        self.streams = [add_stream(self.world, stream) for stream in level.streams]
+        self._stream_rest = [fluid._state() for fluid in self.streams]
         self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
                               self._approach()) if flag else None)
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)
@@ -103,6 +126,8 @@ class Game:
         for body, rest in zip(self.soft_blocks, self._soft_rest):
             body.positions = rest
             body.velocities = np.zeros_like(rest)
+        for fluid, rest in zip(self.streams, self._stream_rest):
+            fluid._load(rest)
         b = self.marble
         b.position = self.level.start_position
         b.orientation = (1.0, 0.0, 0.0, 0.0)
@@ -123,6 +148,8 @@ class Game:
             self._jump_cooldown = 0.25
         if self.flag is not None:
             self.flag.blow(self.world.time, self.dt)
+        for fluid, stream in zip(self.streams, self.level.streams):
+            pump(fluid, stream.velocity)
         t0 = time.perf_counter()
         self.world.step(self.dt)
         if self.physics_steps:

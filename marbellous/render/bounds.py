@@ -50,7 +50,7 @@ def _sphere_corners(centers, radii):
 def world_points(world):
     """Points (K, 3) (m) that outline ``world``: those of every shape of its bodies
     (:func:`shape_points`), the fixed world anchors of its constraints, and the corners of the box of every
-    particle, of every cloth's vertex and of every soft body's node."""
+    particle, of every cloth's vertex and of every soft body's node, and of every fluid's box."""
     parts = []
     for b in world.bodies:
         rot = quat_to_matrix(b.orientation)
@@ -67,4 +67,7 @@ def world_points(world):
     for body in world.soft_bodies:
         x = body.positions
         parts.append(_sphere_corners(x, np.full(len(x), body.radius)))
+    for fluid in world.fluids:
+        half = 0.5 * fluid.size
+        parts.append(fluid.origin + half + _CORNER_SIGNS * half)
     return np.concatenate(parts)

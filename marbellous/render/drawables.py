@@ -3,7 +3,7 @@
 A :class:`Drawable` has a ``name`` (the layer it can be toggled by), a ``draw`` function that turns a
 :class:`~marbellous.render.draw_lists.WorldFrame` into a list of ``Solids``, ``Spheres``, ``Lines`` and
 ``Points``, and whether it is ``shown`` by default.  The renderer draws the layers asked for in registry order.
-A new kind of object (fluid slices) is drawn by registering one more drawable, as cloth is::
+A new kind of object is drawn by registering one more drawable, as cloth is::
 
     register(Drawable("cloth", cloth_surfaces, shown=True, help="every cloth as a shaded surface"))
 """
@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from .body_solids import body_solids
 from .cloth_drawing import cloth_surfaces, soft_body_surfaces
+from .fluid_drawing import fluid_arrows, fluids
 from .overlays import box_outlines, constraint_lines, contact_marks, event_marks
 from .particle_drawing import network_lines, particle_spheres
 
@@ -68,6 +69,8 @@ register(Drawable("particles", particle_spheres, shown=True, help="every particl
 register(Drawable("cloth", cloth_surfaces, shown=True, help="every cloth as a shaded surface, lit on both faces"))
 register(Drawable("soft", soft_body_surfaces, shown=True,
                   help="every soft body as its surface, pinned nodes raspberry"))
+register(Drawable("fluids", fluids, shown=True, help="every fluid's box, surface and dye"))
+register(Drawable("flow", fluid_arrows, shown=True, help="fluid velocity arrows on the middle slices, by speed"))
 register(Drawable("constraints", constraints_and_networks, shown=True,
                   help="springs, rods, cables and joints, and the edges of particle networks"))
 register(Drawable("contacts", contact_marks, shown=False, help="contact points and normals"))

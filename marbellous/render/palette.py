@@ -3,7 +3,7 @@
 Colours are linear RGB in [0, 1].  A body's colour says what it is at a glance: stone grey for static
 bodies, violet for kinematic ones, warm hues (orange, coral, amber, gold, in turn by body) for moving
 dynamic bodies, slate blue for sleeping ones and translucent green for sensors.  Particles are teal, pinned
-ones raspberry; cloth is chartreuse.  The debug layers use colours no body has: yellow contacts, cyan
+ones raspberry; cloth is chartreuse; fluids are blues.  The debug layers use colours no body has: yellow contacts, cyan
 bounding boxes, magenta springs, white rods and brown cables (of bodies and of particle networks alike).
 """
 import numpy as np
@@ -29,6 +29,13 @@ PINNED_PARTICLE = (0.86, 0.10, 0.34)
 #: Cloth (any cloth, both faces): chartreuse, green over red well over blue (no body, particle or overlay has it).
 CLOTH = (0.56, 0.78, 0.12)
 SOFT_BODY = (0.93, 0.45, 0.62)
+#: Fluids: the box's edges and the surface line (deep blue), velocity arrows from slow (blue) to fast (white),
+#: and dye (smoke, ink) as puffs, pale to deep azure by amount.
+FLUID_BOX = (0.20, 0.45, 0.95)
+FLUID_SLOW = (0.15, 0.35, 0.95)
+FLUID_FAST = (0.95, 0.97, 1.00)
+DYE_THIN = (0.75, 0.88, 1.00)
+DYE_THICK = (0.10, 0.45, 0.95)
 #: Contact points and their normals.
 CONTACT = (1.0, 0.88, 0.10)
 #: Contact events of the last step: pairs that began touching (red), and that stopped (pale blue).

@@ -150,6 +150,8 @@ SKY = (0.70, 0.80, 0.92)
 FLAG_COLOR = (0.98, 0.78, 0.10)
 #: The poles' colour.
 POLE_COLOR = (0.9, 0.9, 0.9)
+#: a level's streams: translucent water blue
+WATER_COLOR = (0.15, 0.45, 0.90)
 
 
 @dataclass
@@ -186,7 +188,8 @@ class Renderer:
     are read every frame; its triangles must not change), ``foot`` and ``top`` (the pole's ends, m) and
     ``radius`` (the pole's, m), such as the game's ``GoalFlag``.  ``soft_bodies`` are the level's soft blocks
     as ``SoftBody`` handles (``Game.soft_blocks``, in the order of ``level.soft_blocks``), drawn in their
-    materials' colours as their surfaces are at each frame.
+    materials' colours as their surfaces are at each frame.  The level's streams are drawn as translucent
+    water (or air) up to their surfaces.
     """
 
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
@@ -219,6 +222,14 @@ class Renderer:
             self.soft.append((body, triangles, *self._moving_mesh(len(body), triangles, block.material.color)))
         box = _goal_box_triangles(level.goal_center, level.goal_half_extents)
         self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4))
+        self.water = []
+        for stream in level.streams:
+            lower, upper = np.array(stream.lower), np.array(stream.upper)
+            if stream.surface is not None:
+                upper[1] = min(max(stream.surface, lower[1]), upper[1])
+            if upper[1] > lower[1]:
+                self.water.append(self._mesh(*flat(*_goal_box_triangles(0.5 * (lower + upper), 0.5 * (upper - lower))),
+                                             WATER_COLOR))
         quad = np.array([[0, 0, 0, 0, 1], [1.6, 0, 0, 1, 1], [1.6, 1.0, 0, 1, 0],
                          [0, 0, 0, 0, 1], [1.6, 1.0, 0, 1, 0], [0, 1.0, 0, 0, 0]], np.float32)
         self.flag_vbo = ctx.buffer(quad.tobytes())
@@ -328,6 +339,8 @@ class Renderer:
         ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         s["u_alpha"].value = 0.25
         self._draw([self.goal_box], np.eye(4), pattern=2)
+        s["u_alpha"].value = 0.35
+        self._draw(self.water, np.eye(4), pattern=0)
         s["u_alpha"].value = 1.0
 
         if debug is not None:
