@@ -11,6 +11,8 @@
 * After every step, no cell gains or loses more than ``tolerance`` of its volume: ``max |div u| dt``.
 """
 import math
+import runpy
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -371,3 +373,12 @@ def test_removing_and_refusing_fluids():
     with pytest.raises(ValueError, match="velocity"):
         w.restore(bad)
     assert w.state_hash() == before and w.fluids == [g]
+
+
+def test_the_fluids_example_runs_divergence_free():
+    """examples/fluids.py after 2 s: the crate on its way down, the ball afloat, no cell's volume changed by
+    more than the tolerance in any step (bodies crossing the pool's top included)."""
+    example = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "fluids.py"))
+    r = example["run"](2.0)
+    assert r["largest_divergence"] <= 1e-6
+    assert r["crate_height"] < 1.0 and abs(r["ball_height"]) < 0.25

@@ -4,7 +4,9 @@ cloth.
 *Obstacles.*  Each step, every cell whose centre lies inside a shape of a body (spheres, boxes, capsules,
 convex hulls; planes as half-spaces) becomes solid, moving with the body: the faces of solid cells carry the
 body's velocity ``v + omega x (x - c)`` at the face, so the fluid flows around the body and is pushed aside
-by it.  Triangle meshes and height fields are not obstacles (they bound no volume).
+by it.  Triangle meshes and height fields are not obstacles (they bound no volume).  A body that crosses the
+box's walls would push fluid into a closed box; the net flow through its faces is taken off them evenly, so
+the projection always has a solution.
 
 *Buoyancy.*  Below the fluid's ``surface`` (a height in y), a body displaces ``V`` m^3 of fluid and feels
 Archimedes' force ``F = -rho V g`` at the centroid of the displaced volume (exact for spheres; a 16^3
@@ -171,13 +173,43 @@ def obstacle_faces(fluid, solid, velocity):
     return fixed, values
 
 
+def balance_inflow(fluid, solid, values):
+    """Make the bodies' faces let as much fluid in as out: an incompressible fluid in a closed box cannot make
+    room for a body that enters it through a wall (or a face of the box that it crosses), so the net flow
+    through the faces between solid and fluid cells is taken off them evenly, along their normals.  (A body
+    wholly inside the box moves no net volume: for it this changes nothing.)"""
+    faces = []
+    net = 0.0
+    for c in range(3):
+        if fluid._n[c] == 1:
+            continue
+        below = np.roll(solid, 1, axis=c)
+        inner = np.ones_like(solid, dtype=bool)
+        if not fluid._periodic[c]:
+            index = [slice(None)] * 3
+            index[c] = 0
+            inner[tuple(index)] = False          # (a wall face: nothing flows through it)
+        into_solid = inner & (below == 0) & (solid != 0)      # fluid below, solid above: outflow +u
+        out_of_solid = inner & (below != 0) & (solid == 0)    # solid below, fluid above: outflow -u
+        sign = into_solid.astype(np.float64) - out_of_solid
+        net += float(np.sum(sign * values[c]))
+        faces.append((c, sign))
+    count = sum(float(np.abs(sign).sum()) for _, sign in faces)
+    if count == 0.0 or net == 0.0:
+        return
+    for c, sign in faces:
+        values[c] -= sign * (net / count)
+
+
 def place_obstacles(fluid, bodies):
     """Make the cells inside ``bodies`` solid, moving with them, before the fluid's step."""
     solid, velocity = mark_obstacles(fluid, bodies)
     if not np.array_equal(solid, fluid._solid):
         fluid._solid[:] = solid
         fluid._prepared = False
-    fluid._fixed[:], fluid._q[:] = obstacle_faces(fluid, solid, velocity)
+    fixed, values = obstacle_faces(fluid, solid, velocity)
+    balance_inflow(fluid, solid, values)
+    fluid._fixed[:], fluid._q[:] = fixed, values
     fluid._flow = None
 
 
