@@ -156,3 +156,37 @@ def test_bad_soft_blocks_name_the_key(tmp_path, edit, key):
     with pytest.raises(LevelError) as err:
         load_level(write(tmp_path, text))
     assert key in str(err.value) and "lvl.toml" in str(err.value)
+
+
+STREAM = GOOD + """
+[[streams]]
+min = [-1.0, 0.0, -2.0]
+max = [1.0, 0.6, 2.0]
+velocity = [0.0, 0.0, 1.0]
+surface = 0.4
+"""
+
+
+def test_streams_load_with_defaults(tmp_path):
+    stream, = load_level(write(tmp_path, STREAM)).streams
+    assert stream.lower == (-1.0, 0.0, -2.0) and stream.upper == (1.0, 0.6, 2.0) and stream.surface == 0.4
+    assert (stream.cell, stream.density, stream.viscosity) == (0.2, 1000.0, 1e-6)
+    assert stream.resolution == (10, 3, 20)
+    assert load_level(write(tmp_path, GOOD)).streams == []
+
+
+@pytest.mark.parametrize("edit, key", [
+    (("max = [1.0, 0.6, 2.0]", "max = [1.0, 0.0, 2.0]"), "streams[0].max"),
+    (("velocity = [0.0, 0.0, 1.0]", "velocity = [0.0, 1.0, 1.0]"), "streams[0].velocity"),
+    (("velocity = [0.0, 0.0, 1.0]", "velocity = [0.0, 0.0]"), "streams[0].velocity"),
+    (("surface = 0.4", "surface = \"high\""), "streams[0].surface"),
+    (("surface = 0.4", "surface = 0.4\ncell = 0.001"), "streams[0].cell"),
+    (("surface = 0.4", "surface = 0.4\ndensity = -1.0"), "streams[0].density"),
+    (("surface = 0.4", "surface = 0.4\nwind = true"), "streams[0]"),
+])
+def test_bad_streams_name_the_key(tmp_path, edit, key):
+    text = STREAM.replace(*edit)
+    assert text != STREAM
+    with pytest.raises(LevelError) as err:
+        load_level(write(tmp_path, text))
+    assert key in str(err.value) and "lvl.toml" in str(err.value)

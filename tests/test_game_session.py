@@ -120,3 +120,20 @@ def test_a_marble_bounces_off_the_soft_bumper_and_restart_rests_it():
     assert 0.005 < dented < 0.25 and np.all(np.isfinite(bumper.positions))      # dented, not torn through
     game.restart()
     assert np.array_equal(bumper.positions, rest) and not bumper.velocities.any()
+
+
+def test_the_brook_carries_the_marble_downstream_and_restart_calms_it():
+    game = Game(load_level("blocks"), flag=False)
+    brook, = game.streams
+    stream = game.level.streams[0]
+    game.marble.position = (3.0, 0.32, 0.0)
+    game.marble.velocity = (0.0, 0.0, 0.0)
+    for _ in range(240):                          # 2 s in the brook, no control
+        game.step()
+    assert game.marble.velocity[2] > 0.1 and game.marble.position[2] > 0.1      # rolled along +z
+    # the pump holds the stream's mean velocity within the share that the marble in it takes away over PUMP_TIME
+    mean = brook.velocity.mean(axis=(0, 1, 2))
+    assert mean == pytest.approx(stream.velocity, abs=0.1 * np.linalg.norm(stream.velocity))
+    brook.dye = np.ones(brook.resolution)
+    game.restart()
+    assert not brook.dye.any() and np.allclose(brook.velocity, stream.velocity)

@@ -85,7 +85,8 @@ def test_show_draws_the_world_and_answers_the_keys(xvfb):
     viewer = Viewer(xvfb)
     try:
         ready = viewer.wait("ready", timeout=400)        # the first start may load compiled kernels
-        assert not ready["paused"] and ready["layers"] == ["bodies", "particles", "cloth", "soft", "fluids", "flow", "constraints"]
+        assert not ready["paused"] and ready["layers"] == ["bodies", "particles", "cloth", "soft", "fluids", "flow",
+                                                           "constraints"]
         found = viewer.xdotool("search", "--sync", "--name", "Marbellous viewer")
         assert found.returncode == 0, found.stderr
         wid = found.stdout.split()[0]
