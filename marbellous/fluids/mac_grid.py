@@ -78,12 +78,16 @@ def cell_value(s, i, j, k, n, periodic):
 def pad_faces(q, n, periodic, wall, dims, out):
     """``out[c, i + 1, j + 1, k + 1]`` = :func:`face_value` of ``q`` for i in -1 .. n (likewise j, k): the
     faces with one layer of ghosts around them, shape (3, nx + 2, ny + 2, nz + 2), so that interpolation
-    reads them directly."""
+    reads them directly.  (A stored face is its own value: a wall's face 0 is held at zero.)"""
     for c in range(dims):
         for i in range(-1, n[0] + 1):
             for j in range(-1, n[1] + 1):
+                inside = 0 <= i < n[0] and 0 <= j < n[1]
                 for k in range(-1, n[2] + 1):
-                    out[c, i + 1, j + 1, k + 1] = face_value(q, c, i, j, k, n, periodic, wall)
+                    if inside and 0 <= k < n[2]:
+                        out[c, i + 1, j + 1, k + 1] = q[c, i, j, k]
+                    else:
+                        out[c, i + 1, j + 1, k + 1] = face_value(q, c, i, j, k, n, periodic, wall)
 
 
 @njit
