@@ -18,7 +18,7 @@ from .mac_grid import face_value
 
 #: the correction is accepted when no face's residual exceeds this fraction of the largest speed (of the fluid
 #: or a wall)
-RELATIVE_TOLERANCE = 1e-6
+RELATIVE_TOLERANCE = 1e-8
 #: most conjugate-gradient iterations per step
 MAX_ITERATIONS = 500
 
