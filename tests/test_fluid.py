@@ -1,8 +1,9 @@
 """The Navier-Stokes grid (``mb.Fluid``), checked against a paper's table and closed-form flows.
 
-* The lid-driven cavity against Ghia, Ghia & Shin (1982, J. Comput. Phys. 48, 387-411), and its centre-line
-  extrema against fine-grid solutions (which differ from Ghia's 129-point grid by up to 0.009): the scheme is
-  second order in space, so each halving of the cell divides the extrema's errors by about four.
+* The lid-driven cavity against Ghia, Ghia & Shin (1982, J. Comput. Phys. 48, 387-411; the table is in
+  ``marbellous/scenes/cavity.py``), and its centre-line extrema against fine-grid solutions (which differ from
+  Ghia's 129-point grid by up to 0.009): the scheme is second order in space, so each halving of the cell
+  divides the extrema's errors by about four.
 * The Taylor-Green vortex, an exact solution of the periodic Navier-Stokes equations whose kinetic energy
   decays as ``exp(-4 nu k^2 t)``.
 * Plane Poiseuille flow (a parabola, which the staggered grid's Laplacian differentiates exactly, so the
@@ -20,62 +21,19 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import marbellous as mb
+from marbellous.scenes.cavity import FINE_EXTREMA_RE100, ghia_differences, steady_cavities
 
-# Ghia, Ghia & Shin (1982), tables I and II: u along the vertical centre line, v along the horizontal one.
-GHIA_Y = [1.0, 0.9766, 0.9688, 0.9609, 0.9531, 0.8516, 0.7344, 0.6172, 0.5, 0.4531, 0.2813, 0.1719, 0.1016,
-          0.0703, 0.0625, 0.0547, 0.0]
-GHIA_X = [1.0, 0.9688, 0.9609, 0.9531, 0.9453, 0.9063, 0.8594, 0.8047, 0.5, 0.2344, 0.2266, 0.1563, 0.0938,
-          0.0781, 0.0703, 0.0625, 0.0]
-GHIA_U = {100: [1.0, 0.84123, 0.78871, 0.73722, 0.68717, 0.23151, 0.00332, -0.13641, -0.20581, -0.21090, -0.15662,
-                -0.10150, -0.06434, -0.04775, -0.04192, -0.03717, 0.0],
-          400: [1.0, 0.75837, 0.68439, 0.61756, 0.55892, 0.29093, 0.16256, 0.02135, -0.11477, -0.17119, -0.32726,
-                -0.24299, -0.14612, -0.10338, -0.09266, -0.08186, 0.0]}
-GHIA_V = {100: [0.0, -0.05906, -0.07391, -0.08864, -0.10313, -0.16914, -0.22445, -0.24533, 0.05454, 0.17527,
-                0.17507, 0.16077, 0.12317, 0.10890, 0.10091, 0.09233, 0.0],
-          400: [0.0, -0.12146, -0.15663, -0.19254, -0.22847, -0.23827, -0.44993, -0.38598, 0.05186, 0.30174,
-                0.30203, 0.28124, 0.22965, 0.20920, 0.19713, 0.18360, 0.0]}
-# Table II's v = -0.23827 at x = 0.9063 for Re = 400 does not fit its neighbours (-0.22847 at 0.9453 and
-# -0.44993 at 0.8594 bound a convex stretch of the profile there); fine-grid solutions have about -0.38.
-GHIA_V_SKIP = {100: (), 400: (5,)}
-# The extrema of the Re = 100 profiles on fine grids (Botella-Peyret-class solutions, 1024^2 and spectral):
-# min u on the vertical centre line, max v and min v on the horizontal one.
-FINE_EXTREMA_RE100 = (-0.21404, 0.17957, -0.25380)
-
-
-def _cavity(reynolds, schedule):
-    """Steady lid-driven cavities (side 1 m, lid 1 m/s) at each resolution of ``schedule`` ((cells, seconds),
-    coarse to fine), each started from the previous one's flow and stepped at a Courant number of 1."""
-    out = {}
-    previous = None
-    for cells, seconds in schedule:
-        f = mb.Fluid((cells, cells), 1.0 / cells, viscosity=1.0 / reynolds, density=1.0)
-        f.set_wall_velocity("y+", (1.0, 0.0))
-        if previous is not None:
-            ratio = cells // previous.shape[0]
-            f.velocity = np.repeat(np.repeat(previous, ratio, 0), ratio, 1)
-        dt = 1.0 / cells
-        for _ in range(round(seconds / dt)):
-            f.step(dt)
-            assert np.abs(f.divergence()).max() * dt <= f.tolerance
-        out[cells] = f
-        previous = f.velocity
-    return out
+def _check_divergence(fluid, dt):
+    assert np.abs(fluid.divergence()).max() * dt <= fluid.tolerance
 
 
 @pytest.fixture(scope="module")
 def cavity_100():
-    return _cavity(100, [(32, 20.0), (64, 8.0), (128, 4.0)])
-
-
-def _ghia_errors(f, reynolds):
-    u = f.velocity_at(np.stack([np.full(17, 0.5), GHIA_Y], 1))[:, 0] - GHIA_U[reynolds]
-    v = f.velocity_at(np.stack([GHIA_X, np.full(17, 0.5)], 1))[:, 1] - GHIA_V[reynolds]
-    v = np.delete(v, GHIA_V_SKIP[reynolds])
-    return np.abs(u).max(), np.abs(v).max()
+    return steady_cavities(100, after_step=_check_divergence)
 
 
 def test_cavity_at_re_100_matches_ghia_and_converges(cavity_100):
-    u_error, v_error = _ghia_errors(cavity_100[128], 100)
+    u_error, v_error = ghia_differences(cavity_100[128], 100)
     assert u_error <= 0.02 and v_error <= 0.02
     s = np.linspace(0.0, 1.0, 2001)
     errors = []
@@ -90,8 +48,7 @@ def test_cavity_at_re_100_matches_ghia_and_converges(cavity_100):
 
 
 def test_cavity_at_re_400_matches_ghia():
-    fluids = _cavity(400, [(32, 30.0), (64, 15.0), (128, 5.0)])
-    u_error, v_error = _ghia_errors(fluids[128], 400)
+    u_error, v_error = ghia_differences(steady_cavities(400)[128], 400)
     assert u_error <= 0.02 and v_error <= 0.02, (u_error, v_error)
 
 
