@@ -27,9 +27,15 @@ def _check_divergence(fluid, dt):
     assert np.abs(fluid.divergence()).max() * dt <= fluid.tolerance
 
 
+#: shorter runs than the docs' figure (``cavity.SCHEDULE``): each finer grid starts from the coarser one's flow
+#: and is near its steady state within a few seconds; at 128^2 Re 400 is then 0.013 from Ghia's points (0.007
+#: after 5 s)
+TEST_SCHEDULE = {100: ((32, 20.0), (64, 6.0), (128, 3.0)), 400: ((32, 20.0), (64, 10.0), (128, 3.0))}
+
+
 @pytest.fixture(scope="module")
 def cavity_100():
-    return steady_cavities(100, after_step=_check_divergence)
+    return steady_cavities(100, TEST_SCHEDULE[100], after_step=_check_divergence)
 
 
 def test_cavity_at_re_100_matches_ghia_and_converges(cavity_100):
@@ -48,7 +54,7 @@ def test_cavity_at_re_100_matches_ghia_and_converges(cavity_100):
 
 
 def test_cavity_at_re_400_matches_ghia():
-    u_error, v_error = ghia_differences(steady_cavities(400)[128], 400)
+    u_error, v_error = ghia_differences(steady_cavities(400, TEST_SCHEDULE[400])[128], 400)
     assert u_error <= 0.02 and v_error <= 0.02, (u_error, v_error)
 
 
@@ -70,7 +76,7 @@ def _taylor_green(cells, courant):
 def test_taylor_green_energy_decays_at_the_viscous_rate():
     exact = math.exp(-1.0)
     coarse = abs(_taylor_green(64, 2.0) / exact - 1.0)
-    fine = abs(_taylor_green(128, 2.0) / exact - 1.0)
+    fine = abs(_taylor_green(96, 2.0) / exact - 1.0)
     assert fine <= 0.01 and fine < coarse, (coarse, fine)
 
 

@@ -247,7 +247,9 @@ def test_a_fluid_is_drawn_as_its_box_dye_and_flow(renderer):
     w.step(1 / 60)
     view = OrbitCamera.looking((0.0, 1.0, 6.0), (0.0, 1.0, 0.0)).view()
     puffs = renderer.render_to_array(w, view, layers=("fluids",))
-    empty = renderer.render_to_array(w, view, layers=())
+    f.dye = np.zeros((8, 8, 8))
+    empty = renderer.render_to_array(w, view, layers=("fluids",))                        # the box alone
+    f.dye = dye
     px, bare = patch(puffs, np.array([0.0, 1.0, 0.0]), 3, view=view), patch(empty, np.array([0.0, 1.0, 0.0]), 3,
                                                                              view=view)
     assert np.sum(px[:, 2] > px[:, 0] + 40) >= 10 and not np.any(bare[:, 2] > bare[:, 0] + 40)   # blue puffs
