@@ -213,28 +213,6 @@ def test_heightfields_capsules_and_planes_are_drawn(renderer):
     assert near(img[2, SIZE[0] // 2][None].astype(int), palette.BACKGROUND, 3).all()
 
 
-def test_meshes_are_uploaded_once_and_only_poses_change():
-    from marbellous.render.context import headless_context
-
-    terrain = viewer_scene.floor_mesh(half=20.0, cells=256)          # 131072 triangles
-    assert len(terrain.triangles) == 131072
-    w = mb.World()
-    w.add_static(terrain)
-    boxes = [w.add_body(mb.Box((0.3, 0.3, 0.3)), position=(0.8 * k, 0.3, 0.0)) for k in range(5)]
-    w.add_body(mb.Sphere(0.3), position=(0.0, 2.0, 0.0))
-    r = WorldRenderer(headless_context(), (160, 90))      # its own cache, counted from zero
-    frames = []
-    for _ in range(4):
-        frames.append(r.render_to_array(w, VIEW))
-        w.step(1 / 60)
-        boxes[0].position = boxes[0].position + (0.0, 0.0, 0.05)
-    assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
-    assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
-    r.ctx.release()
-
-
-
-
 def test_a_fluid_is_drawn_as_its_box_dye_and_flow(renderer):
     """The "fluids" layer draws the box's edges and the dye as blue puffs, the "flow" layer the velocity as
     lines, white where it is fastest."""
@@ -253,3 +231,23 @@ def test_a_fluid_is_drawn_as_its_box_dye_and_flow(renderer):
     assert np.any(near(corner, palette.FLUID_BOX, 60))                                   # the box's edge
     flow = renderer.render_to_array(w, view, layers=("flow",))
     assert np.any(near(flow.reshape(-1, 3).astype(int), palette.FLUID_FAST, 25))
+
+
+def test_meshes_are_uploaded_once_and_only_poses_change():
+    from marbellous.render.context import headless_context
+
+    terrain = viewer_scene.floor_mesh(half=20.0, cells=256)          # 131072 triangles
+    assert len(terrain.triangles) == 131072
+    w = mb.World()
+    w.add_static(terrain)
+    boxes = [w.add_body(mb.Box((0.3, 0.3, 0.3)), position=(0.8 * k, 0.3, 0.0)) for k in range(5)]
+    w.add_body(mb.Sphere(0.3), position=(0.0, 2.0, 0.0))
+    r = WorldRenderer(headless_context(), (160, 90))      # its own cache, counted from zero
+    frames = []
+    for _ in range(4):
+        frames.append(r.render_to_array(w, VIEW))
+        w.step(1 / 60)
+        boxes[0].position = boxes[0].position + (0.0, 0.0, 0.05)
+    assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
+    assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
+    r.ctx.release()
