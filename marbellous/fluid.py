@@ -116,7 +116,6 @@ class Fluid:
         self._world = None
         self._time = 0.0
         self._pressure_iterations = 0
-        self._viscosity_iterations = 0
 
     # --- description -------------------------------------------------------------------------------------
     @property
@@ -335,8 +334,8 @@ class Fluid:
         self._q = moved
         add_body_force(self._q, self._fixed, self._force, dt, dims)                   # 4. body force
         if self._viscosity > 0.0:                                                     # 5. viscosity
-            self._viscosity_iterations = diffuse(self._q, self._fixed, self._viscosity * dt / h ** 2, n, periodic,
-                                                 wall, dims, np.empty((4,) + self._q.shape))
+            diffuse(self._q, self._fixed, self._viscosity * dt / h ** 2, n, periodic, wall, dims,
+                    np.empty((4,) + self._q.shape))
         self._project(dt)                                                             # 6. pressure projection
         self._flow = None
         self._time += dt
