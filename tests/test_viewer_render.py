@@ -251,3 +251,19 @@ def test_meshes_are_uploaded_once_and_only_poses_change():
     assert r.meshes.uploads == 3                          # the terrain, the box and the sphere, once each
     assert all(np.any(a != b) for a, b in zip(frames, frames[1:]))
     r.ctx.release()
+
+
+def test_a_renderer_draws_the_world_as_it_is_after_another_context_came_and_went(renderer, scene):
+    """Each renderer makes its own context current to draw: one made (and released) since must not leave it
+    drawing nothing and reading back its last picture, or undefined pixels."""
+    from marbellous.render.context import headless_context
+
+    w, parts = scene
+    before = renderer.render_to_array(w, VIEW)
+    parts["ball"].position = parts["ball"].position + (0.0, 1.0, 0.0)
+    other = WorldRenderer(headless_context(), SIZE)
+    expected = other.render_to_array(w, VIEW)
+    other.ctx.release()
+    after = renderer.render_to_array(w, VIEW)
+    assert np.any(after != before)
+    assert np.array_equal(after, expected)

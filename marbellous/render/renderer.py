@@ -386,13 +386,14 @@ class Renderer:
     def render_to_array(self, view, marble_position, marble_rotation, hud_lines=(), debug=None):
         """Render offscreen at :attr:`size` and return the image as a (height, width, 3) uint8 array
         (top row first)."""
-        if self._offscreen is None:
-            self._offscreen = self._make_offscreen()
-        draw, resolve = self._offscreen
-        self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
-        if resolve is not draw:
-            self.ctx.copy_framebuffer(resolve, draw)
-        raw = resolve.read(components=3, alignment=1)
+        with self.ctx:                      # current again, whichever context was made (or released) since
+            if self._offscreen is None:
+                self._offscreen = self._make_offscreen()
+            draw, resolve = self._offscreen
+            self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
+            if resolve is not draw:
+                self.ctx.copy_framebuffer(resolve, draw)
+            raw = resolve.read(components=3, alignment=1)
         img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
         return img[::-1].copy()
 

@@ -289,13 +289,14 @@ class WorldRenderer:
     def render_to_array(self, world, view, *, layers=None, hud_lines=()):
         """Render offscreen at :attr:`size` (see :meth:`render`) and return the image as a
         (height, width, 3) uint8 array, top row first."""
-        if self._offscreen is None:
-            self._offscreen = self._make_offscreen()
-        draw, resolve = self._offscreen
-        self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
-        if resolve is not draw:
-            self.ctx.copy_framebuffer(resolve, draw)
-        raw = resolve.read(components=3, alignment=1)
+        with self.ctx:                      # current again, whichever context was made (or released) since
+            if self._offscreen is None:
+                self._offscreen = self._make_offscreen()
+            draw, resolve = self._offscreen
+            self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
+            if resolve is not draw:
+                self.ctx.copy_framebuffer(resolve, draw)
+            raw = resolve.read(components=3, alignment=1)
         return np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)[::-1].copy()
 
     def _make_offscreen(self):
