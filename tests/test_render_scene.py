@@ -151,3 +151,25 @@ def test_soft_blocks_are_drawn_in_their_colour(ctx):
     # lit or shaded, the block's pixels keep its hue: pink, red over green and blue
     assert np.all(patch[..., 0] > patch[..., 1] + 20) and np.all(patch[..., 0] > patch[..., 2] + 5)
     assert np.linalg.norm(patch.mean(axis=(0, 1)) / patch.mean() - colour / colour.mean()) < 0.35
+
+
+def test_a_renderer_is_made_and_draws_on_its_context_after_another_came_and_went(ctx):
+    """Making a context makes it current and releasing it leaves none current: a renderer on an earlier
+    context still builds its shaders on that one and draws the same picture."""
+    from marbellous.render.context import headless_context
+
+    level = load_level("course")
+    view = behind(level)
+    expected = Renderer(ctx, level, 0.3, SIZE).render_to_array(view, level.start_position, np.eye(3))
+    headless_context().release()
+    r = Renderer(ctx, level, 0.3, SIZE)
+    assert np.array_equal(r.render_to_array(view, level.start_position, np.eye(3)), expected)
+
+
+def test_a_context_stays_usable_after_a_renderer_drew_on_it(ctx):
+    """The renderer leaves its context current: what the caller does on it next (a program, a texture)
+    works."""
+    level = load_level("course")
+    Renderer(ctx, level, 0.3, SIZE).render_to_array(behind(level), level.start_position, np.eye(3))
+    ctx.program(vertex_shader="#version 330\nin vec3 p;\nvoid main() { gl_Position = vec4(p, 1.0); }",
+                fragment_shader="#version 330\nout vec4 c;\nvoid main() { c = vec4(1.0); }")

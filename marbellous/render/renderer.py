@@ -11,6 +11,7 @@ import moderngl
 import numpy as np
 
 from .billboard import billboard_y_matrix
+from .context import in_own_context
 from .cloth_drawing import vertex_normals
 from .geometry import collider_triangles, flat, grid_cells, uv_sphere
 from .hud import HudText
@@ -192,6 +193,7 @@ class Renderer:
     water (or air) up to their surfaces.
     """
 
+    @in_own_context
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
                  grid_cell=2.0, flag=None, soft_bodies=()):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
@@ -383,17 +385,17 @@ class Renderer:
         self.ctx.enable(moderngl.DEPTH_TEST)
 
     # ------------------------------------------------------------------ offscreen
+    @in_own_context
     def render_to_array(self, view, marble_position, marble_rotation, hud_lines=(), debug=None):
         """Render offscreen at :attr:`size` and return the image as a (height, width, 3) uint8 array
         (top row first)."""
-        with self.ctx:                      # current again, whichever context was made (or released) since
-            if self._offscreen is None:
-                self._offscreen = self._make_offscreen()
-            draw, resolve = self._offscreen
-            self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
-            if resolve is not draw:
-                self.ctx.copy_framebuffer(resolve, draw)
-            raw = resolve.read(components=3, alignment=1)
+        if self._offscreen is None:
+            self._offscreen = self._make_offscreen()
+        draw, resolve = self._offscreen
+        self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
+        if resolve is not draw:
+            self.ctx.copy_framebuffer(resolve, draw)
+        raw = resolve.read(components=3, alignment=1)
         img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
         return img[::-1].copy()
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from . import palette
 from . import world_shaders as glsl
+from .context import in_own_context
 from .draw_lists import Lines, Points, Solids, Spheres, Surface, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
 from .hud import HudText
@@ -63,6 +64,7 @@ class WorldRenderer:
     ``shadow_size`` the side of the shadow map in texels.
     """
 
+    @in_own_context
     def __init__(self, ctx, size=(640, 360), *, samples=4, shadow_size=1024):
         self.ctx = ctx
         self.size = tuple(int(s) for s in size)
@@ -286,17 +288,17 @@ class WorldRenderer:
         vao.render(mode, vertices=len(rows))
 
     # ------------------------------------------------------------------ offscreen
+    @in_own_context
     def render_to_array(self, world, view, *, layers=None, hud_lines=()):
         """Render offscreen at :attr:`size` (see :meth:`render`) and return the image as a
         (height, width, 3) uint8 array, top row first."""
-        with self.ctx:                      # current again, whichever context was made (or released) since
-            if self._offscreen is None:
-                self._offscreen = self._make_offscreen()
-            draw, resolve = self._offscreen
-            self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
-            if resolve is not draw:
-                self.ctx.copy_framebuffer(resolve, draw)
-            raw = resolve.read(components=3, alignment=1)
+        if self._offscreen is None:
+            self._offscreen = self._make_offscreen()
+        draw, resolve = self._offscreen
+        self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
+        if resolve is not draw:
+            self.ctx.copy_framebuffer(resolve, draw)
+        raw = resolve.read(components=3, alignment=1)
         return np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)[::-1].copy()
 
     def _make_offscreen(self):
