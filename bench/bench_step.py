@@ -75,7 +75,7 @@ def extra_stage_call_ns(calls=200_000):
     w = mb.World()
     w.add_body(mb.Sphere(0.5))
     w.step(1 / 60)
-    address = w._state._address
+    address = w._state.addresses[0]
     entry = compiled_entry(empty_stage_at, address)
     best = float("inf")
     for _ in range(5):

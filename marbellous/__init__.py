@@ -30,17 +30,19 @@ _HOME = {
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
     "Particles": ".particles", "Network": ".particles", "Cloth": ".cloth", "cloth_grid": ".cloth",
     "SoftBody": ".soft", "tet_box": ".soft", "tetrahedralize": ".soft", "Fluid": ".fluid",
+    "step_worlds": ".batch",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
            "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
            "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
            "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "SoftBody", "Fluid", "tet_box",
-           "tetrahedralize", "__version__"]
+           "tetrahedralize", "step_worlds", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
     from .app.viewer import show
+    from .batch import step_worlds
     from .body import Body
     from .cloth import Cloth, cloth_grid
     from .constraints import BallJoint, Cable, FixedJoint, Hinge, Joint, Rod, Slider, Spring

@@ -940,6 +940,13 @@ class World:
         """Advance the simulation by exactly ``dt`` seconds (in ``substeps`` equal sub-steps, or more, none
         longer than 1/120 s, in several intervals as :attr:`time_stepping` and :attr:`ccd` ask:
         :attr:`last_step`); ``dt`` in [1e-6, 1] s (``_validate.MIN_DT``, ``MAX_DT``)."""
+        dt, body_start = self._begin_step(dt)
+        self._end_step(dt, -1 if self._retroactive else self._state.step(), body_start)
+
+    def _begin_step(self, dt):
+        """The step's first part, before the rigid bodies' step: ``dt`` checked and written into the
+        parameters, the fluids' forces on the bodies and particles; returns ``(dt, body_start)``
+        (``body_start``: the bodies' rows the particles' step needs, None without particles)."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
             dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
             if dt != self._params_dt:
@@ -950,9 +957,13 @@ class World:
             push_bodies(fluid, self.bodies, self._gravity, dt)
             if particles:
                 drag_particles(fluid, self._state.particles, self._gravity, dt)
-        if particles:
-            body_start = np.ascontiguousarray(self._state.bf[:self._state.bodies.end, _BODY_START])
-        status = -1 if self._retroactive else self._state.step()
+        body_start = np.ascontiguousarray(self._state.bf[:self._state.bodies.end, _BODY_START]) if particles else None
+        return dt, body_start
+
+    def _end_step(self, dt, status, body_start):
+        """The step's last part, after the rigid bodies' step returned ``status`` (-1: not taken, the
+        retroactive mode takes it in intervals): the intervals a time of impact asks for, then the particles'
+        and the fluids' steps."""
         self._stepped = True
         if self._gone:
             self._gone = []
@@ -960,7 +971,7 @@ class World:
             self._step_in_intervals(dt, status)
         elif self._last is not None:
             self._last = None
-        if particles:
+        if body_start is not None:
             self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps, body_start)
         for fluid in self._living_fluids:
             place_obstacles(fluid, self.bodies)

@@ -43,7 +43,7 @@ def _assert_in_sync(w):
     got = _addresses(st.context)
     want = [t.ctypes.data for t in _tables(st)] + [st.bodies.end, st.constraints.end]
     assert list(got) == want
-    assert list(_addresses_at(st._address)) == want
+    assert list(_addresses_at(st.addresses[0])) == want
 
 
 @njit

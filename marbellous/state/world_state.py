@@ -9,6 +9,7 @@ capacity doubling outside the kernels; whenever one is replaced the step context
 Nothing here validates user input: the World facade does, then calls these operations, which cannot
 fail on what it passes.
 """
+import numba
 import numpy as np
 
 from .._numba.progress import compiling
@@ -122,9 +123,10 @@ class WorldState:
         self.threads = 1
         self.solver = L.SEQUENTIAL_IMPULSE
         self.particles = ParticleState()     # particles and networks (deformables/particle_state.py)
-        # The step context of the current tables (None whenever one of them is replaced), the address the
-        # compiled step takes, and that step's entry point.
-        self.context = self._entry = self._address = None
+        # The step context of the current tables (None whenever one of them is replaced), its address as the
+        # compiled step takes it (an array of one), that step's entry point, and where it writes its status.
+        self.context = self.entry = self.addresses = None
+        self.statuses = np.zeros(1, dtype=np.int64)
         self.tier = None      # the tier of that step (pipeline/step.py: LEAN or FULL)
 
     # --- the step -----------------------------------------------------------------------------------------
@@ -143,7 +145,8 @@ class WorldState:
                                         self.cache_f, self.cache_i, self.params_f, self.params_i, self.stats,
                                         self.bodies.end, self.constraints.end, self.threads, self.time_f,
                                         self.impact_f)
-            self._address = record_address(self.context)
+            self.addresses = np.array([record_address(self.context)],
+                                      dtype=object if numba.config.DISABLE_JIT else np.int64)
             coverage = scene_coverage(self.bi, self.si, self.bodies.end)
             flags = self.bi[:self.bodies.end, L.FLAGS]
             self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
@@ -151,7 +154,7 @@ class WorldState:
                                    np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
             step = STEPS[self.solver][coverage][self.tier]
             with shared(step, coverage, self.tier == LEAN, lambda: self.particles.kernel_work(self)):
-                self._entry = compiled_entry(step, self._address)
+                self.entry = compiled_entry(step, self.addresses, self.statuses)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too
@@ -160,14 +163,19 @@ class WorldState:
         or DETECTED (a detection pass: ``params_i[PI_DETECT]``), from ``pipeline/impacts.py``."""
         if self.context is None:
             self.pack()
-        status = self._entry(self._address)
+        return self.settle(self.entry(self.addresses, self.statuses))
+
+    def settle(self, status):
+        """The step's status once the buffers that ``status`` (the entry's) says were too small are grown and
+        the step run again, as often as needed (:meth:`step`; a batch of worlds stepped by one call settles
+        each one's status after it, ``marbellous/batch.py``)."""
         while status == GROW_PAIRS or status == GROW_CONTACTS:
             if status == GROW_PAIRS:
                 self.pairs = grow(self.pairs, int(self.stats[L.STAT_PAIRS]))
             else:
                 self.grow_contacts(int(self.stats[L.STAT_CONTACTS]))
             self.pack()
-            status = self._entry(self._address)
+            status = self.entry(self.addresses, self.statuses)
         return status
 
     # --- contacts -------------------------------------------------------------------------------------------
