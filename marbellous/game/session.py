@@ -140,6 +140,17 @@ class Game:
     def step(self, move=(0.0, 0.0), jump=False):
         """One physics step of :attr:`dt` with the control input ``move = (forward, right)`` relative
         to the camera and an optional jump (only when the marble touches the ground)."""
+        self.push(move, jump)
+        t0 = time.perf_counter()
+        self.world.step(self.dt)
+        if self.physics_steps:
+            self.physics_seconds += time.perf_counter() - t0
+            self.timed_steps += 1
+        self.judge()
+
+    def push(self, move=(0.0, 0.0), jump=False):
+        """The part of :meth:`step` before the world's step: the control force and the jump on the marble,
+        the wind on the flag, the pumps of the streams."""
         b = self.marble
         b.apply_force(control_force(move, self.camera.heading, b.mass, self.spec.push))
         self._jump_cooldown = max(0.0, self._jump_cooldown - self.dt)
@@ -150,15 +161,14 @@ class Game:
             self.flag.blow(self.world.time, self.dt)
         for fluid, stream in zip(self.streams, self.level.streams):
             pump(fluid, stream.velocity)
-        t0 = time.perf_counter()
-        self.world.step(self.dt)
-        if self.physics_steps:
-            self.physics_seconds += time.perf_counter() - t0
-            self.timed_steps += 1
+
+    def judge(self):
+        """The part of :meth:`step` after the world's step: the clock, a fall (back to the start) or the goal
+        reached."""
         self.physics_steps += 1
         if not self.finished:
             self.elapsed += self.dt
-        p = b.position
+        p = self.marble.position
         if p[1] < self.level.fall_height:
             self.respawn()
         elif not self.finished and self.goal.reached(p, self.spec.radius):
