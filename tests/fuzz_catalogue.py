@@ -558,6 +558,13 @@ _add("Fluid.dye_at", "points", "fluid_points", lambda ns, v: ns.pool.dye_at(v))
 _add("Fluid.step", "dt", "dt", lambda ns, v: mb.Fluid((4, 4), 0.5).step(v), world=False)
 _add("World.add_fluid", "fluid", "fluid", lambda ns, v: ns.w.add_fluid(v))
 
+# many worlds
+KINDS["world"] = [("number", 3), ("none", None), ("str", "w"), ("object", object()), ("nested", [[]])]
+_add("step_worlds", "dt", "dt", lambda ns, v: mb.step_worlds([ns.w], v))
+_add("step_worlds", "threads", "threads", lambda ns, v: mb.step_worlds([ns.w], 1 / 60, threads=v))
+_add("step_worlds", "worlds", "world", lambda ns, v: mb.step_worlds([ns.w, v], 1 / 60))
+_add("step_worlds", "worlds", "world", lambda ns, v: mb.step_worlds(v, 1 / 60))
+
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)
 _add("Box()", "half_extents", "half_extents", lambda ns, v: mb.Box(v), world=False)
@@ -769,9 +776,18 @@ ENV_OPTIONS = [
     ("max_episode_steps", [("zero", 0), ("float", 1.5), ("str", "10"), ("nan", NAN), ("huge", 1e300),
                            ("negative", -3)]),
     ("render_mode", [("str", "human"), ("number", 3), ("nested", ["rgb_array"])]),
+    ("flag", [("number", 1), ("number", 0.0), ("str", "yes"), ("nested", [True])]),
     ("size", [("shape", (1, 1)), ("str", "320x180"), ("shape", (320,)), ("huge", (10 ** 9, 180)),
               ("float", (320.5, 180)), ("none", None), ("nan", (NAN, 180))]),
     ("level", [("number", 3.5), ("str", "nosuch-level"), ("object", object())]),
+]
+#: the native vector environment's own options (it takes the single environment's too)
+VECTOR_ENV_OPTIONS = [
+    ("num_envs", [("zero", 0), ("negative", -1), ("float", 2.5), ("str", "2"), ("huge", 10 ** 9), ("none", None),
+                  ("nan", NAN), ("bool", True)]),
+    ("threads", [("zero", 0), ("float", 1.5), ("str", "2"), ("huge", 10 ** 6), ("none", None)]),
+    ("autoreset_mode", [("str", "Later"), ("str", "Disabled"), ("number", 3), ("none", None),
+                        ("nested", ["NextStep"])]),
 ]
 ENV_RESET = [("options", [("object", "x"), ("unknown", {"foo": 1}), ("nested", [1])]),
              ("seed", [("negative", -1), ("str", "1"), ("float", 1.5), ("nan", NAN)])]

@@ -324,6 +324,34 @@ def test_bad_env_calls_are_refused():
             env.step(value)
 
 
+@pytest.mark.parametrize("option,klass,value",
+                         [(o, c, v) for o, vs in fc.VECTOR_ENV_OPTIONS + fc.ENV_OPTIONS for c, v in vs],
+                         ids=[f"{o}-{c}-{i}" for o, vs in fc.VECTOR_ENV_OPTIONS + fc.ENV_OPTIONS
+                              for i, (c, v) in enumerate(vs)])
+def test_bad_vector_env_options_are_refused(option, klass, value):
+    import gymnasium as gym
+
+    kw = {"num_envs": 2, "level": "blocks", option: value}
+    with pytest.raises((ValueError, TypeError)) as err:
+        gym.make_vec("Marbellous-v0", vectorization_mode="vector_entry_point", **kw)
+    assert option in str(err.value) or (option == "level" and "level" in str(err.value))
+
+
+def test_bad_vector_env_calls_are_refused_and_change_nothing():
+    from marbellous.app.envs.marble_vector_env import MarbellousVectorEnv
+
+    env = MarbellousVectorEnv(1, level="blocks")
+    for opt, values in fc.ENV_RESET:
+        for _, value in values:
+            with pytest.raises((ValueError, TypeError), match=opt):
+                env.reset(**{opt: value})
+    first = env.reset(seed=0)[0]
+    for _, value in fc.KINDS["action"]:
+        with pytest.raises((ValueError, TypeError), match="action"):
+            env.step([value])
+    np.testing.assert_array_equal(np.stack([e._obs() for e in env.envs]), first)
+
+
 def test_gym_make_refuses_bad_options():
     import gymnasium as gym
 

@@ -9,7 +9,9 @@ import importlib.abc
 import importlib.util
 import sys
 
-#: The id under which :func:`register_envs` registers :class:`~marbellous.app.envs.marble_env.MarbellousEnv`.
+#: The id under which :func:`register_envs` registers :class:`~marbellous.app.envs.marble_env.MarbellousEnv` (and,
+#: for ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``,
+#: :class:`~marbellous.app.envs.marble_vector_env.MarbellousVectorEnv`).
 ENV_ID = "Marbellous-v0"
 
 
@@ -22,6 +24,7 @@ def register_envs():
         return
     if ENV_ID not in gymnasium.registry:
         gymnasium.register(id=ENV_ID, entry_point="marbellous.app.envs.marble_env:MarbellousEnv",
+                           vector_entry_point="marbellous.app.envs.marble_vector_env:MarbellousVectorEnv",
                            max_episode_steps=None)
 
 

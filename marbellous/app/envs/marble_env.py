@@ -38,14 +38,16 @@ class MarbellousEnv(gym.Env):
     ``level``: a shipped level's name, a level file's path, or a loaded ``Level`` with a ``[course]``;
     ``frame_skip`` (int, 1 .. 1000) physics steps per action; ``max_episode_steps`` (int >= 1);
     ``goal_reward``, ``fall_penalty`` (finite, within +-1e9); ``start_jitter`` (m, 0 .. 1000);
-    ``render_mode`` None or ``"rgb_array"``; ``size`` (width, height) pixels, each 16 .. 4096.
+    ``render_mode`` None or ``"rgb_array"``; ``size`` (width, height) pixels, each 16 .. 4096; ``flag``: whether
+    the goal's cloth flag waves in the world (None: only when rendering; it is scenery that costs more to
+    step than the marble, and touches the marble only at the goal).
     Bad options raise ValueError or TypeError naming the option.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
 
     def __init__(self, level=None, *, frame_skip=4, max_episode_steps=1500, goal_reward=10.0,
-                 fall_penalty=5.0, start_jitter=0.3, render_mode=None, size=(320, 180)):
+                 fall_penalty=5.0, start_jitter=0.3, render_mode=None, size=(320, 180), flag=None):
         if not (render_mode is None or (isinstance(render_mode, str) and render_mode == "rgb_array")):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         frame_skip = as_int("frame_skip", frame_skip, lo=1, hi=MAX_FRAME_SKIP)
@@ -65,6 +67,9 @@ class MarbellousEnv(gym.Env):
         self.goal_reward, self.fall_penalty = goal_reward, fall_penalty
         self.start_jitter = start_jitter
         self.render_mode, self.size = render_mode, size
+        if flag is not None and not isinstance(flag, bool):
+            raise TypeError(f"flag must be None, True or False, got {flag!r}")
+        self.flag = render_mode is not None if flag is None else flag
         bound = np.full(9, np.finfo(np.float32).max, np.float32)
         self.observation_space = spaces.Box(-bound, bound, dtype=np.float32)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
@@ -88,7 +93,7 @@ class MarbellousEnv(gym.Env):
             seed = as_int("seed", seed, lo=0)
         super().reset(seed=seed)
         if self._game is None:
-            self._game = Game(self.level, best_times=BestTimes(persistent=False))
+            self._game = Game(self.level, best_times=BestTimes(persistent=False), flag=self.flag)
         g = self._game
         g.restart()
         h = self.level.start_heading
@@ -101,9 +106,8 @@ class MarbellousEnv(gym.Env):
     def step(self, action):
         """Hold ``action`` (2 finite numbers: the push direction and strength in x and z) for
         ``frame_skip`` physics steps; returns ``(observation, reward, terminated, truncated, info)``."""
-        a = as_vector("action", action, 2)
         g = self._game
-        move = move_for_direction(np.array([a[0], 0.0, a[1]]), g.camera.heading)
+        move = self._move(action)
         fell = False
         for _ in range(self.frame_skip):
             g.step(move)
@@ -112,6 +116,17 @@ class MarbellousEnv(gym.Env):
                 break
             if g.finished:
                 break
+        return self._outcome(fell)
+
+    def _move(self, action):
+        """The game's control input for ``action`` (checked: 2 finite numbers)."""
+        a = as_vector("action", action, 2)
+        return move_for_direction(np.array([a[0], 0.0, a[1]]), self._game.camera.heading)
+
+    def _outcome(self, fell):
+        """``(observation, reward, terminated, truncated, info)`` once the physics steps of an action are taken
+        (``fell``: the marble fell off in them)."""
+        g = self._game
         if self.render_mode is not None:
             g.update_camera(self.frame_skip * g.dt)
         self._steps += 1

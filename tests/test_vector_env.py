@@ -1,0 +1,118 @@
+"""The native vector environment: env i of ``make_vec(..., vectorization_mode="vector_entry_point")`` reset with
+seed s repeats, step for step, a single environment reset with seed s + i, autoresets included."""
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import marbellous  # noqa: F401  (registers the environment)
+from marbellous.app.envs.marble_vector_env import MarbellousVectorEnv
+
+#: short episodes, so that the runs below end and restart episodes (truncated, and fallen with strong pushes)
+OPTIONS = dict(max_episode_steps=12, frame_skip=3)
+
+
+def _singles(n, seed):
+    envs = [gym.make("Marbellous-v0", **OPTIONS) for _ in range(n)]
+    first = [env.reset(seed=seed + i)[0] for i, env in enumerate(envs)]
+    return envs, np.stack(first)
+
+
+def _actions(rng, n):
+    return rng.uniform(-1.0, 1.0, size=(n, 2)).astype(np.float32) * 3.0   # beyond the unit disc: scaled onto it
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_next_step_autoreset_repeats_the_single_environments(threads):
+    n, seed = 3, 11
+    vec = gym.make_vec("Marbellous-v0", num_envs=n, vectorization_mode="vector_entry_point", threads=threads,
+                       **OPTIONS)
+    assert isinstance(vec.unwrapped, MarbellousVectorEnv)
+    assert vec.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+    singles, first = _singles(n, seed)
+    obs, info = vec.reset(seed=seed)
+    assert obs.shape == (n, 9) and obs.dtype == np.float32
+    np.testing.assert_array_equal(obs, first)
+    ended = np.zeros(n, dtype=bool)
+    rng = np.random.default_rng(5)
+    episodes_ended = 0
+    for _ in range(40):
+        actions = _actions(rng, n)
+        obs, rewards, terminated, truncated, info = vec.step(actions)
+        for i, env in enumerate(singles):
+            if ended[i]:                          # the vector env resets it now, ignoring the action
+                want = env.reset()[0]
+                assert rewards[i] == 0.0 and not terminated[i] and not truncated[i]
+            else:
+                want, r, term, trunc, single_info = env.step(actions[i])
+                assert (rewards[i], terminated[i], truncated[i]) == (r, term, trunc)
+                assert info["progress"][i] == single_info["progress"] and info["_progress"][i]
+            np.testing.assert_array_equal(obs[i], want)
+        ended = terminated | truncated
+        episodes_ended += int(ended.sum())
+    assert episodes_ended >= n                    # the autoreset was exercised
+    vec.close()
+
+
+def test_same_step_autoreset_repeats_the_single_environments():
+    n, seed = 2, 3
+    vec = gym.make_vec("Marbellous-v0", num_envs=n, vectorization_mode="vector_entry_point",
+                       autoreset_mode="SameStep", **OPTIONS)
+    singles, first = _singles(n, seed)
+    np.testing.assert_array_equal(vec.reset(seed=seed)[0], first)
+    rng = np.random.default_rng(9)
+    finals = 0
+    for _ in range(30):
+        actions = _actions(rng, n)
+        obs, rewards, terminated, truncated, info = vec.step(actions)
+        for i, env in enumerate(singles):
+            want, r, term, trunc, _ = env.step(actions[i])
+            assert (rewards[i], terminated[i], truncated[i]) == (r, term, trunc)
+            if term or trunc:
+                np.testing.assert_array_equal(info["final_obs"][i], want)
+                want = env.reset()[0]
+                finals += 1
+            np.testing.assert_array_equal(obs[i], want)
+    assert finals >= n
+
+
+def test_seeds_may_be_given_one_per_env():
+    vec = MarbellousVectorEnv(2, **OPTIONS)
+    a = vec.reset(seed=[7, 7])[0]
+    np.testing.assert_array_equal(a[0], a[1])
+    b = vec.reset(seed=7)[0]
+    np.testing.assert_array_equal(a[0], b[0])
+    assert np.any(a[1] != b[1])                   # seed 8 starts elsewhere
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(num_envs=0), ValueError, "num_envs"),
+    (dict(num_envs=2.5), TypeError, "num_envs"),
+    (dict(num_envs=2, threads=0), ValueError, "threads"),
+    (dict(num_envs=2, autoreset_mode="Later"), ValueError, "autoreset_mode"),
+    (dict(num_envs=2, autoreset_mode="Disabled"), ValueError, "autoreset_mode"),
+    (dict(num_envs=2, frame_skip=0), ValueError, "frame_skip"),
+    (dict(num_envs=2, flag="yes"), TypeError, "flag"),
+])
+def test_bad_options_are_refused(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        MarbellousVectorEnv(**kwargs)
+
+
+def test_bad_calls_are_refused_and_change_nothing():
+    vec = MarbellousVectorEnv(2, **OPTIONS)
+    with pytest.raises(RuntimeError, match="reset"):
+        vec.step(np.zeros((2, 2)))
+    obs = vec.reset(seed=1)[0]
+    for bad, error, match in [(np.zeros((3, 2)), ValueError, "shape"), (np.zeros(2), ValueError, "shape"),
+                              (np.array([[0.0, 0.0], [np.nan, 0.0]]), ValueError, "action")]:
+        with pytest.raises(error, match=match):
+            vec.step(bad)
+    for seed, error in [([1], TypeError), ("1", TypeError), (-1, ValueError), ([1, -2], ValueError)]:
+        with pytest.raises(error, match="seed"):
+            vec.reset(seed=seed)
+    with pytest.raises(ValueError, match="options"):
+        vec.reset(options={"level": "hills"})
+    assert obs.shape == (2, 9)
+    ref = MarbellousVectorEnv(2, **OPTIONS)
+    ref.reset(seed=1)
+    np.testing.assert_array_equal(vec.step(np.zeros((2, 2)))[0], ref.step(np.zeros((2, 2)))[0])
