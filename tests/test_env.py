@@ -113,3 +113,16 @@ def test_import_marbellous_registers_the_environment_without_importing_gymnasium
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split() == ["False", "True"]
+
+
+def test_the_goal_flag_waves_only_when_the_environment_renders_unless_asked():
+    from marbellous.app.envs.marble_env import MarbellousEnv
+
+    cases = [(dict(), False), (dict(render_mode="rgb_array"), True), (dict(flag=True), True),
+             (dict(render_mode="rgb_array", flag=False), False)]
+    for options, waving in cases:
+        env = MarbellousEnv(level="blocks", **options)
+        env.reset(seed=0)
+        assert (env._game.flag is not None) == waving, options
+        assert bool(env._game.world.cloths) == waving, options
+        env.close()
