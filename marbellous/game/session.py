@@ -105,6 +105,7 @@ class Game:
         self.physics_steps = 0
         self.timed_steps = 0
         self._accumulator = 0.0
+        self._push_key = self._push_force = None   # the last control input and its force (push)
         self.restart()
 
     # ------------------------------------------------------------------ state changes
@@ -152,7 +153,15 @@ class Game:
         """The part of :meth:`step` before the world's step: the control force and the jump on the marble,
         the wind on the flag, the pumps of the streams."""
         b = self.marble
-        b.apply_force(control_force(move, self.camera.heading, b.mass, self.spec.push))
+        # the same input over the steps of a frame or an action makes the same force: worked out once
+        try:
+            key = (len(move), float(move[0]), float(move[1]), self.camera.heading)
+        except (TypeError, ValueError, IndexError):
+            key = None
+        if key is None or key != self._push_key:
+            self._push_force = control_force(move, self.camera.heading, b.mass, self.spec.push)
+            self._push_key = key
+        b.apply_force(self._push_force)
         self._jump_cooldown = max(0.0, self._jump_cooldown - self.dt)
         if jump and self._jump_cooldown == 0.0 and self.on_ground():
             b.apply_impulse((0.0, b.mass * self.spec.jump_speed, 0.0))
