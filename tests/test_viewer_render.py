@@ -225,12 +225,14 @@ def test_a_fluid_is_drawn_as_its_box_dye_and_flow(renderer):
     w.step(1 / 60)
     view = OrbitCamera.looking((0.0, 1.0, 6.0), (0.0, 1.0, 0.0)).view()
     puffs = renderer.render_to_array(w, view, layers=("fluids",))
+    empty = renderer.render_to_array(w, view, layers=())
     px = patch(puffs, np.array([0.0, 1.0, 0.0]), 3, view=view)
-    assert np.sum(px[:, 2] > px[:, 0] + 40) >= 10                                         # blue puffs
+    bare = patch(empty, np.array([0.0, 1.0, 0.0]), 3, view=view)
+    assert np.sum(px[:, 2] > px[:, 0] + 40) >= 10 and not np.any(bare[:, 2] > bare[:, 0] + 40)   # blue puffs
     corner = patch(puffs, np.array([-1.0, 2.0, 1.0]), 1, view=view)
     assert np.any(near(corner, palette.FLUID_BOX, 60))                                   # the box's edge
     flow = renderer.render_to_array(w, view, layers=("flow",))
-    assert np.any(near(flow.reshape(-1, 3).astype(int), palette.FLUID_FAST, 25))
+    assert np.any(near(flow.reshape(-1, 3).astype(int), palette.FLUID_FAST, 25)) and not np.array_equal(flow, empty)
 
 
 def test_meshes_are_uploaded_once_and_only_poses_change():
