@@ -88,6 +88,8 @@ def _short(value, limit=80):
 def _scalar(name, value):
     """``value`` as a Python float if it is a real number (not a bool); raise TypeError otherwise,
     ValueError if it does not fit a float (an int over 1.8e308)."""
+    if type(value) is float:        # (the common case, first)
+        return value
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, _SCALAR_TYPES) \
             or isinstance(value, (complex, np.complexfloating)):
         raise TypeError(f"{name} must be a real number (int or float), got {_short(value)}")
@@ -171,20 +173,21 @@ def as_vector(name, value, n, *, bound=None, unit=""):
         if value.shape != (n,):
             raise ValueError(f"{name} must have exactly {n} components, got shape {value.shape}")
         arr = value.astype(np.float64)
-        raw = value
+        items = arr.tolist()
     else:
         if isinstance(value, (str, bytes, dict, set, frozenset)) or not hasattr(value, "__len__") \
                 or not hasattr(value, "__getitem__"):
             raise TypeError(f"{name} must be {n} real numbers, got {_short(value)}")
         if len(value) != n:
             raise ValueError(f"{name} must have exactly {n} components, got {len(value)}: {_short(value)}")
-        arr = np.array([_scalar(f"{name}[{k}]", value[k]) for k in range(n)], dtype=np.float64)
-        raw = value
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite (no NaN or inf), got {_short(raw)}")
-    if bound is not None and np.any(np.abs(arr) > bound):
+        items = [_scalar(f"{name}[{k}]", value[k]) for k in range(n)]
+        arr = np.array(items, dtype=np.float64)
+    # (the components as Python floats: a few of them are checked faster one by one than as an array)
+    if not all(map(math.isfinite, items)):
+        raise ValueError(f"{name} must be finite (no NaN or inf), got {_short(value)}")
+    if bound is not None and items and max(map(abs, items)) > bound:
         u = f" {unit}" if unit else ""
-        raise ValueError(f"{name} must have every component within +-{bound:g}{u}, got {_short(raw)}")
+        raise ValueError(f"{name} must have every component within +-{bound:g}{u}, got {_short(value)}")
     return arr
 
 
