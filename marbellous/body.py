@@ -262,15 +262,23 @@ class Body:
 
         The torque about the centre of mass is ``(point - x) x force``.
         """
-        row = self._row()
+        self._state()                   # (a removed body's handle is refused before its arguments)
         f = as_vec3("force", force, bound=MAX_FORCE, unit="N")
         p = None if point is None else as_vec3("point", point)
-        if self._immovable():
+        self._add_force(f, p)
+
+    def _add_force(self, f, p=None):
+        """:meth:`apply_force` of a force ``f`` (N) at ``p`` (m; None: the centre of mass) already checked
+        (float64 arrays of 3 finite numbers within the bounds): for the engine's own forces, step after step."""
+        st = self._state()
+        i = self._index
+        if st.bi[i, L.FLAGS] & (L.F_STATIC | L.F_KINEMATIC):
             return
+        row = st.bf[i]
         row[L.FORCE:L.FORCE + 3] += f
         if p is not None:
             row[L.TORQUE:L.TORQUE + 3] += np.cross(p - row[L.POS:L.POS + 3], f)
-        self._world._state.wake(self._index)
+        st.wake(i)
 
     def apply_torque(self, torque: ArrayLike) -> None:
         """Add a world-space ``torque`` (N m) for the next step."""

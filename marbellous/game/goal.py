@@ -29,8 +29,8 @@ class GoalArea:
         """True when a sphere of ``radius`` (m) at ``position`` (m) touches or overlaps the box (a sphere
         whose centre is farther from the box's centre than the box's half diagonal plus its radius cannot
         touch it, and is not tested further)."""
-        d = position - self.center
-        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > (self._reach + radius) ** 2:
+        dx, dy, dz = (position - self.center).tolist()
+        if dx * dx + dy * dy + dz * dz > (self._reach + radius) ** 2:
             return False
         contacts = collide(self._box, Sphere(radius), position_a=self.center, position_b=position)
         return any(c.depth >= 0.0 for c in contacts)

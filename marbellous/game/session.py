@@ -161,7 +161,7 @@ class Game:
         if key is None or key != self._push_key:
             self._push_force = control_force(move, self.camera.heading, b.mass, self.spec.push)
             self._push_key = key
-        b.apply_force(self._push_force)
+        b._add_force(self._push_force)     # (a force of finite, bounded input: checked when worked out)
         self._jump_cooldown = max(0.0, self._jump_cooldown - self.dt)
         if jump and self._jump_cooldown == 0.0 and self.on_ground():
             b.apply_impulse((0.0, b.mass * self.spec.jump_speed, 0.0))
