@@ -22,10 +22,11 @@ RIGHT_KEYS = ("D", "RIGHT")
 def clip_to_disc(move):
     """``move`` (2,) scaled down onto the unit disc if it lies outside it; NaN raises ValueError."""
     m = np.asarray(move, np.float64).reshape(2)
-    if not np.all(np.isfinite(m)):
+    a, b = float(m[0]), float(m[1])
+    if not (math.isfinite(a) and math.isfinite(b)):
         raise ValueError(f"move must be 2 finite numbers, got {move!r}")
-    n = float(np.hypot(m[0], m[1]))
-    return m / n if n > 1.0 else m
+    n = float(np.hypot(a, b))
+    return np.array([a / n, b / n]) if n > 1.0 else np.array([a, b])
 
 
 def heading_axes(heading):
@@ -44,10 +45,14 @@ def control_force(move, heading, mass, push):
 
 def move_for_direction(direction, heading):
     """The control input that pushes along the world-space ``direction`` (its x-z part; length up to
-    1 is full input) for a camera ``heading``: the inverse of :func:`control_force`."""
-    f, r = heading_axes(heading)
-    d = np.asarray(direction, np.float64)
-    return clip_to_disc((d @ f, d @ r))
+    1 is full input) for a camera ``heading``: the inverse of :func:`control_force`.
+
+        forward = d . f = d_x cos psi + d_z sin psi,   right = d . r = d_z cos psi - d_x sin psi
+    """
+    c, s = math.cos(heading), math.sin(heading)
+    d = np.asarray(direction, np.float64).reshape(3)
+    x, z = float(d[0]), float(d[2])
+    return clip_to_disc((x * c + z * s, z * c - x * s))
 
 
 def move_from_keys(pressed):
