@@ -79,6 +79,30 @@ def test_point_at_projects_back(s):
     assert path.project(path.point_at(s)) == pytest.approx(s, abs=1e-9)
 
 
+@settings(max_examples=100)
+@given(points=st.lists(st.tuples(*[st.floats(-20, 20)] * 3), min_size=2, max_size=12),
+       positions=st.lists(st.tuples(*[st.floats(-30, 30)] * 3), min_size=1, max_size=8),
+       near=st.one_of(st.none(), st.floats(-5, 60)), window=st.floats(0.0, 20.0))
+def test_projecting_many_positions_gives_each_ones_projection_bit_for_bit(points, positions, near, window):
+    path = CoursePath(points)
+    p = np.array(positions)
+    hints = None if near is None else near + np.arange(len(p), dtype=np.float64)
+    many = path.project_many(p, hints, window)
+    for k, q in enumerate(p):
+        assert many[k] == path.project(q, None if hints is None else hints[k], window)
+    # and it is the nearest point of the path (searched where the hint allows): slow reference
+    for k, q in enumerate(p):
+        best, where = np.inf, None
+        for s in np.linspace(0.0, path.length, 2001):
+            if hints is None or abs(s - hints[k]) <= window:
+                d = np.linalg.norm(path.point_at(s) - q)
+                best, where = (d, s) if d < best else (best, where)
+        if where is not None:
+            if hints is not None:
+                assert abs(many[k] - hints[k]) <= window + 1e-9
+            assert np.linalg.norm(path.point_at(many[k]) - q) <= best + 1e-9
+
+
 def test_best_times_are_stored_per_level(tmp_path):
     bt = BestTimes(tmp_path / "sub" / "best.json")
     assert bt.get("course") is None

@@ -12,8 +12,9 @@ class CoursePath:
         self.points = np.array(points, np.float64).reshape(-1, 3)
         if len(self.points) < 2:
             raise ValueError(f"points must hold at least 2 points, got {len(self.points)}")
-        seg = np.diff(self.points, axis=0)
-        self.seg_len = np.linalg.norm(seg, axis=1)
+        self._d = np.diff(self.points, axis=0)
+        self.seg_len = np.linalg.norm(self._d, axis=1)
+        self._len2 = np.maximum(self.seg_len ** 2, 1e-18)
         self.s = np.concatenate([[0.0], np.cumsum(self.seg_len)])
         self.length = float(self.s[-1])
         self.speeds = (np.full(len(self.points), default_speed) if speeds is None
@@ -25,16 +26,34 @@ class CoursePath:
         With ``near`` (a previous arc length) only the part of the path within ``window`` metres of
         it is searched, so progress is tracked along the course where it passes close to itself.
         """
-        p = np.asarray(position, np.float64)
-        a, b = self.points[:-1], self.points[1:]
-        d = b - a
-        t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(self.seg_len ** 2, 1e-18), 0.0, 1.0)
-        q = a + t[:, None] * d
-        dist = np.linalg.norm(q - p, axis=1)
-        s = self.s[:-1] + t * self.seg_len
+        near = None if near is None else np.array([near], np.float64)
+        return float(self.project_many(np.asarray(position, np.float64).reshape(1, 3), near, window)[0])
+
+    def project_many(self, positions, near=None, window=6.0):
+        """:meth:`project` of each row of ``positions`` (N, 3) m, with ``near`` None or (N,) m: (N,) m.
+        Each row's answer is the same, bit for bit, as projecting it alone.
+
+        For segment ``a -> b`` (``d = b - a``) the nearest point to ``p`` is ``a + t d`` with
+        ``t = clip((p - a) . d / |d|^2, 0, 1)``, with ``t`` also kept within the window's part of the segment
+        when ``near`` is given (a segment wholly outside it is not searched); the answer is the arc length of
+        the nearest of those points.
+        """
+        p = positions[:, None, :]                                 # (N, 1, 3) against the segments (S, 3)
+        a, d, s0, length = self.points[:-1], self._d, self.s[:-1], self.seg_len
+        pa = p - a
+        t = np.clip((pa[..., 0] * d[:, 0] + pa[..., 1] * d[:, 1] + pa[..., 2] * d[:, 2]) / self._len2, 0.0, 1.0)
         if near is not None:
-            dist = np.where(np.abs(s - near) <= window, dist, np.inf)
-        return float(s[np.argmin(dist)])
+            start, end = near[:, None] - window, near[:, None] + window
+            searched = (s0 + length >= start) & (s0 <= end)
+            scale = np.maximum(length, 1e-300)
+            t_start, t_end = np.clip((start - s0) / scale, 0.0, 1.0), np.clip((end - s0) / scale, 0.0, 1.0)
+            t = np.minimum(np.maximum(t, t_start), t_end)
+        e = a + t[..., None] * d - p
+        dist2 = e[..., 0] * e[..., 0] + e[..., 1] * e[..., 1] + e[..., 2] * e[..., 2]
+        if near is not None:
+            dist2 = np.where(searched, dist2, np.inf)
+        s = s0 + t * length
+        return s[np.arange(len(s)), np.argmin(dist2, axis=1)]
 
     def point_at(self, s):
         """Position (m) at arc length ``s`` (clamped to the path)."""
