@@ -47,26 +47,26 @@ def step_worlds(worlds: Sequence[World], dt: float, *, threads: int = 1) -> None
     dt, body_start = worlds[0]._begin_step(dt)
     starts = [body_start] + [w._begin_step(dt)[1] for w in worlds[1:]]
     batches = {}
-    statuses = {}
-    for w, start in zip(worlds, starts):
+    for k, w in enumerate(worlds):
         if w._retroactive:
-            w._end_step(dt, -1, start)
+            w._end_step(dt, -1, starts[k])
             continue
         st = w._state
         if st.context is None:
             st.pack()
-        batches.setdefault(st.entry, []).append(w)
+        batches.setdefault(st.entry, []).append(k)
+    statuses = [0] * len(worlds)
     for entry, group in batches.items():
-        addresses = np.concatenate([w._state.addresses for w in group])
+        addresses = np.concatenate([worlds[k]._state.addresses for k in group])
         out = np.zeros(len(group), dtype=np.int64)
         # (a world whose own step runs on Numba's threads is not stepped beside another: its threading
         # layer takes one parallel step at a time)
-        _run(entry, addresses, out, 1 if any(w._state.threads > 1 for w in group) else threads)
-        for w, status in zip(group, out):
-            statuses[id(w)] = int(status)
-    for w, start in zip(worlds, starts):
+        _run(entry, addresses, out, 1 if any(worlds[k]._state.threads > 1 for k in group) else threads)
+        for k, status in zip(group, out.tolist()):
+            statuses[k] = status
+    for w, start, status in zip(worlds, starts, statuses):
         if not w._retroactive:
-            w._end_step(dt, w._state.settle(statuses[id(w)]), start)
+            w._end_step(dt, w._state.settle(status) if status else 0, start)
 
 
 def _run(entry, addresses, statuses, threads):

@@ -76,9 +76,12 @@ class MarbellousEnv(gym.Env):
         self._game = None
         self._renderer = None
 
-    def _obs(self):
+    def _obs(self, out=None):
+        """The observation (9 float32), written into ``out`` when given."""
         b = self._game.marble
-        return np.concatenate([b.position, b.velocity, self.level.goal_center]).astype(np.float32)
+        out = np.empty(9, np.float32) if out is None else out
+        out[0:3], out[3:6], out[6:9] = b.position, b.velocity, self.level.goal_center
+        return out
 
     def reset(self, *, seed=None, options=None):
         """Start an episode (``seed``: None or an int); ``options`` must be None or an empty dict (this
@@ -121,18 +124,19 @@ class MarbellousEnv(gym.Env):
     def _move(self, action):
         """The game's control input for ``action`` (checked: 2 finite numbers)."""
         a = as_vector("action", action, 2)
-        return move_for_direction(np.array([a[0], 0.0, a[1]]), self._game.camera.heading)
+        return move_for_direction((a[0], 0.0, a[1]), self._game.camera.heading)
 
-    def _outcome(self, fell):
+    def _outcome(self, fell, progress=None, obs=None):
         """``(observation, reward, terminated, truncated, info)`` once the physics steps of an action are taken
-        (``fell``: the marble fell off in them)."""
+        (``fell``: the marble fell off in them; ``progress``: the course's arc length (m) nearest the marble,
+        None to work it out here; ``obs``: where to write the observation, None for a new array)."""
         g = self._game
         if self.render_mode is not None:
             g.update_camera(self.frame_skip * g.dt)
         self._steps += 1
         reward = 0.0
         if not fell:
-            s = g.course.project(g.marble.position, near=self._progress)
+            s = g.course.project(g.marble.position, near=self._progress) if progress is None else progress
             reward += s - self._progress
             self._progress = s
         if g.finished:
@@ -142,7 +146,7 @@ class MarbellousEnv(gym.Env):
         terminated = bool(g.finished or fell)
         truncated = bool(not terminated and self._steps >= self.max_episode_steps)
         info = {"progress": self._progress, "reached_goal": bool(g.finished), "fell": fell}
-        return self._obs(), float(reward), terminated, truncated, info
+        return self._obs(obs), float(reward), terminated, truncated, info
 
     def render(self):
         if self.render_mode != "rgb_array":

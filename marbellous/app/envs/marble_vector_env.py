@@ -92,23 +92,57 @@ class MarbellousVectorEnv(VectorEnv):
         stepping = [i for i in range(self.num_envs) if not resetting[i]]
         moves = {i: self.envs[i]._move(actions[i]) for i in stepping}      # all checked before anything moves
         fell = self._physics(stepping, moves)
+        progress = self._progress([i for i in stepping if not fell[i]])
         n = self.num_envs
         observations = np.zeros((n,) + self.single_observation_space.shape, dtype=np.float32)
         rewards = np.zeros(n)
         terminations = np.zeros(n, dtype=bool)
         truncations = np.zeros(n, dtype=bool)
-        info = {}
+        infos, info = [], {}
         for i, env in enumerate(self.envs):
             if resetting[i]:
                 observations[i], env_info = env.reset()
             else:
-                observations[i], rewards[i], terminations[i], truncations[i], env_info = env._outcome(fell[i])
+                _, rewards[i], terminations[i], truncations[i], env_info = env._outcome(fell[i], progress[i],
+                                                                                       observations[i])
                 if self.autoreset_mode == AutoresetMode.SAME_STEP and (terminations[i] or truncations[i]):
                     info = self._add_info(info, {"final_obs": observations[i].copy(), "final_info": env_info}, i)
                     observations[i], env_info = env.reset()
-            info = self._add_info(info, env_info, i)
+            infos.append(env_info)
         self._ended = terminations | truncations
-        return observations, rewards, terminations, truncations, info
+        return observations, rewards, terminations, truncations, self._gather(infos, info)
+
+    def _progress(self, envs):
+        """The course's arc length (m) nearest each marble of the envs ``envs``, each searched near its last
+        progress, in one projection (the envs share one level, so one course); a list over all envs (0.0 for
+        the others)."""
+        progress = np.zeros(self.num_envs)
+        if envs:
+            positions = np.array([self.envs[i]._game.marble.position for i in envs])
+            near = np.array([self.envs[i]._progress for i in envs])
+            progress[envs] = self.envs[envs[0]]._game.course.project_many(positions, near)
+        return progress.tolist()
+
+    def _gather(self, infos, info):
+        """``info`` with the envs' ``infos`` (one dict per env) added as gymnasium's ``_add_info`` adds them env
+        by env (each key an array over the envs, with its mask ``"_key"``), a key of Python numbers at once."""
+        columns = {}
+        for i, env_info in enumerate(infos):
+            for key, value in env_info.items():
+                columns.setdefault(key, []).append((i, value))
+        for key, column in columns.items():
+            kind = type(column[0][1])
+            if key in info or kind not in (bool, int, float) or any(type(v) is not kind for _, v in column):
+                for i, value in column:
+                    info = self._add_info(info, {key: value}, i)
+                continue
+            array = np.zeros(self.num_envs, dtype=kind)
+            mask = np.zeros(self.num_envs, dtype=bool)
+            at = [i for i, _ in column]
+            array[at] = [v for _, v in column]
+            mask[at] = True
+            info[key], info[f"_{key}"] = array, mask
+        return info
 
     def _physics(self, stepping, moves):
         """The ``frame_skip`` physics steps of the envs ``stepping`` with their control inputs ``moves``, each
