@@ -41,7 +41,9 @@ def step_worlds(worlds: Sequence[World], dt: float, *, threads: int = 1) -> None
     if len({id(w) for w in worlds}) != len(worlds):
         raise ValueError("worlds must be distinct (a world listed twice would be stepped twice)")
     threads = as_int("threads", threads, lo=1, hi=MAX_THREADS)
-    if not worlds:
+    if len(worlds) < 2:
+        if worlds:
+            worlds[0].step(dt)                  # (the same step: nothing to share a call with)
         return
     # dt is checked by the first world before any world changes
     dt, body_start = worlds[0]._begin_step(dt)
