@@ -30,14 +30,14 @@ _HOME = {
     "show": ".app.viewer", "record": ".app.record", "render_image": ".app.record",
     "Particles": ".particles", "Network": ".particles", "Cloth": ".cloth", "cloth_grid": ".cloth",
     "SoftBody": ".soft", "tet_box": ".soft", "tetrahedralize": ".soft", "Fluid": ".fluid",
-    "step_worlds": ".batch",
+    "step_worlds": ".batch", "sweep": ".sweeps", "grid": ".sweeps", "write_table": ".sweeps",
 }
 
 __all__ = ["World", "Body", "Snapshot", "Contact", "ContactEvent", "Shape", "Sphere", "Box", "Capsule",
            "ConvexHull", "Plane", "HeightField", "TriangleMesh", "Spring", "Rod", "Cable", "Joint", "BallJoint",
            "Hinge", "Slider", "FixedJoint", "RayHit", "collide", "ContactPoint", "StepProfile", "StepReport", "show",
            "record", "render_image", "Particles", "Network", "Cloth", "cloth_grid", "SoftBody", "Fluid", "tet_box",
-           "tetrahedralize", "step_worlds", "__version__"]
+           "tetrahedralize", "step_worlds", "sweep", "grid", "write_table", "__version__"]
 
 if TYPE_CHECKING:      # for type checkers and the API reference; at run time the names load on first use
     from .app.record import record, render_image
@@ -54,6 +54,7 @@ if TYPE_CHECKING:      # for type checkers and the API reference; at run time th
     from .soft import SoftBody, tet_box, tetrahedralize
     from .shapes import Box, Capsule, ConvexHull, HeightField, Plane, Shape, Sphere, TriangleMesh
     from .state.snapshot import Snapshot
+    from .sweeps import grid, sweep, write_table
     from .world import World
 
 

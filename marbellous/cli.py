@@ -3,6 +3,8 @@
     marbellous demo [--level NAME_OR_PATH] [--out FILE.mp4|FILE.gif] [--seconds S]
     marbellous play [--level NAME_OR_PATH]
     marbellous levels
+    marbellous sweep [--level NAME ...] [--friction F ...] [--push P ...] [--start-offset M ...]
+                     [--seconds S] [--backend serial|processes|ray] [--workers N] [--address ADDR] [--out FILE.csv]
 
 Each subcommand is a :class:`Command`: a name, a one-line help, a function that adds its arguments to
 an ``argparse`` parser, and a function that runs it and returns the exit code.  To add one, append a
@@ -103,10 +105,61 @@ def _run_levels(args):
     return 0
 
 
+def _sweep_arguments(p):
+    p.add_argument("--level", nargs="+", default=["course"], metavar="NAME_OR_PATH",
+                   help="levels to play (default: course)")
+    p.add_argument("--friction", nargs="+", type=float, default=[0.5], metavar="F",
+                   help="the marble's friction coefficients (default: 0.5)")
+    p.add_argument("--push", nargs="+", type=float, default=[9.0], metavar="P",
+                   help="control accelerations, m/s^2 (default: 9)")
+    p.add_argument("--start-offset", nargs="+", type=float, default=[0.0], metavar="M",
+                   help="sideways offsets of the start, m (default: 0)")
+    p.add_argument("--seconds", type=float, default=60.0, metavar="S",
+                   help="give each run up to S simulated seconds (default: 60)")
+    p.add_argument("--backend", default="processes", choices=("serial", "processes", "ray"),
+                   help="where the runs are computed (default: processes, one per core)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="processes or Ray CPUs (default: cores)")
+    p.add_argument("--address", default=None, metavar="ADDR",
+                   help="a Ray cluster to join (\"auto\", or ray://host:10001); default: a local Ray")
+    p.add_argument("--out", default="marbellous-sweep.csv", metavar="FILE",
+                   help="the table to write, CSV (default: marbellous-sweep.csv)")
+
+
+def _run_sweep(args):
+    import math
+
+    from .game.level import load_level
+    from .game.trial import autopilot_trial
+    from .sweeps import grid, sweep, write_table
+
+    if not args.out.lower().endswith(".csv"):
+        raise ValueError(f"--out must end in .csv, got {args.out!r}")
+    for level in args.level:
+        if load_level(level).path is None:                          # (a bad level fails here, not in a worker)
+            raise ValueError(f"level {level!r} has no [course] path for the autopilot")
+    runs = grid(level=args.level, friction=args.friction, push=args.push, start_offset=args.start_offset,
+                seconds=[args.seconds])
+    autopilot_trial(**{**runs[0], "seconds": 0.0})                    # (so do bad numbers)
+    try:
+        rows = sweep(autopilot_trial, runs, backend=args.backend, workers=args.workers, address=args.address)
+    except ImportError as e:
+        raise ValueError(str(e)) from None
+    write_table(rows, args.out)
+    reached = [r for r in rows if r["reached"]]
+    best = min(reached, key=lambda r: r["time"]) if reached else None
+    print(f"{len(rows)} runs, {len(reached)} reached the goal"
+          + (f"; fastest {best['time']:.2f} s ({best['level']}, friction {best['friction']:g}, "
+             f"push {best['push']:g})" if best else "")
+          + f"; falls {sum(r['falls'] for r in rows)}; table: {args.out}", flush=True)
+    return 0 if all(math.isfinite(r["progress"]) for r in rows) else 1
+
+
 COMMANDS = [
     Command("demo", "an autopilot plays a level headless and writes a video", _demo_arguments, _run_demo),
     Command("play", "play a level in a window (arrows/WASD, space jumps, R restarts)", _play_arguments, _run_play),
     Command("levels", "list the shipped levels", _levels_arguments, _run_levels),
+    Command("sweep", "the autopilot plays every combination of levels and marble settings; a CSV table",
+            _sweep_arguments, _run_sweep),
 ]
 
 

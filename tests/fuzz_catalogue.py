@@ -565,6 +565,37 @@ _add("step_worlds", "threads", "threads", lambda ns, v: mb.step_worlds([ns.w], 1
 _add("step_worlds", "worlds", "world", lambda ns, v: mb.step_worlds([ns.w, v], 1 / 60))
 _add("step_worlds", "worlds", "world", lambda ns, v: mb.step_worlds(v, 1 / 60))
 
+# sweeps and the autopilot trial they run (no world)
+KINDS["runs"] = [("number", 3), ("none", None), ("str", "x=1"), ("object", object()), ("nested", [[1]]),
+                 ("nested", [{1: 2}]), ("dict", {"x": 1})]
+KINDS["workers"] = scalar_kind(lo=1, hi=4096, int_only=True, none_ok=True) + [("zero", 0), ("negative", -2)]
+KINDS["axis"] = [("number", 3), ("none", None), ("str", "abc"), ("dict", {"k": 1}), ("object", object()),
+                 ("empty", [])]
+KINDS["level_name"] = [("number", 3.5), ("none", None), ("str", "nosuch-level"), ("object", object()),
+                       ("nested", ["course"])]
+_add("sweep()", "runs", "runs", lambda ns, v: mb.sweep(_sweep_run, v), world=False)
+_add("sweep()", "backend", "choice", lambda ns, v: mb.sweep(_sweep_run, [{"x": 1}], backend=v), world=False)
+_add("sweep()", "workers", "workers",
+     lambda ns, v: mb.sweep(_sweep_run, [{"x": 1}], backend="processes", workers=v), world=False)
+_add("grid()", "a", "axis", lambda ns, v: mb.grid(a=v), world=False)
+
+
+def _sweep_run(x):
+    return {"y": x}
+
+
+def _trial(arg, **fixed):
+    def call(ns, v):
+        from marbellous.game.trial import autopilot_trial
+
+        return autopilot_trial(**{"seconds": 0.1, **fixed, arg: v})
+    return call
+
+
+for _arg, _kind in (("level", "level_name"), ("friction", "friction"), ("push", "nonneg"),
+                    ("start_offset", "coord"), ("seconds", "nonneg"), ("flag", "flag")):
+    _add("autopilot_trial()", _arg, _kind, _trial(_arg), world=False)
+
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)
 _add("Box()", "half_extents", "half_extents", lambda ns, v: mb.Box(v), world=False)

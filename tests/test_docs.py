@@ -18,7 +18,8 @@ import doc_blocks  # noqa: E402
 
 #: the pages whose examples run: home, getting started, the tutorials, the guides and the lecture map
 PAGES = sorted([DOCS / "index.md", DOCS / "getting-started.md", DOCS / "viewer.md", DOCS / "game.md",
-                DOCS / "levels.md", *(DOCS / "tutorials").glob("*.md"), *(DOCS / "lecture").glob("*.md")])
+                DOCS / "levels.md", DOCS / "sweeps.md", *(DOCS / "tutorials").glob("*.md"),
+                *(DOCS / "lecture").glob("*.md")])
 
 
 def _rel(p):

@@ -83,17 +83,12 @@ def run_demo(level=None, out="marbellous-demo.mp4", seconds=60.0, *, fps=30, siz
     if frames_dir is not None:
         frames_dir = pathlib.Path(frames_dir)
         frames_dir.mkdir(parents=True, exist_ok=True)
-    respawns_seen = 0
     finish_frames = int(FINISH_SECONDS * fps)
     max_frames = math.ceil(seconds * fps - 1e-9)
     try:
         while frames < max_frames or game.finished:
             for _ in range(steps_per_frame):
-                b = game.marble
-                game.step(pilot.move(b.position, b.velocity, game.camera.heading))
-                if game.respawns != respawns_seen:
-                    respawns_seen = game.respawns
-                    pilot.reset()
+                pilot.step(game)
             view = game.update_camera(steps_per_frame * game.dt)
             if renderer is not None:
                 t0 = time.perf_counter()

@@ -37,3 +37,12 @@ class Autopilot:
         n = float(np.linalg.norm(d))
         want = d / n * self.path.speed_at(self.progress) if n > 1e-6 else np.zeros(3)
         return move_for_direction(self.gain * (want - v) / self.push, heading)
+
+    def step(self, game):
+        """One physics step of ``game`` (a :class:`~marbellous.game.session.Game` on this autopilot's course)
+        with this autopilot's input; after a fall back to the start it tracks the course afresh."""
+        respawns = game.respawns
+        b = game.marble
+        game.step(self.move(b.position, b.velocity, game.camera.heading))
+        if game.respawns != respawns:
+            self.reset()
