@@ -1,5 +1,7 @@
 """Env steps per second of ``"Marbellous-v0"`` vectorised: the native vector environment against gymnasium's sync
-and async wrappers around the single environment, at N = 1, 16, 256, 1024 envs on the course level.
+and async wrappers around the single environment, and around the same task with PyBullet as the physics
+(``bench/peers/marble_env.py``; MuJoCo collides a mesh as its convex hull, so it has no peer on the concave
+course), at N = 1, 16, 256, 1024 envs on the course level.
 
 Each run makes the vector environment, resets it (seed 0), takes ``--warm`` steps of random actions, then
 times ``--steps`` steps (best of ``--repeats`` rounds; the machine is shared).  Env steps per second is
@@ -20,22 +22,40 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
 from bench.machine import describe  # noqa: E402
+from bench.peers import version  # noqa: E402
 
-#: the vectorisations compared: (label, make_vec keyword arguments)
-KINDS = (("native", dict(vectorization_mode="vector_entry_point")),
-         ("native_2_threads", dict(vectorization_mode="vector_entry_point", threads=2)),
-         ("gymnasium_sync", dict(vectorization_mode="sync")),
-         ("gymnasium_async", dict(vectorization_mode="async")))
+#: the vectorisations compared: (label, how to make N of them)
+KINDS = (("native", lambda n: _make_vec(n, vectorization_mode="vector_entry_point")),
+         ("native_2_threads", lambda n: _make_vec(n, vectorization_mode="vector_entry_point", threads=2)),
+         ("gymnasium_sync", lambda n: _make_vec(n, vectorization_mode="sync")),
+         ("gymnasium_async", lambda n: _make_vec(n, vectorization_mode="async")),
+         ("pybullet_sync", lambda n: _pybullet(n, asynchronous=False)),
+         ("pybullet_async", lambda n: _pybullet(n, asynchronous=True)))
+#: the kinds that start a process per env
+ASYNC = ("gymnasium_async", "pybullet_async")
+
+
+def _make_vec(n, **kwargs):
+    import gymnasium as gym
+
+    import marbellous  # noqa: F401  (registers the environment)
+
+    return gym.make_vec("Marbellous-v0", num_envs=n, **kwargs)
+
+
+def _pybullet(n, asynchronous):
+    import gymnasium as gym
+
+    from bench.peers.marble_env import PyBulletMarbleEnv
+
+    return (gym.vector.AsyncVectorEnv if asynchronous else gym.vector.SyncVectorEnv)([PyBulletMarbleEnv] * n)
 
 
 def env_steps_per_second(n, kind, warm, steps, repeats):
     """Env steps per second of ``n`` envs vectorised as ``kind`` (a label of :data:`KINDS`)."""
-    import gymnasium as gym
     import numpy as np
 
-    import marbellous  # noqa: F401  (registers the environment)
-
-    envs = gym.make_vec("Marbellous-v0", num_envs=n, **dict(KINDS)[kind])
+    envs = dict(KINDS)[kind](n)
     try:
         rng = np.random.default_rng(0)
         envs.reset(seed=0)
@@ -61,14 +81,15 @@ def main():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-async", type=int, default=16)
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--kinds", nargs="+", choices=[k for k, _ in KINDS], default=[k for k, _ in KINDS])
     parser.add_argument("--json", help="write the results to this file")
     args = parser.parse_args()
     if args.quick:
         args.sizes, args.steps, args.warm, args.repeats = [1, 16], 5, 1, 1
     results = {}
     for n in args.sizes:
-        for kind, _ in KINDS:
-            if kind == "gymnasium_async" and n > args.max_async:
+        for kind in args.kinds:
+            if kind in ASYNC and n > args.max_async:
                 continue
             steps = max(2, args.steps * 16 // max(n, 16)) if n > 16 else args.steps
             rate = env_steps_per_second(n, kind, args.warm, steps, args.repeats)
@@ -81,8 +102,8 @@ def main():
             print(f"  {key:28s} {rate / single:6.1f}x")
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"machine": describe(os.path.dirname(HERE), {}), "env_steps_per_second": results,
-                       "steps": args.steps, "repeats": args.repeats}, f, indent=1)
+            json.dump({"machine": describe(os.path.dirname(HERE), {"pybullet": version("pybullet")}),
+                       "env_steps_per_second": results, "steps": args.steps, "repeats": args.repeats}, f, indent=1)
 
 
 if __name__ == "__main__":
