@@ -16,7 +16,7 @@ import doc_blocks
 
 DOCS = os.path.join(doc_blocks.ROOT, "docs")
 PAGES = ("getting-started.md", "tutorials/first-world.md", "tutorials/level-from-blender.md",
-         "lecture/colliders.md")
+         "tutorials/training-an-agent.md", "lecture/colliders.md")
 #: largest picture the site should carry, bytes
 MAX_BYTES = 200_000
 
