@@ -80,6 +80,9 @@ def main():
     parser.add_argument("--warm", type=int, default=5)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-async", type=int, default=16)
+    parser.add_argument("--max-pybullet", type=int, default=256,
+                        help="most PyBullet envs (each client holds its own copy of the level's triangle BVH: "
+                             "1,024 of them ran out of 24 GiB)")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--kinds", nargs="+", choices=[k for k, _ in KINDS], default=[k for k, _ in KINDS])
     parser.add_argument("--json", help="write the results to this file")
@@ -89,7 +92,7 @@ def main():
     results = {}
     for n in args.sizes:
         for kind in args.kinds:
-            if kind in ASYNC and n > args.max_async:
+            if kind in ASYNC and n > args.max_async or kind.startswith("pybullet") and n > args.max_pybullet:
                 continue
             steps = max(2, args.steps * 16 // max(n, 16)) if n > 16 else args.steps
             rate = env_steps_per_second(n, kind, args.warm, steps, args.repeats)
