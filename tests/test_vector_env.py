@@ -116,3 +116,14 @@ def test_bad_calls_are_refused_and_change_nothing():
     ref = MarbellousVectorEnv(2, **OPTIONS)
     ref.reset(seed=1)
     np.testing.assert_array_equal(vec.step(np.zeros((2, 2)))[0], ref.step(np.zeros((2, 2)))[0])
+
+
+def test_the_infos_are_arrays_of_their_kind_and_undrawn_envs_build_no_second_world():
+    vec = gym.make_vec("Marbellous-v0", num_envs=2, vectorization_mode="vector_entry_point", **OPTIONS)
+    vec.reset(seed=0)
+    _, _, _, _, info = vec.step(np.zeros((2, 2), np.float32))
+    assert info["progress"].dtype == np.float64
+    assert info["reached_goal"].dtype == bool and info["fell"].dtype == bool and info["_fell"].all()
+    # the level-only world for the camera's rays is made only when something draws or casts rays
+    assert all("scenery" not in vars(env._game) for env in vec.unwrapped.envs)
+    vec.close()

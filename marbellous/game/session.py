@@ -6,6 +6,7 @@ respawns the marble at the start when it falls below the level's ``fall_height``
 A window's frame loop calls :meth:`Game.advance` with the frame time; an autopilot or a learning agent
 calls :meth:`Game.step`.
 """
+import functools
 import time
 
 import numpy as np
@@ -86,7 +87,6 @@ class Game:
         self.dt = float(dt)
         self.best_times = best_times if best_times is not None else BestTimes()
         self.world, self.statics = build_world(level)
-        self.scenery, _ = build_world(level)
         self.marble = self.spec.add_to(self.world, level.start_position)
         #: the level's soft blocks (``SoftBody`` handles, in the order of the level file)
         self.soft_blocks = [add_soft_block(self.world, block) for block in level.soft_blocks]
@@ -210,6 +210,12 @@ class Game:
         return False
 
     # ------------------------------------------------------------------ camera and display
+    @functools.cached_property
+    def scenery(self):
+        """A world holding only the level, never stepped, for rays that must not hit the marble (made when
+        first needed: by the camera, the flag; an environment that is not drawn never needs it)."""
+        return build_world(self.level)[0]
+
     def raycast_level(self, origin, direction, max_distance):
         """Distance (m) along the unit ``direction`` to the nearest level geometry, or None.
 

@@ -145,7 +145,7 @@ class MarbellousEnv(gym.Env):
             reward -= self.fall_penalty
         terminated = bool(g.finished or fell)
         truncated = bool(not terminated and self._steps >= self.max_episode_steps)
-        info = {"progress": self._progress, "reached_goal": bool(g.finished), "fell": fell}
+        info = {"progress": self._progress, "reached_goal": bool(g.finished), "fell": bool(fell)}
         return self._obs(obs), float(reward), terminated, truncated, info
 
     def render(self):
