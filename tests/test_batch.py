@@ -136,3 +136,27 @@ def test_the_friction_sweep_example_slides_as_coulomb_says():
     h = DT / mb.World().substeps
     want = example["V0"] ** 2 / (2 * coefficients * example["G"])
     assert np.all(np.abs(slides - want) <= example["V0"] * h), (slides, want)
+
+
+def _marble_on_a_mesh():
+    """A marble rolling over a small bumpy mesh (a new world each call, its mesh built anew)."""
+    x, z = np.meshgrid(np.linspace(-4, 4, 9), np.linspace(-4, 4, 9))
+    vertices = np.column_stack([x.ravel(), 0.2 * np.sin(x.ravel()) * np.cos(z.ravel()), z.ravel()])
+    quads = [(r * 9 + c, r * 9 + c + 9, r * 9 + c + 1, r * 9 + c + 10) for r in range(8) for c in range(8)]
+    triangles = [t for a, b, c, d in quads for t in ((a, b, c), (c, b, d))]
+    w = mb.World()
+    ground = w.add_static(mb.TriangleMesh(vertices, triangles))
+    marble = w.add_body(mb.Sphere(0.3), position=(-2.0, 0.6, 0.5), velocity=(2.0, 0.0, 0.3))
+    return w, ground, marble
+
+
+def test_worlds_of_equal_meshes_hold_one_copy_of_their_geometry_and_step_as_alone():
+    (a, ground_a, _), (b, _, marble_b), (alone, _, _) = (_marble_on_a_mesh() for _ in range(3))
+    assert a._state.geom_f is b._state.geom_f and a._state.geom_i is b._state.geom_i
+    a.remove(ground_a)                     # the copy b reads is not touched: a gets a new one
+    assert a._state.geom_f is not b._state.geom_f and a._state.geom_f.size == 0
+    for _ in range(120):
+        mb.step_worlds([a, b], 1 / 60)
+        alone.step(1 / 60)
+    assert b.state_hash() == alone.state_hash()
+    assert marble_b.position[1] > 0.0            # it rolled on the shared mesh, not through it

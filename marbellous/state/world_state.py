@@ -26,6 +26,7 @@ from ..dynamics.contact_bundles import MIN_BUNDLED_CONTACTS
 from ..dynamics.integrators import SEMI_IMPLICIT_EULER
 from ..pipeline.step import FULL, GROW_CONTACTS, GROW_PAIRS, LEAN, STEPS
 from . import layout as L
+from .shared_geometry import shared_array
 from .slots import Slots
 
 install_compile_progress()
@@ -292,8 +293,8 @@ class WorldState:
             off_f += gf.size
             off_i += gi.size
         if off_f > self.geom_f.size or off_i > self.geom_i.size:
-            self.geom_f = np.concatenate(geom_f)
-            self.geom_i = np.concatenate(geom_i).astype(np.int64)
+            self.geom_f = shared_array(np.concatenate(geom_f))
+            self.geom_i = shared_array(np.concatenate(geom_i).astype(np.int64))
         return s0
 
     def free_body(self, i):
@@ -317,11 +318,11 @@ class WorldState:
         end = self.shapes.end
         live = self.si[:end, L.S_BODY] >= 0
         if nf:
-            self.geom_f = np.concatenate([self.geom_f[:off_f], self.geom_f[off_f + nf:]])
+            self.geom_f = shared_array(np.concatenate([self.geom_f[:off_f], self.geom_f[off_f + nf:]]))
             moved = live & (self.si[:end, L.S_OFF_F] > off_f)
             self.si[:end, L.S_OFF_F][moved] -= nf
         if ni:
-            self.geom_i = np.concatenate([self.geom_i[:off_i], self.geom_i[off_i + ni:]])
+            self.geom_i = shared_array(np.concatenate([self.geom_i[:off_i], self.geom_i[off_i + ni:]]))
             moved = live & (self.si[:end, L.S_OFF_I] > off_i)
             self.si[:end, L.S_OFF_I][moved] -= ni
 
