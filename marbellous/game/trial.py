@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .._validate import as_float, as_int
+from .._validate import as_float
 from .autopilot import Autopilot
 from .goal import BestTimes
 from .level import load_level
@@ -52,8 +52,8 @@ def autopilot_trial(level="course", *, friction=0.5, push=9.0, start_offset=0.0,
     game = Game(lvl, marble=spec, best_times=BestTimes(persistent=False), flag=flag)
     h = lvl.start_heading
     game.marble.position = lvl.start_position + start_offset * np.array([-math.sin(h), 0.0, math.cos(h)])
-    pilot = Autopilot(game.course, max(push, 1e-9))
-    steps = as_int("steps", math.floor(seconds / game.dt + 1e-9), lo=0)
+    pilot = Autopilot(game.course, max(push, 1e-9))     # (its input is an acceleration over push: none at 0)
+    steps = math.floor(seconds / game.dt + 1e-9)
     taken = 0
     while taken < steps and not game.finished:
         pilot.step(game)
