@@ -42,7 +42,7 @@ from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
-                            FLAGS, F_JOINTED, F_KINEMATIC,
+                            FLAGS, F_JOINTED, F_KINEMATIC, SHAPE_COUNT, SHAPE_START,
                             C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
                             PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
                             POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, TOI_ALL,
@@ -115,14 +115,42 @@ MAX_CONTACT_TURN = 0.5
 
 
 @njit
-def turn_limit(bf, bi, sf, si, ci, c):
-    """Seconds in which a body of contact ``c`` turns by ``MAX_CONTACT_TURN`` (inf if neither body moves a
-    surface by turning: static, asleep, not turning, or a centred sphere)."""
-    w = 0.0
+def turn_limit(bf, bi, sf, si, ci, c, horizon):
+    """Seconds in which a body of contact ``c`` turns by ``MAX_CONTACT_TURN``, when that is within ``horizon``
+    (s); inf if neither body turns that far in it, or moves a surface by turning (static, asleep, or a
+    centred sphere).  A body's ``|omega|^2`` is compared first: most turn far less in an interval."""
+    fastest = (MAX_CONTACT_TURN / horizon) ** 2
+    w2 = 0.0
     for body, shape in ((ci[c, C_BODY_A], ci[c, C_SHAPE_A]), (ci[c, C_BODY_B], ci[c, C_SHAPE_B])):
-        if _turning(bf, bi, sf, si, body, shape) > 0.0:
-            w = max(w, math.sqrt(bf[body, OMEGA] ** 2 + bf[body, OMEGA + 1] ** 2 + bf[body, OMEGA + 2] ** 2))
-    return MAX_CONTACT_TURN / w if w > 0.0 else math.inf
+        if is_moving(bi, body):
+            spin = bf[body, OMEGA] ** 2 + bf[body, OMEGA + 1] ** 2 + bf[body, OMEGA + 2] ** 2
+            if spin > max(w2, fastest) and shape_reach(sf, si, shape) > 0.0:
+                w2 = spin
+    return MAX_CONTACT_TURN / math.sqrt(w2) if w2 > 0.0 else math.inf
+
+
+@njit
+def body_pass(bf, bi, sf, si, sweep, nb, mode, stretch, horizon):
+    """``(swept, spinning)``: whether some body may take part in time-of-impact ordering in ``mode``
+    (:func:`_swept` can hold for a contact), and whether some moving body turns by more than
+    ``MAX_CONTACT_TURN`` within ``horizon`` (s) with a shape that turning moves (:func:`turn_limit` can end
+    the interval).  One pass over the bodies spares every contact those tests when neither holds, as in a
+    resting pile: each would read both bodies' rows again."""
+    swept = mode == TOI_ALL
+    spinning = False
+    fastest = (MAX_CONTACT_TURN / horizon) ** 2
+    for i in range(nb):
+        if not is_moving(bi, i):
+            continue
+        if mode == TOI_FAST and not swept and is_fast(bi, sf, si, sweep, i, stretch):
+            swept = True
+        if not spinning and bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2 > fastest:
+            s0 = bi[i, SHAPE_START]
+            for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
+                spinning = spinning or shape_reach(sf, si, s) > 0.0
+        if swept and spinning:
+            break
+    return swept, spinning
 
 
 @njit
@@ -295,13 +323,15 @@ def stage_time_of_impact(ctx, coverage):
     time_f = ctx.time_f
     time_f[T_RESOLVED] = 0.0
     limit = math.inf
-    splitting = params_i[PI_TOI_SPLIT] != 0 and mode != TOI_NONE
     nc = ctx.nc
     if nc > 0:
         bf, bi, sf, si, cf, ci, impact_f = ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.cf, ctx.ci, ctx.impact_f
         sweep = ctx.sweep
         speed = impact_speed(params_f)
+        swept_any, spinning = False, False
         if mode != TOI_NONE:
+            swept_any, spinning = body_pass(bf, bi, sf, si, sweep, ctx.nb, mode, stretch, horizon)
+        if swept_any:
             m = _list_impacts(ctx, mode, speed, stretch)
             if m > 0:
                 for c in range(nc):
@@ -310,6 +340,8 @@ def stage_time_of_impact(ctx, coverage):
                 resolve_impacts(bf, bi, ctx.nb, cf, ci, ctx.contact_order, m, ctx.solver_bodies, impact_f,
                                 params_f[PF_TOLERANCE])
                 time_f[T_RESOLVED] = m
+                swept_any, spinning = body_pass(bf, bi, sf, si, sweep, ctx.nb, mode, stretch, horizon)  # new spins
+        splitting = params_i[PI_TOI_SPLIT] != 0 and spinning
         gravity = (params_f[PF_GRAVITY], params_f[PF_GRAVITY + 1], params_f[PF_GRAVITY + 2])
         kept = 0
         last_a = -1
@@ -323,7 +355,8 @@ def stage_time_of_impact(ctx, coverage):
                     last_a = ci[c, C_SHAPE_A]
                     last_b = ci[c, C_SHAPE_B]
                     ctx.toi_touch[0] = 0
-                    swept = _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B], stretch)
+                    swept = swept_any and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B],
+                                                 stretch)
                     reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting)
                     if reach >= 0:
                         gone = reach == 0
@@ -338,7 +371,7 @@ def stage_time_of_impact(ctx, coverage):
                 keep = not gone or touching_piece(si, ci, c, ctx.toi_touch)
             if keep:
                 if splitting:
-                    limit = min(limit, turn_limit(bf, bi, sf, si, ci, c))
+                    limit = min(limit, turn_limit(bf, bi, sf, si, ci, c, horizon))
                 if kept < c:
                     _keep_row(cf, ci, impact_f, c, kept)
                 kept += 1
