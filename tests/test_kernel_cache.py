@@ -45,11 +45,44 @@ def test_the_fingerprint_follows_the_content_of_every_file_reached(monkeypatch):
         return (b"edited" + digest, text) if path == solver else (digest, text)
     monkeypatch.setattr(cache, "_read", edited)
     cache.source_fingerprint.cache_clear()
+    cache._stamp.cache_clear()
     try:
         assert cache.source_fingerprint(step) != before_step
         assert cache.source_fingerprint(leaf) == before_leaf
     finally:
         cache.source_fingerprint.cache_clear()
+        cache._stamp.cache_clear()
+
+
+def test_the_fingerprint_is_the_hash_of_each_reached_file_path_and_content_in_path_order():
+    """A kernel's key is the SHA-256 over the files it reaches, in sorted order, of each file's path in the
+    package then its own SHA-256: a pure function of the tree, so a fresh clone of it reuses a cache."""
+    import hashlib
+    step = os.path.join(PKG, "pipeline", "step.py")
+    h = hashlib.sha256()
+    for rel in sorted(_closure(os.path.join("pipeline", "step.py")), key=lambda r: os.path.join(PKG, r)):
+        with open(os.path.join(PKG, rel), "rb") as f:
+            h.update(rel.encode())
+            h.update(hashlib.sha256(f.read()).digest())
+    assert cache.source_fingerprint(step) == h.hexdigest()
+
+
+def test_the_garbage_collector_is_frozen_at_exit_once_kernels_are_loaded():
+    """Numba's compiler objects are not walked and disposed of one by one as the interpreter ends: the
+    package's exit handler freezes the collector, after the handlers a program registers itself."""
+    code = """
+import atexit, gc
+import marbellous as mb
+w = mb.World()
+w.add_body(mb.Sphere(0.1))
+w.step(1 / 60)
+atexit.register(lambda: print("user handler", gc.get_freeze_count() == 0))
+atexit._run_exitfuncs()
+print("frozen", gc.get_freeze_count() > 0)
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split("\n")[:2] == ["user handler True", "frozen True"]
 
 
 def test_no_writable_place_means_kernels_compile_in_memory():

@@ -6,6 +6,9 @@ anywhere in the package never leaves a stale kernel), so the second start of a p
 Tunables travel as arguments, never as globals (the cache freezes globals).  ``NUMBA_DISABLE_JIT=1`` in the
 environment runs every kernel as plain Python.
 """
+import atexit
+import gc
+
 import numba
 from numba.core import cgutils, types
 from numba.extending import intrinsic
@@ -14,6 +17,13 @@ from . import cache
 
 #: whether compiled kernels are cached on disk (not when no cache directory is writable)
 CACHING = cache.install()
+
+# At exit the interpreter's last garbage collections would walk every compiler object Numba made (types,
+# IR, LLVM modules) and dispose of them one by one: 0.1-0.3 s of every program that compiled or loaded a
+# kernel, for memory the process gives back whole anyway.  Frozen, the collector leaves them.  The price:
+# objects caught in reference cycles are not finalized at exit, which Python never promises.  Registered
+# here, first, so that it runs after every exit handler registered later.
+atexit.register(gc.freeze)
 
 #: Compile in nopython mode, cache to disk, no fastmath (results are bit-reproducible).
 njit = numba.njit(cache=CACHING, nogil=True, fastmath=False)
