@@ -23,6 +23,7 @@ from ..collision.toi.motion import rotation_reach
 from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
                             S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
 from .forces import is_moving
+from .integrators import velocity_at_end
 
 #: a body whose surface may move more than this fraction of its smallest dimension in an interval is fast.
 #: Below it, speculative contacts are enough: the body stops at the surface within the step, and its impact
@@ -72,14 +73,15 @@ def is_fast(bi, sf, si, sweep, i, stretch):
 
 
 @njit
-def body_motion(bf, bi, i, gravity):
+def body_motion(bf, bi, i, gravity, lead):
     """The motion ``(x0, v, a, q0, omega)`` of body row ``i`` over the interval (``collision/toi/motion.py``):
-    its pose and velocities now, accelerated by ``gravity`` (m/s^2) if it moves; a static or sleeping body
-    stands still."""
+    its pose and velocities now (``integrators.velocity_at_end``: ``lead`` is half the last sub-step for
+    Verlet, whose stored velocity is that sub-step's mean, else 0), accelerated by ``gravity`` (m/s^2) if it
+    moves; a static or sleeping body stands still."""
     x = (bf[i, POS], bf[i, POS + 1], bf[i, POS + 2])
     q = (bf[i, QUAT], bf[i, QUAT + 1], bf[i, QUAT + 2], bf[i, QUAT + 3])
     if is_moving(bi, i):
-        return (x, (bf[i, VEL], bf[i, VEL + 1], bf[i, VEL + 2]), (gravity[0], gravity[1], gravity[2]), q,
+        return (x, velocity_at_end(bf, bi, i, gravity, lead), (gravity[0], gravity[1], gravity[2]), q,
                 (bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2]))
     zero = (0.0, 0.0, 0.0)
     return x, zero, zero, q, zero

@@ -37,8 +37,8 @@ import numpy as np
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import quat_normalize, quat_step, row3, row4, tensor_vec
-from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, LINEAR_DAMPING, OMEGA, POS,
-                            PREV_POS, QUAT, V_FREE, VEL, W_FREE, X_PRED)
+from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, FORCE, INV_I, INV_MASS, LINEAR_DAMPING,
+                            OMEGA, POS, PREV_POS, QUAT, V_FREE, VEL, W_FREE, X_PRED)
 from .forces import accumulate_forces, add_applied_forces, is_driven, is_moving
 from .rigid import inertia_world, inverse_inertia_world
 from .springs import add_spring_forces
@@ -130,6 +130,36 @@ def _momentum_velocities(bf, bi, nb, F, T, h, verlet, prev_h):
         # L = I_w omega + T h, omega = I_w^-1 L  (I = I E: omega += T h / I)
         _angular_kick(bf, bi, i, T[i], h)
         _store_free_velocity(bf, i)
+
+
+@njit
+def velocity_at_end(bf, bi, i, gravity, lead):
+    """The velocity (m/s) of moving body row ``i`` at the end of its last sub-step, as a tuple: its stored
+    velocity, which Verlet keeps as the mean over that sub-step of ``h'`` s, plus ``a lead`` with ``lead =
+    h' / 2`` (0 for the other integrators), ``a = g + F_user / m``:
+
+        v(t) = (x(t) - x(t - h')) / h' + a h' / 2
+
+    exact under a constant acceleration (the mean velocity over a sub-step is the one at its middle).  A body
+    that restarts (new, or its velocity set by hand) holds its velocity at the end already."""
+    v = (bf[i, VEL], bf[i, VEL + 1], bf[i, VEL + 2])
+    if lead == 0.0 or (bi[i, FLAGS] & F_RESTART) != 0:
+        return v
+    inv_m = bf[i, INV_MASS]
+    return (v[0] + (gravity[0] + bf[i, FORCE] * inv_m) * lead, v[1] + (gravity[1] + bf[i, FORCE + 1] * inv_m) * lead,
+            v[2] + (gravity[2] + bf[i, FORCE + 2] * inv_m) * lead)
+
+
+@njit
+def restart_at_end(bf, bi, i, gravity, lead):
+    """Store :func:`velocity_at_end` of moving body row ``i`` and restart Verlet from it (``F_RESTART``): for
+    an impact resolved at its time, which must reflect the velocity the body meets the surface with."""
+    if not is_moving(bi, i):
+        return
+    v = velocity_at_end(bf, bi, i, gravity, lead)
+    for k in range(3):
+        bf[i, VEL + k] = v[k]
+    bi[i, FLAGS] |= F_RESTART
 
 
 @njit

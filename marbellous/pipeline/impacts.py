@@ -41,12 +41,13 @@ from ..collision.toi.conservative_advancement import IMPACT, MISS, made_of_piece
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
+from ..dynamics.integrators import VERLET, restart_at_end, velocity_at_end
 from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
                             FLAGS, F_JOINTED, F_KINEMATIC, SHAPE_COUNT, SHAPE_START,
                             C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
-                            PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_SUBSTEPS, PI_TOI_MODE, PI_TOI_SPLIT,
-                            POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_TYPE, TOI_ALL,
-                            TOI_FAST, TOI_NONE, T_DROPPED, T_LIMIT, T_RESOLVED, VEL)
+                            PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_INTEGRATOR, PI_SUBSTEPS,
+                            PI_TOI_MODE, PI_TOI_SPLIT, POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I,
+                            S_PARAMS, S_TYPE, TOI_ALL, TOI_FAST, TOI_NONE, T_DROPPED, T_LIMIT, T_RESOLVED, W_PREV_DT)
 
 #: statuses of the step besides OK (0), GROW_PAIRS (1) and GROW_CONTACTS (2) of ``pipeline/step.py``
 SPLIT = 3
@@ -154,31 +155,34 @@ def body_pass(bf, bi, sf, si, sweep, nb, mode, stretch, horizon):
 
 
 @njit
-def _normal_closing(bf, bi, cf, ci, c, gravity):
+def _normal_closing(bf, bi, cf, ci, c, gravity, lead):
     """``(c, a_n)`` of contact ``c``: the closing speed (m/s) and acceleration (m/s^2) of its bodies' centres
-    along its normal (module docstring; a static or sleeping body stands still)."""
+    along its normal (module docstring; a static or sleeping body stands still; ``lead`` as in
+    ``ccd.body_motion``)."""
     a = ci[c, C_BODY_A]
     b = ci[c, C_BODY_B]
     ma = is_moving(bi, a)
     mb = is_moving(bi, b)
+    va = velocity_at_end(bf, bi, a, gravity, lead)
+    vb = velocity_at_end(bf, bi, b, gravity, lead)
     c_lin = 0.0
     a_n = 0.0
     for k in range(3):
         n = cf[c, C_NORMAL + k]
         if mb:
-            c_lin -= bf[b, VEL + k] * n
+            c_lin -= vb[k] * n
             a_n -= gravity[k] * n
         if ma:
-            c_lin += bf[a, VEL + k] * n
+            c_lin += va[k] * n
             a_n += gravity[k] * n
     return c_lin, a_n
 
 
 @njit
-def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+def may_close(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead):
     """True if speculative contact ``c`` can close its gap within ``horizon`` (s) at all (module docstring,
-    the bound D)."""
-    c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity)
+    the bound D; ``lead`` as in ``ccd.body_motion``)."""
+    c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity, lead)
     speed = (c_lin + _turning(bf, bi, sf, si, ci[c, C_BODY_A], ci[c, C_SHAPE_A])
              + _turning(bf, bi, sf, si, ci[c, C_BODY_B], ci[c, C_SHAPE_B]))
     return speed * horizon + 0.5 * max(a_n, 0.0) * horizon * horizon > -cf[c, C_DEPTH]
@@ -191,10 +195,11 @@ def _centred(sf, s):
 
 
 @njit
-def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon):
+def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead):
     """1 if the pair of contact ``c`` comes within the hit tolerance in ``horizon`` (s), 0 if it does not, by
     the closed forms of ``collision/toi/closed_forms.py`` (two centred spheres with the same acceleration;
-    a centred sphere and a plane); -1 for other pairs (the search decides)."""
+    a centred sphere and a plane); -1 for other pairs (the search decides).  ``lead`` as in
+    ``ccd.body_motion``."""
     a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
     sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
     ta, tb = si[sa, S_TYPE], si[sb, S_TYPE]
@@ -205,17 +210,19 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon):
         d0 = (bf[b, POS] - bf[a, POS], bf[b, POS + 1] - bf[a, POS + 1], bf[b, POS + 2] - bf[a, POS + 2])
         u = (0.0, 0.0, 0.0)
         if ma:
-            u = (bf[b, VEL] - bf[a, VEL], bf[b, VEL + 1] - bf[a, VEL + 1], bf[b, VEL + 2] - bf[a, VEL + 2])
+            va = velocity_at_end(bf, bi, a, gravity, lead)
+            vb = velocity_at_end(bf, bi, b, gravity, lead)
+            u = (vb[0] - va[0], vb[1] - va[1], vb[2] - va[2])
         return int(spheres_come_within(d0, u, sf[sa, S_PARAMS] + sf[sb, S_PARAMS], horizon, HIT_TOLERANCE))
     if (ta == st.SPHERE and tb == st.PLANE and _centred(sf, sa)) or \
             (tb == st.SPHERE and ta == st.PLANE and _centred(sf, sb)):
-        c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity)
+        c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity, lead)
         return int(gap_comes_within(-cf[c, C_DEPTH], c_lin, a_n, horizon, HIT_TOLERANCE))
     return -1
 
 
 @njit_inline
-def _pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+def _pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
                          pos_t, rot_t, q, touch):
     """:func:`pair_time_of_impact` with the pair tests of ``coverage``."""
     a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
@@ -223,54 +230,54 @@ def _pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravit
     return time_of_impact(
         coverage,
         si[sa, S_TYPE], sf[sa, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[sa, S_OFF_F], si[sa, S_OFF_I],
-        body_motion(bf, bi, a, gravity), (sf[sa, S_LOCAL_POS], sf[sa, S_LOCAL_POS + 1], sf[sa, S_LOCAL_POS + 2]),
+        body_motion(bf, bi, a, gravity, lead), (sf[sa, S_LOCAL_POS], sf[sa, S_LOCAL_POS + 1], sf[sa, S_LOCAL_POS + 2]),
         (sf[sa, S_LOCAL_QUAT], sf[sa, S_LOCAL_QUAT + 1], sf[sa, S_LOCAL_QUAT + 2], sf[sa, S_LOCAL_QUAT + 3]),
         shape_reach(sf, si, sa),
         si[sb, S_TYPE], sf[sb, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], si[sb, S_OFF_F], si[sb, S_OFF_I],
-        body_motion(bf, bi, b, gravity), (sf[sb, S_LOCAL_POS], sf[sb, S_LOCAL_POS + 1], sf[sb, S_LOCAL_POS + 2]),
+        body_motion(bf, bi, b, gravity, lead), (sf[sb, S_LOCAL_POS], sf[sb, S_LOCAL_POS + 1], sf[sb, S_LOCAL_POS + 2]),
         (sf[sb, S_LOCAL_QUAT], sf[sb, S_LOCAL_QUAT + 1], sf[sb, S_LOCAL_QUAT + 2], sf[sb, S_LOCAL_QUAT + 3]),
         shape_reach(sf, si, sb),
         geom_f, geom_i, horizon, TOUCH_TOLERANCE, HIT_TOLERANCE, speed, out_f, out_i, pos_t, rot_t, q, touch)
 
 
 @njit
-def pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
-                                rot_t, q, touch):
+def pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
+                                pos_t, rot_t, q, touch):
     """:func:`pair_time_of_impact` in a world of coverage ``COVER_SPHERES``."""
-    return _pair_time_of_impact(COVER_SPHERES, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+    return _pair_time_of_impact(COVER_SPHERES, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed,
                                 out_f, out_i, pos_t, rot_t, q, touch)
 
 
 @njit
-def pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
-                               rot_t, q, touch):
+def pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
+                               pos_t, rot_t, q, touch):
     """:func:`pair_time_of_impact` in a world of coverage ``COVER_GROUND``."""
-    return _pair_time_of_impact(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+    return _pair_time_of_impact(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed,
                                 out_f, out_i, pos_t, rot_t, q, touch)
 
 
 @njit
-def pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i, pos_t,
-                            rot_t, q, touch):
+def pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
+                            pos_t, rot_t, q, touch):
     """:func:`pair_time_of_impact` with every pair test."""
-    return _pair_time_of_impact(COVER_ALL, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed,
+    return _pair_time_of_impact(COVER_ALL, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed,
                                 out_f, out_i, pos_t, rot_t, q, touch)
 
 
 @njit_inline
-def pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+def pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
                         pos_t, rot_t, q, touch):
     """``(outcome, t)`` of the time-of-impact search for the shape pair of contact ``c`` within ``horizon``
     (s), impacts closing faster than ``speed`` (m/s); ``touch`` receives a mesh's touching triangles.
     ``coverage`` (``shape_types.COVER_*``, a constant where this is inlined) picks the compiled search
     with the pair tests the world can meet."""
     if coverage == COVER_SPHERES:
-        return pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f,
+        return pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f,
                                            out_i, pos_t, rot_t, q, touch)
     if coverage == COVER_GROUND:
-        return pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f,
+        return pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f,
                                           out_i, pos_t, rot_t, q, touch)
-    return pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, horizon, speed, out_f, out_i,
+    return pair_time_of_impact_all(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
                                    pos_t, rot_t, q, touch)
 
 
@@ -331,18 +338,25 @@ def stage_time_of_impact(ctx, coverage):
         swept_any, spinning = False, False
         if mode != TOI_NONE:
             swept_any, spinning = body_pass(bf, bi, sf, si, sweep, ctx.nb, mode, stretch, horizon)
+        gravity = (params_f[PF_GRAVITY], params_f[PF_GRAVITY + 1], params_f[PF_GRAVITY + 2])
+        # Verlet stores each body's mean velocity over the last sub-step: half a sub-step behind its end
+        lead = 0.5 * ctx.ws[W_PREV_DT] if params_i[PI_INTEGRATOR] == VERLET else 0.0
         if swept_any:
             m = _list_impacts(ctx, mode, speed, stretch)
             if m > 0:
                 for c in range(nc):
                     for k in range(IMPACT_COLS):
                         impact_f[c, k] = 0.0
+                if lead > 0.0:
+                    for k in range(m):
+                        c = ctx.contact_order[k]
+                        restart_at_end(bf, bi, ci[c, C_BODY_A], gravity, lead)
+                        restart_at_end(bf, bi, ci[c, C_BODY_B], gravity, lead)
                 resolve_impacts(bf, bi, ctx.nb, cf, ci, ctx.contact_order, m, ctx.solver_bodies, impact_f,
                                 params_f[PF_TOLERANCE])
                 time_f[T_RESOLVED] = m
                 swept_any, spinning = body_pass(bf, bi, sf, si, sweep, ctx.nb, mode, stretch, horizon)  # new spins
         splitting = params_i[PI_TOI_SPLIT] != 0 and spinning
-        gravity = (params_f[PF_GRAVITY], params_f[PF_GRAVITY + 1], params_f[PF_GRAVITY + 2])
         kept = 0
         last_a = -1
         last_b = -1
@@ -350,19 +364,19 @@ def stage_time_of_impact(ctx, coverage):
         for c in range(nc):
             keep = True
             if cf[c, C_DEPTH] < -TOUCH_TOLERANCE and (ci[c, C_FLAGS] & CP_SENSOR) == 0 \
-                    and may_close(bf, bi, sf, si, cf, ci, c, gravity, acting):
+                    and may_close(bf, bi, sf, si, cf, ci, c, gravity, acting, lead):
                 if ci[c, C_SHAPE_A] != last_a or ci[c, C_SHAPE_B] != last_b:
                     last_a = ci[c, C_SHAPE_A]
                     last_b = ci[c, C_SHAPE_B]
                     ctx.toi_touch[0] = 0
                     swept = swept_any and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B],
                                                  stretch)
-                    reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting)
+                    reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting, lead)
                     if reach >= 0:
                         gone = reach == 0
                     else:
                         outcome, t_hit = pair_time_of_impact(coverage, bf, bi, sf, si, ctx.geom_f, ctx.geom_i, ci,
-                                                             c, gravity, acting, speed, ctx.toi_f, ctx.toi_i,
+                                                             c, gravity, lead, acting, speed, ctx.toi_f, ctx.toi_i,
                                                              ctx.toi_pos, ctx.toi_rot, ctx.toi_q, ctx.toi_touch)
                         gone = outcome == MISS
                         if outcome == IMPACT and swept:
