@@ -75,6 +75,19 @@ def write(tmp_path, text, name="lvl.toml"):
     return p
 
 
+@pytest.mark.parametrize("heading", [0.0, 0.3, 1.5707963267948966, -2.0, 3.0])
+def test_the_start_side_is_level_unit_and_to_the_right_of_the_heading(heading):
+    level = load_level("course")
+    level.start_heading = heading
+    forward = np.array([np.cos(heading), 0.0, np.sin(heading)])
+    side = level.start_side
+    assert side[1] == 0.0
+    assert np.linalg.norm(side) == pytest.approx(1.0, abs=1e-15)
+    assert forward @ side == pytest.approx(0.0, abs=1e-15)
+    # forward x up: the right of a heading with y up
+    np.testing.assert_allclose(side, np.cross(forward, [0.0, 1.0, 0.0]), atol=1e-15)
+
+
 def test_user_level_loads_by_path(tmp_path):
     level = load_level(write(tmp_path, GOOD))
     assert level.name == "T" and level.colliders[0].kind == "box"

@@ -9,7 +9,6 @@ differs, so gymnasium's wrappers around it time PyBullet's step plus the same Py
 
 MuJoCo has no peer here: it collides a mesh as its convex hull, and the course is concave.
 """
-import math
 
 import gymnasium as gym
 import numpy as np
@@ -57,9 +56,7 @@ class PyBulletMarbleEnv(gym.Env):
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
-        h = self.level.start_heading
-        side = np.array([-math.sin(h), 0.0, math.cos(h)])
-        start = self.level.start_position + side * self.np_random.uniform(-1, 1) * self.start_jitter
+        start = self.level.start_position + self.level.start_side * self.np_random.uniform(-1, 1) * self.start_jitter
         self.p.resetBasePositionAndOrientation(self.marble, list(to_peer(start)), [0, 0, 0, 1], **self.kw)
         self.p.resetBaseVelocity(self.marble, [0, 0, 0], [0, 0, 0], **self.kw)
         self._steps = 0

@@ -246,6 +246,12 @@ class Level:
         """A short identifier for best-time records: the file's stem."""
         return self.source.stem
 
+    @property
+    def start_side(self):
+        """Unit vector across the start, to the right of its heading ``h`` (rad): forward ``(cos h, 0, sin h)``
+        crossed with up, ``(-sin h, 0, cos h)``; where starts are spread sideways."""
+        return np.array([-math.sin(self.start_heading), 0.0, math.cos(self.start_heading)])
+
     def bounds(self):
         """``(lo, hi)`` corners (m) of the finite geometry, the start and the goal."""
         pts = [self.start_position, self.goal_center - self.goal_half_extents,

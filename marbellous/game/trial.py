@@ -9,7 +9,6 @@ arguments, so the same parameters give the same answer bit for bit, on any worke
 import functools
 import math
 
-import numpy as np
 
 from .._validate import as_float
 from .autopilot import Autopilot
@@ -50,8 +49,7 @@ def autopilot_trial(level="course", *, friction=0.5, push=9.0, start_offset=0.0,
         raise ValueError(f"level {lvl.name!r} has no [course] path for the autopilot")
     spec = MarbleSpec(friction=friction, static_friction=1.4 * friction, push=push)
     game = Game(lvl, marble=spec, best_times=BestTimes(persistent=False), flag=flag)
-    h = lvl.start_heading
-    game.marble.position = lvl.start_position + start_offset * np.array([-math.sin(h), 0.0, math.cos(h)])
+    game.marble.position = lvl.start_position + start_offset * lvl.start_side
     pilot = Autopilot(game.course, max(push, 1e-9))     # (its input is an acceleration over push: none at 0)
     steps = math.floor(seconds / game.dt + 1e-9)
     taken = 0

@@ -10,7 +10,6 @@
 * Seeding: ``reset(seed=...)`` shifts the start by up to ``start_jitter`` metres sideways, drawn from
   the environment's generator, so equal seeds give equal episodes.
 """
-import math
 import os
 
 import gymnasium as gym
@@ -99,9 +98,8 @@ class MarbellousEnv(gym.Env):
             self._game = Game(self.level, best_times=BestTimes(persistent=False), flag=self.flag)
         g = self._game
         g.restart()
-        h = self.level.start_heading
-        side = np.array([-math.sin(h), 0.0, math.cos(h)])
-        g.marble.position = self.level.start_position + side * self.np_random.uniform(-1, 1) * self.start_jitter
+        g.marble.position = (self.level.start_position
+                             + self.level.start_side * self.np_random.uniform(-1, 1) * self.start_jitter)
         self._steps = 0
         self._progress = g.course.project(g.marble.position, near=0.0)
         return self._obs(), {"progress": self._progress}
