@@ -129,7 +129,7 @@ def _run_sweep(args):
     import math
 
     from .game.level import load_level
-    from .game.trial import autopilot_trial
+    from .game.trial import autopilot_trial, trial_numbers
     from .sweeps import grid, sweep, write_table
 
     if not args.out.lower().endswith(".csv"):
@@ -139,7 +139,8 @@ def _run_sweep(args):
             raise ValueError(f"level {level!r} has no [course] path for the autopilot")
     runs = grid(level=args.level, friction=args.friction, push=args.push, start_offset=args.start_offset,
                 seconds=[args.seconds])
-    autopilot_trial(**{**runs[0], "seconds": 0.0})                    # (so do bad numbers)
+    for run in runs:                                                  # (so does a bad number in any run)
+        trial_numbers(**run)
     try:
         rows = sweep(autopilot_trial, runs, backend=args.backend, workers=args.workers, address=args.address)
     except ImportError as e:

@@ -592,9 +592,18 @@ def _trial(arg, **fixed):
     return call
 
 
+def _trial_numbers(arg):
+    def call(ns, v):
+        from marbellous.game.trial import trial_numbers
+
+        return trial_numbers(**{arg: v})
+    return call
+
+
 for _arg, _kind in (("level", "level_name"), ("friction", "friction"), ("push", "nonneg"),
                     ("start_offset", "coord"), ("seconds", "nonneg"), ("flag", "flag")):
     _add("autopilot_trial()", _arg, _kind, _trial(_arg), world=False)
+    _add("trial_numbers()", _arg, _kind, _trial_numbers(_arg), world=False)
 
 # shapes (no world)
 _add("Sphere()", "radius", "size", lambda ns, v: mb.Sphere(v), world=False)

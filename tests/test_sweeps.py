@@ -187,10 +187,18 @@ def test_the_sweep_command_writes_the_table_of_the_runs(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv,word", [(["--level", "nosuch-level"], "nosuch-level"),
                                        (["--friction", "-1"], "friction"), (["--out", "table.txt"], "--out"),
+                                       (["--friction", "0.5", "11"], "friction"),
+                                       (["--push", "9", "9", "-2"], "push"),
+                                       (["--start-offset", "0", "1e9"], "start_offset"),
                                        (["--workers", "0"], "workers"), (["--seconds", "nan"], "seconds")])
-def test_the_sweep_command_refuses_bad_arguments_in_one_line(argv, word, capsys, tmp_path):
+def test_the_sweep_command_refuses_bad_arguments_in_one_line(argv, word, capsys, tmp_path, monkeypatch):
+    """Every run's numbers are checked before any run starts (a bad value in the last run too)."""
     from marbellous.cli import main
+    from marbellous.game import trial
 
+    played = []
+    monkeypatch.setattr(trial, "autopilot_trial", lambda **run: played.append(run))
     assert main(["sweep", "--backend", "serial", "--seconds", "0.5", "--out", str(tmp_path / "t.csv")] + argv) == 2
     err = capsys.readouterr().err
     assert err.startswith("marbellous sweep: error:") and word in err and err.count("\n") == 1
+    assert not (tmp_path / "t.csv").exists() and played == []

@@ -27,6 +27,19 @@ def _level(name):
     return load_level(name)
 
 
+def trial_numbers(level="course", *, friction=0.5, push=9.0, start_offset=0.0, seconds=60.0, flag=False):
+    """The arguments of :func:`autopilot_trial` checked without playing (a TypeError or ValueError naming the
+    first bad one; the level file itself is read by the trial): ``(friction, push, start_offset, seconds)``
+    as floats.  For checking every run of a sweep before any starts."""
+    if not isinstance(level, str):
+        raise TypeError(f"level must be a level name or a path (a str), got {level!r}")
+    if not isinstance(flag, bool):
+        raise TypeError(f"flag must be True or False, got {flag!r}")
+    return (as_float("friction", friction, lo=0.0, hi=10.0), as_float("push", push, lo=0.0, hi=1000.0, unit="m/s^2"),
+            as_float("start_offset", start_offset, lo=-100.0, hi=100.0, unit="m"),
+            as_float("seconds", seconds, lo=0.0, hi=MAX_TRIAL_SECONDS, unit="s"))
+
+
 def autopilot_trial(level="course", *, friction=0.5, push=9.0, start_offset=0.0, seconds=60.0, flag=False):
     """Play ``level`` (a shipped level's name or a level file's path) with the autopilot for at most
     ``seconds`` (s, 0 .. 3600) of simulated time, the marble's Coulomb ``friction`` coefficient (0 .. 10; its
@@ -36,14 +49,8 @@ def autopilot_trial(level="course", *, friction=0.5, push=9.0, start_offset=0.0,
 
     Returns ``{"reached": bool, "time": s to the goal (nan if not reached), "progress": m along the course
     at the end, "falls": int, "steps": physics steps taken}``."""
-    if not isinstance(level, str):
-        raise TypeError(f"level must be a level name or a path (a str), got {level!r}")
-    friction = as_float("friction", friction, lo=0.0, hi=10.0)
-    push = as_float("push", push, lo=0.0, hi=1000.0, unit="m/s^2")
-    start_offset = as_float("start_offset", start_offset, lo=-100.0, hi=100.0, unit="m")
-    seconds = as_float("seconds", seconds, lo=0.0, hi=MAX_TRIAL_SECONDS, unit="s")
-    if not isinstance(flag, bool):
-        raise TypeError(f"flag must be True or False, got {flag!r}")
+    friction, push, start_offset, seconds = trial_numbers(level, friction=friction, push=push,
+                                                         start_offset=start_offset, seconds=seconds, flag=flag)
     lvl = _level(level)
     if lvl.path is None:
         raise ValueError(f"level {lvl.name!r} has no [course] path for the autopilot")
