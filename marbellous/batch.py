@@ -45,30 +45,46 @@ def step_worlds(worlds: Sequence[World], dt: float, *, threads: int = 1) -> None
         if worlds:
             worlds[0].step(dt)                  # (the same step: nothing to share a call with)
         return
-    # dt is checked by the first world before any world changes
+    step_checked(worlds, dt, threads)
+
+
+def step_checked(worlds, dt, threads):
+    """:func:`step_worlds` of two or more distinct worlds and ``threads`` already checked (``dt`` is checked
+    here, by the first world, before any world changes): for a caller that steps the same worlds step after
+    step.  Returns the worlds' step-context addresses after the step (``packed_addresses``)."""
     dt, body_start = worlds[0]._begin_step(dt)
     starts = [body_start] + [w._begin_step(dt)[1] for w in worlds[1:]]
-    batches = {}
-    for k, w in enumerate(worlds):
-        if w._retroactive:
-            w._end_step(dt, -1, starts[k])
-            continue
-        st = w._state
-        if st.context is None:
-            st.pack()
-        batches.setdefault(st.entry, []).append(k)
-    statuses = [0] * len(worlds)
-    for entry, group in batches.items():
-        addresses = np.concatenate([worlds[k]._state.addresses for k in group])
-        out = np.zeros(len(group), dtype=np.int64)
-        # (a world whose own step runs on Numba's threads is not stepped beside another: its threading
-        # layer takes one parallel step at a time)
-        _run(entry, addresses, out, 1 if any(worlds[k]._state.threads > 1 for k in group) else threads)
-        for k, status in zip(group, out.tolist()):
-            statuses[k] = status
-    for w, start, status in zip(worlds, starts, statuses):
-        if not w._retroactive:
-            w._end_step(dt, w._state.settle(status) if status else 0, start)
+    addresses = packed_addresses(worlds)
+    # the worlds that share a compiled step share a call (a world whose own step runs on Numba's threads is not
+    # stepped beside another on a second thread: its threading layer takes one parallel step at a time); a
+    # world in the retroactive mode (key None) is stepped alone, by its _end_step
+    keys = [None if w._retroactive else (w._state.entry, w._state.threads > 1) for w in worlds]
+    if keys.count(keys[0]) == len(keys):
+        groups = {keys[0]: slice(None)}                       # (the common case: one layout, one call)
+    else:
+        groups = {}
+        for k, key in enumerate(keys):
+            groups.setdefault(key, []).append(k)
+    statuses = np.zeros(len(worlds), dtype=np.int64)
+    for key, group in groups.items():
+        if key is not None:
+            entry, threaded = key
+            out = np.zeros(len(worlds) if isinstance(group, slice) else len(group), dtype=np.int64)
+            _run(entry, addresses[group], out, 1 if threaded else threads)
+            statuses[group] = out
+    for w, start, status, key in zip(worlds, starts, statuses.tolist(), keys):
+        w._end_step(dt, -1 if key is None else w._state.settle(status) if status else 0, start)
+    # (a step that returned a status other than OK may have grown a table, and so packed a new context)
+    return addresses if None not in keys and not statuses.any() else packed_addresses(worlds)
+
+
+def packed_addresses(worlds):
+    """The address of each world's step context (``_numba/record.py``), packed first where a table was
+    replaced since its last step: an int64 array, valid until one of the worlds replaces a table."""
+    for w in worlds:
+        if w._state.context is None:
+            w._state.pack()
+    return np.concatenate([w._state.addresses for w in worlds])
 
 
 def _run(entry, addresses, statuses, threads):
@@ -82,6 +98,9 @@ def _run(entry, addresses, statuses, threads):
     if _POOL is None:
         _POOL = ThreadPoolExecutor(max_workers=MAX_THREADS, thread_name_prefix="marbellous-batch")
     bounds = np.linspace(0, n, runs + 1).astype(int)
-    for f in [_POOL.submit(entry, addresses[a:b], statuses[a:b]) for a, b in zip(bounds, bounds[1:])]:
+    # (the calling thread takes the first run itself rather than wait idle: one hand-over fewer)
+    others = [_POOL.submit(entry, addresses[a:b], statuses[a:b]) for a, b in zip(bounds[1:-1], bounds[2:])]
+    entry(addresses[:bounds[1]], statuses[:bounds[1]])
+    for f in others:
         f.result()
 

@@ -160,3 +160,39 @@ def test_worlds_of_equal_meshes_hold_one_copy_of_their_geometry_and_step_as_alon
         alone.step(1 / 60)
     assert b.state_hash() == alone.state_hash()
     assert marble_b.position[1] > 0.0            # it rolled on the shared mesh, not through it
+
+
+def test_one_body_row_of_each_world_is_pushed_and_read_as_its_handle_does():
+    from marbellous.batch import packed_addresses, step_checked
+    from marbellous.pipeline.body_rows import add_forces_at, motions_at
+
+    def world():
+        w = mb.World()
+        w.add_static(mb.Plane(), friction=0.5)
+        for k in range(3):
+            w.add_body(mb.Sphere(0.2), position=(k - 1.0, 0.2, 0.0))
+        w.add_static(mb.Box((0.1, 0.1, 0.1)), position=(5.0, 0.0, 0.0))
+        w.add_kinematic(mb.Sphere(0.1), position=(3.0, 1.0, 0.0), velocity=(0.0, 0.0, 1.0))
+        return w
+    together, alone = [world() for _ in range(4)], [world() for _ in range(4)]
+    for _ in range(60):                          # the spheres at rest fall asleep
+        step_checked(together, DT, 1)
+        for w in alone:
+            w.step(DT)
+    assert all(b.is_sleeping for w in together for b in w.bodies[1:4])
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        picked = rng.integers(0, 6, size=4)      # a sphere (asleep at first: a push wakes it), the plane, the
+        forces = rng.normal(scale=5.0, size=(4, 3))   # static box or the kinematic sphere (nothing moves them)
+        rows = np.array([w.bodies[k]._index for w, k in zip(together, picked)], dtype=np.int64)
+        add_forces_at(packed_addresses(together), rows, forces)
+        for w, k, f in zip(alone, picked, forces):
+            w.bodies[k].apply_force(f)
+        addresses = step_checked(together, DT, 2)
+        for w in alone:
+            w.step(DT)
+        assert _hashes(together) == _hashes(alone)
+        motion = np.empty((4, 6))
+        motions_at(addresses, rows, motion)
+        for m, w, k in zip(motion, alone, picked):
+            assert m.tobytes() == np.concatenate([w.bodies[k].position, w.bodies[k].velocity]).tobytes()

@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marbellous.game.controls import clip_to_disc, control_force, heading_axes, move_for_direction, move_from_keys
+from marbellous.game.controls import (clip_to_disc, control_force, control_forces, heading_axes, move_for_direction,
+                                      move_from_keys)
 from marbellous.game.course import CoursePath
 from marbellous.game.goal import BestTimes, format_time
 
@@ -34,6 +35,18 @@ def test_move_for_direction_inverts_control_force(f, r, heading):
     m = clip_to_disc((f, r))
     force = control_force(m, heading, mass=1.0, push=1.0)
     assert np.allclose(move_for_direction(force, heading), m, atol=1e-12)
+
+
+@settings(max_examples=200)
+@given(actions=st.lists(st.tuples(st.floats(-5, 5, allow_nan=False, width=32),
+                                  st.floats(-5, 5, allow_nan=False, width=32)), min_size=1, max_size=20),
+       headings=st.lists(angle, min_size=20, max_size=20))
+def test_forces_of_many_actions_are_each_ones_force_bit_for_bit(actions, headings):
+    a = np.array(actions, np.float32)
+    forces = control_forces(a, headings[:len(a)], 0.7, 12.0)
+    for row, action, heading in zip(forces, a, headings):
+        want = control_force(move_for_direction((action[0], 0.0, action[1]), heading), heading, 0.7, 12.0)
+        assert row.tobytes() == want.tobytes()
 
 
 def test_heading_axes_right_handed_y_up():

@@ -11,8 +11,8 @@ from marbellous.app.envs.marble_vector_env import MarbellousVectorEnv
 OPTIONS = dict(max_episode_steps=12, frame_skip=3)
 
 
-def _singles(n, seed):
-    envs = [gym.make("Marbellous-v0", **OPTIONS) for _ in range(n)]
+def _singles(n, seed, **options):
+    envs = [gym.make("Marbellous-v0", **OPTIONS, **options) for _ in range(n)]
     first = [env.reset(seed=seed + i)[0] for i, env in enumerate(envs)]
     return envs, np.stack(first)
 
@@ -21,15 +21,17 @@ def _actions(rng, n):
     return rng.uniform(-1.0, 1.0, size=(n, 2)).astype(np.float32) * 3.0   # beyond the unit disc: scaled onto it
 
 
-@pytest.mark.parametrize("threads", [1, 2])
-def test_next_step_autoreset_repeats_the_single_environments(threads):
+@pytest.mark.parametrize("threads, flag", [(1, False), (2, False), (1, True)])
+def test_next_step_autoreset_repeats_the_single_environments(threads, flag):
+    # (without the flag, the marbles are pushed, stepped and judged together; with it, env by env)
     n, seed = 3, 11
     vec = gym.make_vec("Marbellous-v0", num_envs=n, vectorization_mode="vector_entry_point", threads=threads,
-                       **OPTIONS)
+                       flag=flag, **OPTIONS)
     assert isinstance(vec.unwrapped, MarbellousVectorEnv)
     assert vec.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
-    singles, first = _singles(n, seed)
+    singles, first = _singles(n, seed, flag=flag)
     obs, info = vec.reset(seed=seed)
+    assert vec.unwrapped._together is not flag
     assert obs.shape == (n, 9) and obs.dtype == np.float32
     np.testing.assert_array_equal(obs, first)
     ended = np.zeros(n, dtype=bool)
@@ -73,6 +75,35 @@ def test_same_step_autoreset_repeats_the_single_environments():
                 finals += 1
             np.testing.assert_array_equal(obs[i], want)
     assert finals >= n
+
+
+@pytest.mark.parametrize("mode", ["NextStep", "SameStep"])
+def test_marbles_dropped_into_the_goal_end_their_episodes_as_alone(mode):
+    n, seed = 3, 4
+    vec = MarbellousVectorEnv(n, autoreset_mode=mode, **OPTIONS)
+    singles, _ = _singles(n, seed)
+    vec.reset(seed=seed)
+    level = vec.envs[0].level
+    # env 0 above the goal's centre, env 1 beside it (0.1 m from its side, nearer than its corners), env 2 left
+    # on the course
+    drops = [level.goal_center + (0.0, 0.5, 0.0), level.goal_center + level.goal_half_extents * (1.0, 0.0, 0.0)
+             + (0.4, 0.0, 0.0)]
+    for envs in (vec.envs, [env.unwrapped for env in singles]):
+        for env, drop in zip(envs, drops):
+            env._game.marble.position = drop
+    obs, rewards, terminated, truncated, info = vec.step(np.zeros((n, 2), np.float32))
+    for i, env in enumerate(singles):
+        want, r, term, trunc, single_info = env.step(np.zeros(2, np.float32))
+        assert (rewards[i], terminated[i], truncated[i]) == (r, term, trunc)
+        if mode == "SameStep" and term:
+            np.testing.assert_array_equal(info["final_obs"][i], want)
+            assert info["final_info"]["reached_goal"][i] == single_info["reached_goal"]
+            want = env.reset()[0]
+        else:
+            assert info["reached_goal"][i] == single_info["reached_goal"] and info["_reached_goal"][i]
+        np.testing.assert_array_equal(obs[i], want)
+    assert terminated[0] and rewards[0] >= OPTIONS.get("goal_reward", 10.0) - 1.0
+    assert not terminated[1] and not terminated[2]
 
 
 def test_seeds_may_be_given_one_per_env():

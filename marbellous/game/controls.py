@@ -55,6 +55,28 @@ def move_for_direction(direction, heading):
     return clip_to_disc((x * c + z * s, z * c - x * s))
 
 
+def control_forces(actions, headings, mass, push):
+    """:func:`control_force` of :func:`move_for_direction` for many marbles at once: ``actions`` (N, 2), each
+    row the push direction's x and z parts (finite numbers), seen from cameras with ``headings`` (N,) rad, on
+    marbles of ``mass`` (kg) pushed with ``push`` (m/s^2): (N, 3) N, each row bit for bit the one-marble
+    answer (the same operations in the same order, element by element)."""
+    c = np.array([math.cos(h) for h in headings])
+    s = np.array([math.sin(h) for h in headings])
+    x, z = actions[:, 0].astype(np.float64), actions[:, 1].astype(np.float64)
+    forward, right = _clip_to_disc(x * c + z * s, z * c - x * s)     # the move (move_for_direction)
+    forward, right = _clip_to_disc(forward, right)                   # clipped again, as control_force does
+    mp = mass * push
+    return np.stack([mp * (forward * c + right * -s), mp * (forward * 0.0 + right * 0.0),
+                     mp * (forward * s + right * c)], axis=1)
+
+
+def _clip_to_disc(a, b):
+    """:func:`clip_to_disc` of the pairs ``(a[k], b[k])`` (arrays of finite numbers)."""
+    n = np.hypot(a, b)
+    over = n > 1.0
+    return np.divide(a, n, out=a.copy(), where=over), np.divide(b, n, out=b.copy(), where=over)
+
+
 def move_from_keys(pressed):
     """Control input from the set of pressed key names (e.g. ``{"W", "LEFT"}``)."""
     fwd = any(k in pressed for k in FORWARD_KEYS) - any(k in pressed for k in BACK_KEYS)

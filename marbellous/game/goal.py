@@ -25,6 +25,12 @@ class GoalArea:
         self._box = Box(self.half_extents)
         self._reach = float(np.linalg.norm(self.half_extents))   # no point of the box is farther from its centre
 
+    def may_reach(self, positions, radius):
+        """For each row of ``positions`` (N, 3) m: False when a sphere of ``radius`` (m) there cannot touch the
+        box (the first test of :meth:`reached`, for many spheres at once), else True."""
+        d = positions - self.center
+        return d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2] <= (self._reach + radius) ** 2
+
     def reached(self, position, radius):
         """True when a sphere of ``radius`` (m) at ``position`` (m) touches or overlaps the box (a sphere
         whose centre is farther from the box's centre than the box's half diagonal plus its radius cannot

@@ -181,9 +181,13 @@ class Game:
         if p[1] < self.level.fall_height:
             self.respawn()
         elif not self.finished and self.goal.reached(p, self.spec.radius):
-            self.finished = True
-            self.finish_time = self.elapsed
-            self.new_best = self.best_times.record(self.level.key, self.elapsed)
+            self.finish()
+
+    def finish(self):
+        """The goal reached now: the clock stops and the time is recorded."""
+        self.finished = True
+        self.finish_time = self.elapsed
+        self.new_best = self.best_times.record(self.level.key, self.elapsed)
 
     def advance(self, frame_time, move=(0.0, 0.0), jump=False):
         """Step the physics through ``frame_time`` seconds of a rendered frame (fixed steps, the rest

@@ -132,19 +132,26 @@ class MarbellousEnv(gym.Env):
         if self.render_mode is not None:
             g.update_camera(self.frame_skip * g.dt)
         self._steps += 1
-        reward = 0.0
+        old = self._progress
         if not fell:
-            s = g.course.project(g.marble.position, near=self._progress) if progress is None else progress
-            reward += s - self._progress
-            self._progress = s
-        if g.finished:
-            reward += self.goal_reward
-        if fell:
-            reward -= self.fall_penalty
-        terminated = bool(g.finished or fell)
-        truncated = bool(not terminated and self._steps >= self.max_episode_steps)
+            self._progress = g.course.project(g.marble.position, near=old) if progress is None else progress
+        reward, terminated, truncated = self._outcomes(np.array([old]), np.array([self._progress]), np.array([fell]),
+                                                      np.array([g.finished]), np.array([self._steps]))
         info = {"progress": self._progress, "reached_goal": bool(g.finished), "fell": bool(fell)}
-        return self._obs(obs), float(reward), terminated, truncated, info
+        return self._obs(obs), float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
+
+    def _outcomes(self, old, new, fell, finished, steps):
+        """``(rewards, terminated, truncated)`` (arrays) of actions of this environment's kind: ``old`` and
+        ``new`` the progress (m) before and after each, ``fell`` and ``finished`` whether its marble fell or
+        reached the goal, ``steps`` the actions taken in its episode so far (arrays over the actions).  The
+        reward is the progress gained unless the marble fell, plus ``goal_reward`` at the goal, minus
+        ``fall_penalty`` after a fall."""
+        reward = np.zeros(len(old))
+        reward[~fell] += new[~fell] - old[~fell]
+        reward[finished] += self.goal_reward
+        reward[fell] -= self.fall_penalty
+        terminated = finished | fell
+        return reward, terminated, ~terminated & (steps >= self.max_episode_steps)
 
     def render(self):
         if self.render_mode != "rgb_array":
