@@ -6,9 +6,9 @@ Sanity measures, per scene (from positions sampled during the run, in Marbellous
 
 - stacks (tower, pyramid): how far the top box moved (m), and the largest move of any box; standing
   means the top box moved less than 0.1 m (a tenth of a box);
-- sphere piles: height of the pile's top and the mean centre height (m), fastest sphere at the end
-  (m/s), spheres that left the walled box; settled and contained means none left and all slower than
-  0.5 m/s;
+- sphere piles (rolling and torsional friction of 1 cm, ``PILE_ROLLING``): height of the pile's top and
+  the mean centre height (m), fastest sphere at the end (m/s), spheres that left the walled box; settled and
+  contained means none left and all slower than 0.5 m/s;
 - marble on terrain: the marble's gap to the mesh surface under it (m, negative: sunk in), distance
   travelled; on the mesh means never sunk by more than half its radius and still over the terrain;
 - free bodies and one body: largest distance (m) from the closed form  x0 + v0 t + g t^2 / 2; first-order
@@ -27,6 +27,9 @@ from marbellous.scenes.free_bodies import free_bodies, free_bodies_start, free_f
 from marbellous.scenes.terrain import marble_on_terrain, terrain_height, terrain_mesh
 
 DT = 1.0 / 60.0
+#: the piles' rolling and torsional friction (m, lever arms; 2 % of the spheres' radius, a rubber ball's
+#: rolling resistance), set as a user would so that a pile comes to rest; every peer gets the same
+PILE_ROLLING = PILE_TORSION = 0.01
 
 
 @dataclass
@@ -102,7 +105,7 @@ def query_sanity(result, meta, pen):
 def _pile(count, quick_count):
     def build(quick):
         n = quick_count if quick else count
-        world, spheres = sphere_pile(count=n)
+        world, spheres = sphere_pile(count=n, rolling_friction=PILE_ROLLING, torsional_friction=PILE_TORSION)
         walls = [b for b in world.bodies if b.is_static and isinstance(b.shapes[0][0], mb.Box)]
         inner = min(max(abs(b.position[0]) - b.shapes[0][0].half_extents[0],
                         abs(b.position[2]) - b.shapes[0][0].half_extents[2]) for b in walls)

@@ -5,7 +5,7 @@ import pytest
 from mechanics import DT, rod_pendulum
 
 import marbellous as mb
-from marbellous.scenes import box_pyramid, box_tower
+from marbellous.scenes import box_pyramid, box_tower, sphere_pile
 
 
 def test_tower_of_twenty_stands_for_ten_seconds():
@@ -36,6 +36,22 @@ def test_pyramid_stands_falls_asleep_and_wakes_when_hit():
         w.step(DT)
     assert not top.is_sleeping
     assert np.linalg.norm(top.position - end[-1]) > 0.1
+
+
+def test_a_pile_of_a_thousand_spheres_with_rolling_and_torsional_friction_falls_asleep_once_settled():
+    # Spheres without rolling or torsional friction keep rolling and spinning on each other, so a pile never
+    # comes quite to rest; with a centimetre of each it is asleep within 10 s of settling (here: of its
+    # fastest sphere going slower than 0.5 m/s for good, the benchmark's "settled"), as in Jolt and Box2D.
+    w, spheres = sphere_pile(count=1000, rolling_friction=0.01, torsional_friction=0.01)
+    fell = settled = 0.0
+    while w.time < 30.0 and not all(b.is_sleeping for b in spheres):
+        w.step(DT)
+        if max(np.linalg.norm(b.velocity) for b in spheres) >= 0.5:
+            fell, settled = True, w.time
+    assert fell and all(b.is_sleeping for b in spheres)
+    assert w.time - settled < 10.0
+    # asleep, it holds still: no sphere sinks into another or the floor by more than a centimetre
+    assert min(b.position[1] for b in spheres) > 0.5 - 0.01
 
 
 def test_force_wakes_a_sleeping_body():

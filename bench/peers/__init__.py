@@ -38,7 +38,8 @@ def version(name):
 def bodies_of(world):
     """The world's bodies as plain records for a translator: dicts with ``static``, ``shapes`` (list of
     ``(shape, local_position, local_orientation)``), ``position``, ``orientation``, ``velocity``,
-    ``angular_velocity``, ``mass``, ``friction``, ``restitution``, ``rolling_friction``."""
+    ``angular_velocity``, ``mass``, ``friction``, ``restitution``, ``rolling_friction``, ``torsional_friction``
+    (the last two lever arms, m)."""
     from marbellous.state import layout as L
 
     out = []
@@ -47,5 +48,5 @@ def bodies_of(world):
         out.append({"static": b.is_static, "shapes": b.shapes, "position": b.position,
                      "orientation": b.orientation, "velocity": b.velocity, "angular_velocity": b.angular_velocity,
                      "mass": b.mass, "friction": float(row[L.FRICTION]), "restitution": float(row[L.RESTITUTION]),
-                     "rolling_friction": float(row[L.ROLLING])})
+                     "rolling_friction": float(row[L.ROLLING]), "torsional_friction": float(row[L.TORSION])})
     return out

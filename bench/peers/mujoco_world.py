@@ -6,9 +6,10 @@ its ``hfield``, neither of which is the same surface), so a world with a ``Trian
 10 iterations (the closest to sequential impulses and to PyBullet's 10 iterations; MuJoCo's default
 Newton solver factors a Hessian over all degrees of freedom, seconds per step for a 1,000-sphere
 pile), MuJoCo's defaults otherwise (Euler integrator, soft contacts, ``condim`` 3: sliding friction
-only).  MuJoCo combines
-two geoms' friction by ``max`` where Marbellous takes the geometric mean; the scenes give all bodies
-one coefficient, for which the two agree.  Free bodies move on free joints.
+only; ``condim`` 6, with torsional and rolling friction, for bodies that have them: MuJoCo's are lever arms,
+as Marbellous' are).  MuJoCo combines two geoms' friction by ``max`` where Marbellous takes the geometric
+mean for sliding friction; the scenes give all bodies one coefficient, for which the two agree.  Free bodies
+move on free joints.
 """
 import numpy as np
 
@@ -26,9 +27,18 @@ def mjcf_numbers(v):
 _f = mjcf_numbers
 
 
-def _geom(shape, mu, mass=None):
+def _friction(rec):
+    """The MJCF friction of a body record: sliding only (``condim`` 3), or with its torsional and rolling
+    lever arms (m; ``condim`` 6) where it has either."""
+    torsion, rolling = rec["torsional_friction"], rec["rolling_friction"]
+    if torsion == 0.0 and rolling == 0.0:
+        return f'friction="{rec["friction"]:.17g} 0.005 0.0001"'
+    return f'condim="6" friction="{rec["friction"]:.17g} {torsion:.17g} {rolling:.17g}"'
+
+
+def _geom(shape, rec, mass=None):
     m = "" if mass is None else f' mass="{mass:.17g}"'
-    fr = f'friction="{mu:.17g} 0.005 0.0001"'
+    fr = _friction(rec)
     if isinstance(shape, Sphere):
         return f'<geom type="sphere" size="{shape.radius:.17g}" {fr}{m}/>'
     if isinstance(shape, Box):
@@ -56,13 +66,13 @@ class MuJoCoRun:
             if isinstance(shape, Plane):
                 n = to_peer(shape.normal)
                 parts.append(f'<geom type="plane" size="0 0 1" pos="{_f(pos + n * shape.offset)}" zaxis="{_f(n)}" '
-                             f'friction="{rec["friction"]:.17g} 0.005 0.0001"/>')
+                             f'{_friction(rec)}/>')
             elif rec["static"]:
-                parts.append(_geom(shape, rec["friction"]).replace(
+                parts.append(_geom(shape, rec).replace(
                     "<geom ", f'<geom pos="{_f(pos)}" quat="{_f(quat_to_peer(rec["orientation"]))}" '))
             else:
                 parts.append(f'<body name="b{k}" pos="{_f(pos)}" quat="{_f(quat_to_peer(rec["orientation"]))}">'
-                             f'<freejoint/>{_geom(shape, rec["friction"], rec["mass"])}</body>')
+                             f'<freejoint/>{_geom(shape, rec, rec["mass"])}</body>')
                 free.append(rec)
         g = to_peer(world.gravity)
         xml = (f'<mujoco><option timestep="{dt:.17g}" gravity="{_f(g)}" solver="PGS" iterations="10"/>'

@@ -4,9 +4,11 @@ Settings, chosen to be PyBullet at its documented defaults and its fastest equiv
 - time step ``dt``, no sub-steps, 10 solver iterations (PyBullet's default), gravity along -z;
 - free bodies as maximal-coordinate rigid bodies (``useMaximalCoordinates=True``, btRigidBody);
 - no linear or angular damping (PyBullet's default is 0.04; Marbellous has none);
-- Bullet multiplies the two bodies' friction (and restitution, rolling friction) coefficients where
-  Marbellous takes the geometric mean, so each body gets ``sqrt(mu)``: the product then equals
-  Marbellous' ``sqrt(mu_a mu_b)`` exactly;
+- Bullet multiplies the two bodies' friction (and restitution, rolling and spinning friction) coefficients
+  where Marbellous takes the geometric mean, so each body gets ``sqrt(mu)``: the product then equals
+  Marbellous' ``sqrt(mu_a mu_b)`` exactly (for rolling and torsional friction, which Marbellous combines
+  by ``max``, when both bodies have the same; Bullet's rolling and spinning friction are lever arms as
+  Marbellous' are: the torque impulse is at most the coefficient times the normal impulse);
 - a ``TriangleMesh`` becomes a static concave ``GEOM_MESH`` (Bullet's BVH triangle mesh);
 - shapes keep their local (body-frame) geometry; each body's orientation gets the quarter turn;
 - sleeping (deactivation) left at Bullet's default, like Marbellous' own.
@@ -106,10 +108,11 @@ class PyBulletRun:
                 pos = to_peer(rec["position"] + shape.normal * shape.offset)
             mass = 0.0 if rec["static"] else rec["mass"]
             # Bodies sharing a shape, mass and material are created in one batch call.
-            batch_key = (shape_cache[key], mass, rec["friction"], rec["restitution"], rec["rolling_friction"])
+            batch_key = (shape_cache[key], mass, rec["friction"], rec["restitution"], rec["rolling_friction"],
+                         rec["torsional_friction"])
             batches.setdefault(batch_key, []).append((len(self.ids), rec, pos, orn))
             self.ids.append(None)
-        for (sid, mass, mu, e, roll), members in batches.items():
+        for (sid, mass, mu, e, roll, spin), members in batches.items():
             positions = [list(m[2]) for m in members]
             if len(members) == 1:
                 ids = [p.createMultiBody(mass, sid, basePosition=positions[0], useMaximalCoordinates=True, **kw)]
@@ -119,7 +122,8 @@ class PyBulletRun:
                 self.ids[slot] = bid
                 p.resetBasePositionAndOrientation(bid, list(pos), _xyzw(orn), **kw)
                 p.changeDynamics(bid, -1, lateralFriction=math.sqrt(mu), restitution=math.sqrt(e),
-                                 rollingFriction=math.sqrt(roll), linearDamping=0.0, angularDamping=0.0, **kw)
+                                 rollingFriction=math.sqrt(roll), spinningFriction=math.sqrt(spin), linearDamping=0.0,
+                                 angularDamping=0.0, **kw)
                 if mass > 0.0:
                     p.resetBaseVelocity(bid, list(to_peer(rec["velocity"])), list(to_peer(rec["angular_velocity"])),
                                         **kw)
