@@ -103,6 +103,7 @@ def test_projecting_many_positions_gives_each_ones_projection_bit_for_bit(points
     many = path.project_many(p, hints, window)
     for k, q in enumerate(p):
         assert many[k] == path.project(q, None if hints is None else hints[k], window)
+        assert many[k] == _projection_over_every_segment(path, q, None if hints is None else hints[k], window)
     # and it is the nearest point of the path (searched where the hint allows): slow reference
     for k, q in enumerate(p):
         best, where = np.inf, None
@@ -114,6 +115,35 @@ def test_projecting_many_positions_gives_each_ones_projection_bit_for_bit(points
             if hints is not None:
                 assert abs(many[k] - hints[k]) <= window + 1e-9
             assert np.linalg.norm(path.point_at(many[k]) - q) <= best + 1e-9
+
+
+def _projection_over_every_segment(path, q, near, window):
+    """The slow reference of ``project``: every segment's nearest point (within the window's part of it),
+    segments outside the window left out, the first of the nearest taken (none in the window: the first
+    segment's)."""
+    best, best_d2 = None, np.inf
+    for i in range(len(path.seg_len)):
+        a, d, s0, length = path.points[i], path._d[i], path.s[i], path.seg_len[i]
+        pa = q - a
+        t = min(max((pa[0] * d[0] + pa[1] * d[1] + pa[2] * d[2]) / path._len2[i], 0.0), 1.0)
+        if near is not None:
+            if not (s0 + length >= near - window and s0 <= near + window):
+                continue
+            scale = max(length, 1e-300)
+            t = min(max(t, min(max((near - window - s0) / scale, 0.0), 1.0)),
+                    min(max((near + window - s0) / scale, 0.0), 1.0))
+        e = a + t * d - q
+        d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+        if d2 < best_d2:
+            best, best_d2 = s0 + t * length, d2
+    if best is None:                                # (no segment in the window)
+        a, d = path.points[0], path._d[0]
+        pa = q - a
+        t = min(max((pa[0] * d[0] + pa[1] * d[1] + pa[2] * d[2]) / path._len2[0], 0.0), 1.0)
+        scale = max(path.seg_len[0], 1e-300)
+        t = min(max(t, min(max((near - window) / scale, 0.0), 1.0)), min(max((near + window) / scale, 0.0), 1.0))
+        best = path.s[0] + t * path.seg_len[0]
+    return best
 
 
 def test_best_times_are_stored_per_level(tmp_path):

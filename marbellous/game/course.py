@@ -35,16 +35,29 @@ class CoursePath:
 
         For segment ``a -> b`` (``d = b - a``) the nearest point to ``p`` is ``a + t d`` with
         ``t = clip((p - a) . d / |d|^2, 0, 1)``, with ``t`` also kept within the window's part of the segment
-        when ``near`` is given (a segment wholly outside it is not searched); the answer is the arc length of
-        the nearest of those points.
+        when ``near`` is given; the answer is the arc length of the nearest of those points.  With ``near``,
+        only the segments that meet each window are looked at (a run of them: the arc lengths grow along the
+        path), so the work grows with the window, not with the course.
         """
-        p = positions[:, None, :]                                 # (N, 1, 3) against the segments (S, 3)
-        a, d, s0, length = self.points[:-1], self._d, self.s[:-1], self.seg_len
+        n_segments = len(self.seg_len)
+        if near is None:
+            seg = np.arange(n_segments)[None, :]                 # (1, S): every segment for every row
+        else:
+            start, end = near - window, near + window
+            first = np.searchsorted(self.s[1:], start, side="left")      # the first segment ending at or after start
+            stop = np.searchsorted(self.s[:-1], end, side="right")       # the first one starting after end
+            empty = stop <= first                                       # (no segment: the first one's answer,
+            first, stop = np.where(empty, 0, first), np.where(empty, 0, stop)   # at infinite distance)
+            seg = first[:, None] + np.arange(max(int((stop - first).max()), 1))
+            searched = seg < stop[:, None]
+            seg = np.minimum(seg, n_segments - 1)
+        p = positions[:, None, :]                                # (N, 1, 3) against the segments (N or 1, W, 3)
+        a, d, s0, length = self.points[:-1][seg], self._d[seg], self.s[:-1][seg], self.seg_len[seg]
         pa = p - a
-        t = np.clip((pa[..., 0] * d[:, 0] + pa[..., 1] * d[:, 1] + pa[..., 2] * d[:, 2]) / self._len2, 0.0, 1.0)
+        t = np.clip((pa[..., 0] * d[..., 0] + pa[..., 1] * d[..., 1] + pa[..., 2] * d[..., 2]) / self._len2[seg],
+                    0.0, 1.0)
         if near is not None:
-            start, end = near[:, None] - window, near[:, None] + window
-            searched = (s0 + length >= start) & (s0 <= end)
+            start, end = start[:, None], end[:, None]
             scale = np.maximum(length, 1e-300)
             t_start, t_end = np.clip((start - s0) / scale, 0.0, 1.0), np.clip((end - s0) / scale, 0.0, 1.0)
             t = np.minimum(np.maximum(t, t_start), t_end)
@@ -53,6 +66,7 @@ class CoursePath:
         if near is not None:
             dist2 = np.where(searched, dist2, np.inf)
         s = s0 + t * length
+        s = np.broadcast_to(s, dist2.shape)
         return s[np.arange(len(s)), np.argmin(dist2, axis=1)]
 
     def point_at(self, s):
