@@ -9,7 +9,6 @@ arguments, so the same parameters give the same answer bit for bit, on any worke
 import functools
 import math
 
-
 from .._validate import as_float
 from .autopilot import Autopilot
 from .goal import BestTimes
