@@ -78,6 +78,39 @@ def step_checked(worlds, dt, threads):
     return addresses if None not in keys and not statuses.any() else packed_addresses(worlds)
 
 
+def plain_entry(worlds, dt):
+    """The compiled step that all of ``worlds`` take, if each is *plain* for steps of ``dt`` s, else None.
+    A plain world has its parameters written for ``dt`` and its context packed, steps in the fixed mode on one
+    thread, has no particles, cloth, soft bodies or fluids to step around its bodies, and has nothing left from
+    its last step for ``World._end_step`` to do (it has stepped, no body was removed since, its last step was
+    one interval): ``World._begin_step`` and ``_end_step`` would do nothing for it, so :func:`step_plain` can
+    step it again and again with no Python of its own."""
+    entry = worlds[0]._state.entry if worlds else None
+    for w in worlds:
+        st = w._state
+        if st.context is None or st.entry is not entry or st.threads != 1 or w._retroactive \
+                or w._params_dt != dt or not w._stepped or w._gone or w._last is not None \
+                or w._living_particles or w._living_cloths or w._living_softs or w._living_fluids:
+            return None
+    return entry
+
+
+def step_plain(worlds, addresses, entry, dt, threads):
+    """One step of ``dt`` s of ``worlds``, plain for it (:func:`plain_entry` gave ``entry``), their contexts at
+    ``addresses``: one call of ``entry`` (split over ``threads``), each world's state after it, bit for bit,
+    what ``World.step`` gives.  A world whose step asks for more (a buffer to grow, an interval up to a time of
+    impact) is finished as ``World.step`` finishes it, and is then no longer plain.  Returns ``(the addresses
+    after the step, whether every world is still plain)``."""
+    statuses = np.zeros(len(worlds), dtype=np.int64)
+    _run(entry, addresses, statuses, threads)
+    if not statuses.any():
+        return addresses, True
+    for k in np.flatnonzero(statuses).tolist():
+        w = worlds[k]
+        w._end_step(dt, w._state.settle(int(statuses[k])), None)
+    return packed_addresses(worlds), False
+
+
 def packed_addresses(worlds):
     """The address of each world's step context (``_numba/record.py``), packed first where a table was
     replaced since its last step: an int64 array, valid until one of the worlds replaces a table."""

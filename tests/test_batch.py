@@ -196,3 +196,33 @@ def test_one_body_row_of_each_world_is_pushed_and_read_as_its_handle_does():
         motions_at(addresses, rows, motion)
         for m, w, k in zip(motion, alone, picked):
             assert m.tobytes() == np.concatenate([w.bodies[k].position, w.bodies[k].velocity]).tobytes()
+
+
+def test_plain_worlds_step_again_and_again_as_alone_and_a_split_step_ends_their_plainness():
+    from marbellous.batch import packed_addresses, plain_entry, step_checked, step_plain
+
+    assert plain_entry([net(0), spheres_on_a_plane(0)], DT) is None          # particles: not plain
+    def bullet_at_a_distance(k):
+        w = mb.World()
+        w.add_static(mb.Box((0.01, 1.0, 1.0)), position=(5.0 + 0.3 * k, 0.0, 0.0))
+        w.add_body(mb.Sphere(0.05), position=(0.0, 0.0, 0.0), velocity=(60.0, 0.0, 0.0))   # 1 m a step
+        return w
+    together = [bullet_at_a_distance(k) for k in range(3)]                    # time-of-impact intervals ahead
+    alone = [bullet_at_a_distance(k) for k in range(3)]
+    assert plain_entry(together, DT) is None                                  # (never stepped)
+    step_checked(together, DT, 1)
+    for w in alone:
+        w.step(DT)
+    splits = 0
+    for _ in range(40):
+        entry = plain_entry(together, DT)
+        if entry is None:
+            step_checked(together, DT, 2)
+        else:
+            _, plain = step_plain(together, packed_addresses(together), entry, DT, 2)
+            splits += not plain
+        for w in alone:
+            w.step(DT)
+        assert _hashes(together) == _hashes(alone)
+    assert splits > 0
+    assert plain_entry(together, 1.0 / 120.0) is None                         # (parameters for another dt)

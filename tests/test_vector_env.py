@@ -102,6 +102,9 @@ def test_marbles_dropped_into_the_goal_end_their_episodes_as_alone(mode):
         else:
             assert info["reached_goal"][i] == single_info["reached_goal"] and info["_reached_goal"][i]
         np.testing.assert_array_equal(obs[i], want)
+        game, alone = vec.envs[i]._game, env.unwrapped._game          # the clocks ran as alone
+        assert (game.elapsed, game.physics_steps, game.finished) == (alone.elapsed, alone.physics_steps,
+                                                                    alone.finished)
     assert terminated[0] and rewards[0] >= OPTIONS.get("goal_reward", 10.0) - 1.0
     assert not terminated[1] and not terminated[2]
 

@@ -23,7 +23,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..._validate import as_int
-from ...batch import MAX_THREADS, packed_addresses, step_checked, step_worlds
+from ...batch import MAX_THREADS, packed_addresses, plain_entry, step_checked, step_plain, step_worlds
 from ...game.controls import control_forces
 from ...pipeline.body_rows import add_forces_at, motions_at
 from .marble_env import MarbellousEnv
@@ -255,7 +255,7 @@ class MarbellousVectorEnv(VectorEnv):
     def _physics_together(self, stepping, forces):
         """:meth:`_physics` for marbles alone on their levels (``_together``), with the control ``forces`` (N) of
         the envs ``stepping``: each physics step pushes every marble still running with one kernel call
-        (``pipeline/body_rows.py``), steps their worlds with another (``batch.step_checked``), reads the
+        (``pipeline/body_rows.py``), steps their worlds with another (``batch.step_plain``), reads the
         marbles back with a third and judges them together (a fall, the goal: ``Game.judge``'s rules);
         only an env that falls or reaches the goal takes a Python call of its own.  Returns which fell."""
         fell = np.zeros(self.num_envs, dtype=bool)
@@ -266,21 +266,30 @@ class MarbellousVectorEnv(VectorEnv):
         dt, goal, radius, fall_height = first.dt, first.goal, first.spec.radius, first.level.fall_height
         worlds = [g.world for g in games]
         rows = np.array([g.marble._index for g in games], dtype=np.int64)
-        taken = np.zeros(len(games), dtype=np.int64)                # physics steps each game took
+        # the games' clocks and physics steps, run as Game.judge runs them (the same sums) and written back at
+        # the end, or when a game falls or reaches the goal
+        elapsed = np.array([g.elapsed for g in games])
+        taken = np.zeros(len(games), dtype=np.int64)
         live = np.arange(len(games))                                # the games still stepping ...
         live_worlds, live_rows, live_forces = worlds, rows, forces  # ... and their worlds, rows and forces
         addresses = packed_addresses(worlds)
-        done = 0
+        # (worlds with nothing but their bodies to step are stepped with no Python of their own: batch.step_plain)
+        plain = plain_entry(worlds, dt)
         for _ in range(self.envs[0].frame_skip):
             if not live.size:
                 break
             add_forces_at(addresses, live_rows, live_forces)
-            addresses = step_checked(live_worlds, dt, self.threads)
-            done += 1
+            if plain is not None:
+                addresses, still_plain = step_plain(live_worlds, addresses, plain, dt, self.threads)
+                plain = plain if still_plain else None
+            else:
+                addresses = step_checked(live_worlds, dt, self.threads)
+            elapsed[live] += dt
+            taken[live] += 1
             motion = np.empty((live.size, 6))
             motions_at(addresses, live_rows, motion)
             position = motion[:, :3]
-            # Game.judge for the games that may have fallen or reached the goal; the clocks are run at the end
+            # Game.judge for the games that may have fallen or reached the goal
             judged = (position[:, 1] < fall_height) | goal.may_reach(position, radius)
             if not judged.any():
                 continue
@@ -289,11 +298,11 @@ class MarbellousVectorEnv(VectorEnv):
                 k = int(live[j])
                 g = games[k]
                 if position[j, 1] < fall_height:
-                    g.elapsed, taken[k] = _tick(g.elapsed, dt, done), done
+                    g.elapsed = float(elapsed[k])
                     g.respawn()
                     fell[stepping[k]] = leaving[j] = True
                 elif goal.reached(position[j], radius):
-                    g.elapsed, taken[k] = _tick(g.elapsed, dt, done), done
+                    g.elapsed = float(elapsed[k])
                     g.finish()
                     leaving[j] = True
             if leaving.any():
@@ -301,9 +310,8 @@ class MarbellousVectorEnv(VectorEnv):
                 live, live_rows, live_forces = live[keep], live_rows[keep], live_forces[keep]
                 addresses = addresses[keep]
                 live_worlds = [worlds[k] for k in live.tolist()]
-        for k in live.tolist():
-            games[k].elapsed, taken[k] = _tick(games[k].elapsed, dt, done), done
-        for g, steps in zip(games, taken.tolist()):
+        for g, seconds, steps in zip(games, elapsed.tolist(), taken.tolist()):
+            g.elapsed = seconds
             g.physics_steps += steps
         return fell
 
@@ -316,11 +324,3 @@ class MarbellousVectorEnv(VectorEnv):
     def close_extras(self, **kwargs):
         for env in self.envs:
             env.close()
-
-
-def _tick(seconds, dt, steps):
-    """A game's clock ``seconds`` after ``steps`` physics steps of ``dt`` (s), added one by one as
-    ``Game.judge`` adds them (the same sum, bit for bit)."""
-    for _ in range(steps):
-        seconds += dt
-    return seconds
