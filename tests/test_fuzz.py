@@ -337,10 +337,11 @@ def test_bad_vector_env_options_are_refused(option, klass, value):
     assert option in str(err.value) or (option == "level" and "level" in str(err.value))
 
 
-def test_bad_vector_env_calls_are_refused_and_change_nothing():
+@pytest.mark.parametrize("num_envs", [1, 3])       # (from 3 envs the marbles are pushed and stepped together)
+def test_bad_vector_env_calls_are_refused_and_change_nothing(num_envs):
     from marbellous.app.envs.marble_vector_env import MarbellousVectorEnv
 
-    env = MarbellousVectorEnv(1, level="blocks")
+    env = MarbellousVectorEnv(num_envs, level="blocks")
     for opt, values in fc.ENV_RESET:
         for _, value in values:
             with pytest.raises((ValueError, TypeError), match=opt):
@@ -348,7 +349,7 @@ def test_bad_vector_env_calls_are_refused_and_change_nothing():
     first = env.reset(seed=0)[0]
     for _, value in fc.KINDS["action"]:
         with pytest.raises((ValueError, TypeError), match="action"):
-            env.step([value])
+            env.step([(0.5, -0.5)] * (num_envs - 1) + [value])     # the last env's action bad
     np.testing.assert_array_equal(np.stack([e._obs() for e in env.envs]), first)
 
 

@@ -22,7 +22,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..._validate import as_int
+from ..._validate import as_int, as_vector
 from ...batch import MAX_THREADS, packed_addresses, plain_entry, step_checked, step_plain, step_worlds
 from ...game.controls import control_forces
 from ...pipeline.body_rows import add_forces_at, motions_at
@@ -97,12 +97,17 @@ class MarbellousVectorEnv(VectorEnv):
         rewards, terminations, truncations, info)`` as arrays over the envs."""
         if not self._started:
             raise RuntimeError("call reset() before step()")
+        given = actions
         try:
             actions = np.asarray(actions)
         except (TypeError, ValueError) as error:
             raise TypeError(f"actions must be an array of shape ({self.num_envs}, 2), got {actions!r}") from error
         if actions.shape != (self.num_envs, 2):
             raise ValueError(f"actions must have shape ({self.num_envs}, 2), got {actions.shape}")
+        if isinstance(given, (list, tuple)):
+            # (NumPy turns a True among numbers into 1.0: each env's action is checked as the env checks it)
+            for i, action in enumerate(given):
+                as_vector(f"actions[{i}]", action, 2)
         resetting = self._ended.copy() if self.autoreset_mode == AutoresetMode.NEXT_STEP else np.zeros_like(self._ended)
         stepping = [i for i in range(self.num_envs) if not resetting[i]]
         if self._together:
