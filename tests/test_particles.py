@@ -443,3 +443,31 @@ def test_a_grain_in_the_groove_of_two_holds_them_by_static_friction():
     assert p.positions[1, 0] - p.positions[0, 0] == pytest.approx(0.1, abs=1e-5)
     # (each sub-step the floor reopens a little of the grains' overlap: a jitter below gravity's g h)
     assert np.abs(p.velocities).max() < G * DT / w.particle_substeps
+
+
+def test_particles_that_cannot_meet_step_the_same_with_the_kernels_that_leave_meeting_out(monkeypatch):
+    # a cloth that does not collide with itself, hanging by a corner onto a plane and a box, and a net of plain
+    # particles: their step takes kernels compiled without the paths of particles meeting each other
+    # (particle_step._kernels), bit for bit what the full kernels give
+    from marbellous.cloth import cloth_grid
+    from marbellous.deformables.particle_state import ParticleState
+
+    def scene():
+        w = mb.World()
+        w.add_static(mb.Plane())
+        w.add_body(mb.Box((0.2, 0.2, 0.2)), position=(0.1, 0.2, 0.0))
+        v, t = cloth_grid(0.6, 0.6, 8, 8)
+        c = w.add_cloth(v + (0.0, 0.8, 0.0), t, mass=0.1, self_collision=False)
+        c.pin([0])
+        parts = w.add_particles([(0.5 + 0.1 * k, 1.0, 0.3) for k in range(4)], radius=0.02)
+        w.add_network(parts, [(k, k + 1) for k in range(3)], kind="rod")
+        return w
+    apart = scene()
+    assert not apart._state.particles.meeting()
+    for _ in range(60):
+        apart.step(DT)
+    monkeypatch.setattr(ParticleState, "meeting", lambda self: True)
+    together = scene()
+    for _ in range(60):
+        together.step(DT)
+    assert apart.state_hash() == together.state_hash()

@@ -11,7 +11,7 @@ import numpy as np
 from . import particle_layout as P
 from .body_motion import BX_COLS
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
-from .particle_step import find_candidates, step_particles
+from .particle_step import find_candidates, find_candidates_apart, step_particles, step_particles_apart
 from .soft_state import SOFT_TABLES, check_soft_bodies, load_soft_bodies, soft_tables
 from .tethers import find_tethers
 
@@ -319,6 +319,17 @@ class ParticleState:
                 self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
                 np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)))
 
+    def meeting(self):
+        """Whether particles here can meet each other: soft bodies, two cloths, a cloth that collides with itself,
+        or particles made to collide (else the step's kernels without those paths will do,
+        ``particle_step._kernels``)."""
+        return bool(self.softs) or len(self.cloths) > 1 or any(c.self_collision for c in self.cloths) \
+            or bool(np.any(self.pi[:self.n, P.P_FLAGS] & P.PP_COLLIDE))
+
+    def _kernels(self):
+        """``(find_candidates, step_particles)`` for the particles as they are (:meth:`meeting`)."""
+        return (find_candidates, step_particles) if self.meeting() else (find_candidates_apart, step_particles_apart)
+
     def kernel_work(self, st):
         """``[(kernel, argument types)]`` of the particles' step kernels as the next step will call them (for
         compiling them ahead, ``pipeline/precompile.py``); empty without particles."""
@@ -326,9 +337,9 @@ class ParticleState:
             return []
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         body_start = np.zeros((st.bodies.end, 9))
-        return [(step_particles, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0),
-                                                      body_start)),
-                (find_candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
+        candidates, step = self._kernels()
+        return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0), body_start)),
+                (candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
 
     def step(self, st, dt, gravity, substeps, body_start):
         """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``;
@@ -340,8 +351,9 @@ class ParticleState:
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_SUBSTEPS] = substeps
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
+        candidates, step = self._kernels()
         while True:
-            counts = find_candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
+            counts = candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
             n_shape, n_pair, n_triangle, n_edge = counts
             if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0] \
                     and n_triangle <= self.triangle_pairs.shape[0] and n_edge <= self.edge_pairs.shape[0]:
@@ -352,7 +364,7 @@ class ParticleState:
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        self.broken, most, *soft_solve = step_particles(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f,
+        self.broken, most, *soft_solve = step(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f,
                                                                               scratch, counts, body_start))
         self.soft_solve = tuple(soft_solve)
         if self.broken:

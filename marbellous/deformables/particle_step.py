@@ -54,43 +54,6 @@ from .triangle_contacts import triangle_candidates, triangle_contacts
 
 
 @njit
-def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
-                    aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
-                    cell_start, cell_entries, edge_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s,
-                    q_s):
-    """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
-    candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs`` and the
-    ``(edge, edge, side)`` candidates into ``edge_pairs``; returns the four counts (a count past an array's
-    length: grow it and call again).  The reach: how far a
-    particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep; how far two points may close:
-    twice the fastest one's sweep (relative to the points' mean velocity) and reach."""
-    dt = params[Q_DT]
-    g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
-    reach = g * dt * dt
-    clear_motion(bx, nb)
-    n_shape = shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
-                               shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-    # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
-    # (a sheet falling as a whole then needs no wider cells than one at rest)
-    mean = [0.0, 0.0, 0.0]
-    for p in range(n_particles):
-        for k in range(3):
-            mean[k] += pf[p, P_VEL + k] / n_particles
-    fastest = 0.0
-    for p in range(n_particles):
-        fastest = max(fastest, math.sqrt((pf[p, P_VEL] - mean[0]) ** 2 + (pf[p, P_VEL + 1] - mean[1]) ** 2
-                                         + (pf[p, P_VEL + 2] - mean[2]) ** 2))
-    edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent)
-    margin = 2.0 * (fastest * dt + reach)
-    n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
-                                 particle_pairs)
-    n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, reach, cell_start,
-                                     cell_entries, adjacent_start, adjacent, triangle_pairs)
-    n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, dt, reach, cell_start, edge_entries, edge_pairs)
-    return n_shape, n_pair, n_triangle, n_edge
-
-
-@njit
 def _integrate(params, pf, pi, n_particles, sets, n_sets, h):
     """Stage "integrate" (module docstring)."""
     gx, gy, gz = params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]
@@ -161,64 +124,118 @@ def _velocities(pf, n_particles, h):
                 pf[p, P_VEL + k] = (pf[p, P_POS + k] - pf[p, P_PREV + k]) / h
 
 
-@njit
-def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
-                   tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
-                   particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
-                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
-                   soft_tolerance, soft_iterations, soft_rot, soft_work):
-    """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
-    (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
-    ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
-    ``step_soft_bodies``); returns ``(edges broken, most contacts of a sub-step, most soft-body solver
-    iterations of a sub-step, its largest residual ratio)``
-    (contacts past ``kf``'s length had no velocity pass)."""
-    dt = params[Q_DT]
-    substeps = int(params[Q_SUBSTEPS])
-    h = dt / substeps
-    g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
-    start_motion(bf, bi, bx, nb, body_start, dt, (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]))
-    clear_edge_forces(ef, ei, ne)
-    most = soft_most = 0
-    soft_residual = 0.0
-    for step in range(substeps):
-        back = dt - (step + 1) * h
-        drift(bf, bx, nb, h)
-        if n_soft > 0:
-            used, residual = step_soft_bodies(params, pf, pi, soft_bodies, n_soft, tf, ti, h, soft_tolerance,
-                                              soft_iterations, soft_rot, soft_work, bf, bi, bx, back)
-            soft_most = max(soft_most, used)
-            soft_residual = max(soft_residual, residual)
-        _integrate(params, pf, pi, n_particles, sets, n_sets, h)
-        _pins(pf, pi, n_particles, bf, bi, bx, back)
-        solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, True)
-        solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, False)
-        solve_bends(pf, bend_f, bend_i, n_bends, h)
-        solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
-        _pins(pf, pi, n_particles, bf, bi, bx, back)
-        # (particles against particles first: the shapes' static friction then holds what a particle's load
-        # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
-        # spread them apart by 5 cm in 10 s)
-        nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
-        triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-        edge_contacts(pf, ei, edge_pairs, n_edge, h)
-        nk = shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
-                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-        if n_triangle > 0:
-            # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
-            # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
-            # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
-            triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-            shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
-                           scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-        most = max(most, nk)
-        _velocities(pf, n_particles, h)
-        velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
-        if n_soft > 0:
-            record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
-    write_back(bf, bi, bx, nb)
-    broke = break_edges(pf, ef, ei, ne)
-    for p in range(n_particles):
-        for k in range(3):
-            pf[p, P_FORCE + k] = 0.0
-    return broke, most, soft_most, soft_residual
+def _kernels(meeting):
+    """``(find_candidates, step_particles)``: the particles' step kernels, with (``meeting``) or without the
+    paths of particles that meet each other (colliding particles, cloth on cloth or on itself, soft bodies:
+    their candidates, contacts and the soft bodies' sub-step).  Without them, a scene that needs none (a
+    single cloth that does not collide with itself, a net of particles) compiles about a third less; the
+    results are the same, since those paths do nothing when there is nothing to meet (Numba compiles the
+    variants apart: ``meeting`` is a constant of each)."""
+    @njit
+    def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
+                        aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
+                        cell_start, cell_entries, edge_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
+                        rot_s, q_s):
+        """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
+        candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs`` and the
+        ``(edge, edge, side)`` candidates into ``edge_pairs``; returns the four counts (a count past an array's
+        length: grow it and call again).  The reach: how far a
+        particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep; how far two points may close:
+        twice the fastest one's sweep (relative to the points' mean velocity) and reach."""
+        dt = params[Q_DT]
+        g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
+        reach = g * dt * dt
+        clear_motion(bx, nb)
+        n_shape = shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
+                                   shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+        if not meeting:
+            return n_shape, 0, 0, 0
+        # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
+        # (a sheet falling as a whole then needs no wider cells than one at rest)
+        mean = [0.0, 0.0, 0.0]
+        for p in range(n_particles):
+            for k in range(3):
+                mean[k] += pf[p, P_VEL + k] / n_particles
+        fastest = 0.0
+        for p in range(n_particles):
+            fastest = max(fastest, math.sqrt((pf[p, P_VEL] - mean[0]) ** 2 + (pf[p, P_VEL + 1] - mean[1]) ** 2
+                                             + (pf[p, P_VEL + 2] - mean[2]) ** 2))
+        edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent)
+        margin = 2.0 * (fastest * dt + reach)
+        n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
+                                     particle_pairs)
+        n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, reach, cell_start,
+                                         cell_entries, adjacent_start, adjacent, triangle_pairs)
+        n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, dt, reach, cell_start, edge_entries, edge_pairs)
+        return n_shape, n_pair, n_triangle, n_edge
+
+    @njit
+    def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
+                       tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
+                       particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
+                       scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
+                       soft_tolerance, soft_iterations, soft_rot, soft_work):
+        """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
+        (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
+        ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
+        ``step_soft_bodies``); returns ``(edges broken, most contacts of a sub-step, most soft-body solver
+        iterations of a sub-step, its largest residual ratio)``
+        (contacts past ``kf``'s length had no velocity pass)."""
+        dt = params[Q_DT]
+        substeps = int(params[Q_SUBSTEPS])
+        h = dt / substeps
+        g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
+        start_motion(bf, bi, bx, nb, body_start, dt, (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]))
+        clear_edge_forces(ef, ei, ne)
+        most = soft_most = 0
+        soft_residual = 0.0
+        for step in range(substeps):
+            back = dt - (step + 1) * h
+            drift(bf, bx, nb, h)
+            if meeting and n_soft > 0:
+                used, residual = step_soft_bodies(params, pf, pi, soft_bodies, n_soft, tf, ti, h, soft_tolerance,
+                                                  soft_iterations, soft_rot, soft_work, bf, bi, bx, back)
+                soft_most = max(soft_most, used)
+                soft_residual = max(soft_residual, residual)
+            _integrate(params, pf, pi, n_particles, sets, n_sets, h)
+            _pins(pf, pi, n_particles, bf, bi, bx, back)
+            solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, True)
+            solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, False)
+            solve_bends(pf, bend_f, bend_i, n_bends, h)
+            solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
+            _pins(pf, pi, n_particles, bf, bi, bx, back)
+            # (particles against particles first: the shapes' static friction then holds what a particle's load
+            # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
+            # spread them apart by 5 cm in 10 s)
+            nk = 0
+            if meeting:
+                nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
+                triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
+                edge_contacts(pf, ei, edge_pairs, n_edge, h)
+            nk = shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
+                                scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+            if meeting and n_triangle > 0:
+                # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
+                # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
+                # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
+                triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
+                shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
+                               scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+            most = max(most, nk)
+            _velocities(pf, n_particles, h)
+            velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
+            if meeting and n_soft > 0:
+                record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
+        write_back(bf, bi, bx, nb)
+        broke = break_edges(pf, ef, ei, ne)
+        for p in range(n_particles):
+            for k in range(3):
+                pf[p, P_FORCE + k] = 0.0
+        return broke, most, soft_most, soft_residual
+
+    return find_candidates, step_particles
+
+
+#: the kernels of scenes whose particles meet each other (``ParticleState.meeting``), and of the others
+find_candidates, step_particles = _kernels(True)
+find_candidates_apart, step_particles_apart = _kernels(False)

@@ -52,8 +52,10 @@ def lean_stages(coverage):
 
 
 def _name(kernel):
-    """``(module, name)`` of a module-level kernel."""
-    return kernel.py_func.__module__, kernel.py_func.__name__
+    """``(module, name)`` of a kernel held by a module-level name (a function, or a variant a factory made,
+    such as ``particle_step.step_particles_apart``)."""
+    module = kernel.py_func.__module__
+    return module, next(name for name, value in vars(importlib.import_module(module)).items() if value is kernel)
 
 
 def work_list(coverage, extra):
