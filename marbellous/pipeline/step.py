@@ -195,12 +195,77 @@ def stage_narrow_phase(ctx, coverage):
     lap(ctx, ST_NARROW_PHASE)
 
 
+# --- the narrow phase and time-of-impact stages of each coverage: a world compiles the ones of its own, each a
+# kernel of its own, so that two processes can compile them at once (pipeline/precompile.py) -----------------------
+@njit
+def stage_narrow_phase_spheres(ctx):
+    """:func:`stage_narrow_phase` with the pair tests of ``COVER_SPHERES``."""
+    stage_narrow_phase(ctx, COVER_SPHERES)
+
+
+@njit
+def stage_narrow_phase_ground(ctx):
+    """:func:`stage_narrow_phase` with the pair tests of ``COVER_GROUND``."""
+    stage_narrow_phase(ctx, COVER_GROUND)
+
+
+@njit
+def stage_narrow_phase_all(ctx):
+    """:func:`stage_narrow_phase` with every pair test."""
+    stage_narrow_phase(ctx, COVER_ALL)
+
+
+@njit
+def stage_time_of_impact_spheres(ctx):
+    """``impacts.stage_time_of_impact`` with the pair tests of ``COVER_SPHERES``."""
+    return stage_time_of_impact(ctx, COVER_SPHERES)
+
+
+@njit
+def stage_time_of_impact_ground(ctx):
+    """``impacts.stage_time_of_impact`` with the pair tests of ``COVER_GROUND``."""
+    return stage_time_of_impact(ctx, COVER_GROUND)
+
+
+@njit
+def stage_time_of_impact_all(ctx):
+    """``impacts.stage_time_of_impact`` with every pair test."""
+    return stage_time_of_impact(ctx, COVER_ALL)
+
+
+#: the narrow phase stage of each coverage, ``NARROW_PHASE[coverage]``
+NARROW_PHASE = (stage_narrow_phase_spheres, stage_narrow_phase_ground, stage_narrow_phase_all)
+#: the time-of-impact stage of each coverage, ``TIME_OF_IMPACT[coverage]``
+TIME_OF_IMPACT = (stage_time_of_impact_spheres, stage_time_of_impact_ground, stage_time_of_impact_all)
+
+
+@njit_inline
+def narrow_phase_stage(ctx, coverage):
+    """The narrow phase stage of ``coverage`` (a constant where this is inlined)."""
+    if coverage == COVER_SPHERES:
+        stage_narrow_phase_spheres(ctx)
+    elif coverage == COVER_GROUND:
+        stage_narrow_phase_ground(ctx)
+    else:
+        stage_narrow_phase_all(ctx)
+
+
+@njit_inline
+def time_of_impact_stage(ctx, coverage):
+    """The time-of-impact stage of ``coverage`` (a constant where this is inlined)."""
+    if coverage == COVER_SPHERES:
+        return stage_time_of_impact_spheres(ctx)
+    if coverage == COVER_GROUND:
+        return stage_time_of_impact_ground(ctx)
+    return stage_time_of_impact_all(ctx)
+
+
 @njit_inline
 def _find_contacts(ctx, coverage):
     """Stages "narrow phase" and "time of impact", by the pair tests of ``coverage``, with the resting
     pairs' contacts kept from the cache.  Returns OK, GROW_CONTACTS (nothing but scratch changed), or the
     time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
-    stage_narrow_phase(ctx, coverage)
+    narrow_phase_stage(ctx, coverage)
     if ctx.nc > ctx.cf.shape[0]:
         return GROW_CONTACTS
     # the resting pairs' contacts kept from the cache go after the step's own (counted first: the
@@ -210,7 +275,7 @@ def _find_contacts(ctx, coverage):
     if ctx.nc + resting > ctx.cf.shape[0]:
         ctx.stats[STAT_CONTACTS] = ctx.nc + resting
         return GROW_CONTACTS
-    status = stage_time_of_impact(ctx, coverage)
+    status = time_of_impact_stage(ctx, coverage)
     lap(ctx, ST_TIME_OF_IMPACT)
     if status == OK and resting > 0:
         ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi,
