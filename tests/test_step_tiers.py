@@ -173,7 +173,9 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
     def unwritable(*args, **kwargs):
         raise PermissionError("read-only")
     monkeypatch.setattr(precompile.tempfile, "mkdtemp", unwritable)
-    precompile.share_out(0, [])
+    sharing = precompile._Sharing(0, lambda: [])
+    sharing.start()
+    sharing.finish()
     monkeypatch.undo()
     monkeypatch.setattr(precompile, "_cores", lambda: 2)
     monkeypatch.setattr(precompile.cache, "CACHE_DIR", "/nonexistent")
@@ -182,5 +184,7 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
     def no_interpreter(*args, **kwargs):
         raise FileNotFoundError("python")
     monkeypatch.setattr(precompile.subprocess, "Popen", no_interpreter)
-    precompile.share_out(0, [])
+    sharing = precompile._Sharing(0, lambda: [])
+    sharing.start()
+    sharing.finish()
     assert claimed == []

@@ -138,8 +138,9 @@ view = viewer(STEP_CONTEXT)
 
 
 @njit
-def _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
-          params_f, params_i, stats, nb, nk, threads, time_f, impact_f):
+def pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci, pcf, pci,
+                params_f, params_i, stats, nb, nk, threads, time_f, impact_f):
+    """The compiled part of :func:`pack_context` (its arguments checked and completed)."""
     t = _new_record(STEP_CONTEXT)
     t.bf, t.bi, t.sf, t.si, t.kf, t.ki, t.ws = bf, bi, sf, si, kf, ki, ws
     t.geom_f, t.geom_i, t.aabbs, t.bp_f, t.bp_i, t.pairs = geom_f, geom_i, aabbs, bp_f, bp_i, pairs
@@ -220,5 +221,6 @@ def pack_context(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, 
         time_f = np.zeros(TIME_COLS)
     if impact_f is None or impact_f.shape[0] < max(cf.shape[0], pcf.shape[0]):
         impact_f = np.zeros((max(cf.shape[0], pcf.shape[0]), IMPACT_COLS))
-    return _pack(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf, ci,
-                 pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)), time_f, impact_f)
+    return pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, pairs, raw_f, raw_i, cf,
+                       ci, pcf, pci, params_f, params_i, stats, int(nb), int(nk), max(1, int(threads)), time_f,
+                       impact_f)

@@ -4,8 +4,9 @@ Numba compiles one kernel at a time, holding the interpreter, so a first world's
 compiling) would use one core however many the machine has.  The lean step's stages (``pipeline/step.py``)
 each take only the step context's view, so another process can compile them for the same type without
 the world, and whatever either process compiles goes to the kernel cache (``_numba/cache.py``).  When
-the step begins to compile (it was not in the cache), this process starts a helper; both go down one
-list of the stages, the dearest first, and each compiles the stages it is the first to claim (a file
+the step's context packing or the step begins to compile (they were not in the cache), this process starts a
+helper (which starts up while this process compiles the packing); both go down one list of the stages, the
+dearest first, and each compiles the stages it is the first to claim (a file
 created in a shared directory, which only one process can create).  When the list is done and the helper
 has finished, the step compiles on, loading from the cache the stages the helper compiled.
 
@@ -109,56 +110,79 @@ def _start_helper(work):
         return None, None
 
 
-def share_out(coverage, extra):
-    """Compile the lean step's stages for ``coverage`` and the kernels of ``extra`` (:func:`work_list`) with a
-    helper process, and wait for it; without a cache, a second core or a helper, nothing."""
-    if cache.CACHE_DIR is None or _cores() < 2:
-        return
-    work = work_list(coverage, extra)
-    helper, claims = _start_helper(work)
-    if helper is None:
-        return
-    try:
-        compile_claimed(work, claims)
-    finally:
-        # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles them
-        # when it calls them)
+class _Sharing:
+    """One sharing out: the work list, the helper and its claims directory, started by :meth:`start`, finished
+    (this process's claims compiled, the helper waited for) by :meth:`finish`."""
+
+    def __init__(self, coverage, extra):
+        self.coverage = coverage
+        self.extra = extra
+        self.work = self.helper = self.claims = None
+
+    def start(self):
+        """Start the helper on the work list (nothing without a cache or a second core, or when none starts)."""
+        if cache.CACHE_DIR is None or _cores() < 2:
+            return
+        self.work = work_list(self.coverage, self.extra())
+        self.helper, self.claims = _start_helper(self.work)
+
+    def finish(self):
+        """Compile the kernels this process claims, and wait for the helper."""
+        if self.helper is None:
+            return
+        helper, self.helper = self.helper, None
         try:
-            helper.wait(timeout=HELPER_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            helper.kill()
-            helper.wait()
-        shutil.rmtree(claims, ignore_errors=True)
+            compile_claimed(self.work, self.claims)
+        finally:
+            # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles them
+            # when it calls them)
+            try:
+                helper.wait(timeout=HELPER_TIMEOUT)
+            except subprocess.TimeoutExpired:
+                helper.kill()
+                helper.wait()
+            shutil.rmtree(self.claims, ignore_errors=True)
 
 
 class _ShareOnCompile(event.Listener):
-    """Shares out the kernels when ``entry`` begins to compile (it was not in the cache)."""
+    """Starts the sharing out when the first of ``early`` (the context's packing, which compiles before the
+    step) or ``entry`` begins to compile (it was not in the cache), and finishes it before ``entry`` compiles:
+    the helper starts up while this process compiles the packing."""
 
-    def __init__(self, entry, coverage, extra):
+    def __init__(self, early, entry, sharing):
+        self.early = early
         self.entry = entry
-        self.coverage = coverage
-        self.extra = extra
-        self.done = False
+        self.sharing = sharing
+        self.started = False
 
     def on_start(self, ev):
-        if ev.data.get("dispatcher") is self.entry and not self.done:
-            self.done = True
-            share_out(self.coverage, self.extra())
+        dispatcher = ev.data.get("dispatcher")
+        if not self.started and (dispatcher is self.early or dispatcher is self.entry):
+            self.started = True
+            self.sharing.start()
+        if dispatcher is self.entry:
+            self.sharing.finish()
 
     def on_end(self, ev):
         pass
 
 
 @contextlib.contextmanager
-def shared(entry, coverage, lean, extra):
-    """Around the first call of step ``entry`` (a dispatcher) of ``coverage``: if it compiles and the step is
-    ``lean``, its stages and the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other
-    kernels of a step) are first shared out (:func:`share_out`)."""
+def shared(early, entry, coverage, lean, extra):
+    """Around the packing of a step's context (``early``, the packing kernel, a dispatcher) and the first call
+    of step ``entry`` (a dispatcher) of ``coverage``: if either compiles and the step is ``lean``, its stages
+    and the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) are
+    shared out: a helper starts when the first of them begins to compile, and the entry compiles once the
+    list is done (the entry loads the stages from the cache)."""
     if not lean:
         yield
         return
-    with event.install_listener("numba:compile", _ShareOnCompile(entry, coverage, extra)):
-        yield
+    sharing = _Sharing(coverage, extra)
+    try:
+        with event.install_listener("numba:compile", _ShareOnCompile(early, entry, sharing)):
+            yield
+    finally:
+        sharing.finish()
 
 
 def main(claims):

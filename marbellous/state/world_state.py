@@ -18,7 +18,7 @@ from .._numba.record import compiled_entry, record_address
 from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..deformables.particle_state import ParticleState
-from ..pipeline.context import pack_context
+from ..pipeline.context import pack_context, pack_kernel
 from ..pipeline.precompile import shared
 from ..pipeline.stages import STAGES
 from ..collision.broadphase import GRID
@@ -139,7 +139,14 @@ class WorldState:
         """The step context of the current tables and the compiled entry of the scheme's step for the pair
         tests the bodies can need (``scene_coverage``; compiled on first use: a progress line, then a notice,
         ``_numba/progress.py``)."""
-        with compiling():
+        coverage = scene_coverage(self.bi, self.si, self.bodies.end)
+        flags = self.bi[:self.bodies.end, L.FLAGS]
+        self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
+                               max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]),
+                               np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
+        step = STEPS[self.solver][coverage][self.tier]
+        with compiling(), shared(pack_kernel, step, coverage, self.tier == LEAN,
+                                 lambda: self.particles.kernel_work(self)):
             self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
                                         self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
                                         self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
@@ -148,14 +155,7 @@ class WorldState:
                                         self.impact_f)
             self.addresses = np.array([record_address(self.context)],
                                       dtype=object if numba.config.DISABLE_JIT else np.int64)
-            coverage = scene_coverage(self.bi, self.si, self.bodies.end)
-            flags = self.bi[:self.bodies.end, L.FLAGS]
-            self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
-                                   max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]),
-                                   np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
-            step = STEPS[self.solver][coverage][self.tier]
-            with shared(step, coverage, self.tier == LEAN, lambda: self.particles.kernel_work(self)):
-                self.entry = compiled_entry(step, self.addresses, self.statuses)
+            self.entry = compiled_entry(step, self.addresses, self.statuses)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too
