@@ -943,15 +943,28 @@ class World:
         dt, body_start = self._begin_step(dt)
         self._end_step(dt, -1 if self._retroactive else self._state.step(), body_start)
 
-    def _begin_step(self, dt):
-        """The step's first part, before the rigid bodies' step: ``dt`` checked and written into the
-        parameters, the fluids' forces on the bodies and particles; returns ``(dt, body_start)``
-        (``body_start``: the bodies' rows the particles' step needs, None without particles)."""
+    def _parameters_for(self, dt):
+        """``dt`` (s) checked, and the step's parameters written for it; returns it as a float."""
         if type(dt) is not float or dt != self._params_dt:    # (the last dt was validated)
             dt = as_float("dt", dt, lo=MIN_DT, hi=MAX_DT, unit="s")
             if dt != self._params_dt:
                 write_params(self, dt, self._state.params_f, self._state.params_i)
                 self._params_dt = dt
+        return dt
+
+    def _compile_ahead(self, dt):
+        """Start compiling the step of ``dt`` seconds as the world is now in a helper process, when it is not in
+        the kernel cache (``pipeline/precompile.ahead``): a program that compiles something else before its first
+        step (a ray cast) overlaps the two.  The first step finishes it."""
+        self._parameters_for(dt)
+        self._state.compile_ahead()
+        self._params_dt = None          # (no step has been taken with them: the first writes them again)
+
+    def _begin_step(self, dt):
+        """The step's first part, before the rigid bodies' step: ``dt`` checked and written into the
+        parameters, the fluids' forces on the bodies and particles; returns ``(dt, body_start)``
+        (``body_start``: the bodies' rows the particles' step needs, None without particles)."""
+        dt = self._parameters_for(dt)
         particles = bool(self._living_particles or self._living_cloths or self._living_softs)
         for fluid in self._living_fluids:
             push_bodies(fluid, self.bodies, self._gravity, dt)

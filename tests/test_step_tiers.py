@@ -145,6 +145,51 @@ def test_a_cold_lean_step_is_compiled_with_a_helper_process(tmp_path):
     assert int(from_helper) >= 1
 
 
+@pytest.mark.skipif(precompile._cores() < 2, reason="the helper runs only with a second core")
+def test_a_step_compiled_ahead_overlaps_a_ray_cast_and_lands_the_same(tmp_path):
+    # a fresh kernel cache: the step's stages start compiling in the helper before the first step, while this
+    # process compiles a ray cast; the first step then finds stages in the cache, and the ball lands as always
+    code = ("import marbellous as mb\n"
+            "from marbellous.pipeline import precompile, step\n"
+            "w = mb.World(); w.add_static(mb.Plane(), friction=0.6)\n"
+            "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
+            "w._compile_ahead(1 / 60)\n"
+            "started = w._state.sharing is not None\n"
+            "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n"
+            "for _ in range(120): w.step(1 / 60)\n"
+            "print(started, w._state.sharing is None, round(hit.distance, 6), round(float(b.position[1]), 4),\n"
+            "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
+    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=900)
+    assert run.returncode == 0, run.stderr
+    started, finished, distance, height, from_helper = run.stdout.split()
+    assert started == "True" and finished == "True"
+    assert float(distance) == 5.0
+    assert float(height) == pytest.approx(0.25, abs=0.01)
+    assert int(from_helper) >= 1
+
+
+def test_compiling_ahead_with_the_step_in_the_cache_starts_nothing_and_changes_nothing():
+    # (this process's cache holds the step by now) no helper, and the world steps as one never compiled ahead,
+    # its first step's report included
+    def run(ahead):
+        w = mb.World()
+        w.add_static(mb.Plane())
+        w.add_body(mb.Sphere(0.25), position=(0.0, 1.0, 0.0))
+        w.step(1 / 60)
+        w2 = mb.World()
+        w2.add_static(mb.Plane())
+        b = w2.add_body(mb.Sphere(0.25), position=(0.0, 1.0, 0.0), restitution=0.3)
+        if ahead:
+            w2._compile_ahead(1 / 60)
+            assert w2._state.sharing is None
+        w2.substeps = 2
+        for _ in range(30):
+            w2.step(1 / 60)
+        return w2.state_hash(), w2.last_step, tuple(b.position)
+    assert run(True) == run(False)
+
+
 def test_typing_the_particle_kernels_ahead_changes_nothing():
     # the cold first step types the particles' kernels before the particles' step has run (above); a pinned
     # cloth's tethers, found from the cloth tables, once came out wrong that way and the run changed
@@ -173,8 +218,8 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
     def unwritable(*args, **kwargs):
         raise PermissionError("read-only")
     monkeypatch.setattr(precompile.tempfile, "mkdtemp", unwritable)
-    sharing = precompile._Sharing(0, lambda: [])
-    sharing.start()
+    sharing = precompile.Sharing(0)
+    sharing.start([])
     sharing.finish()
     monkeypatch.undo()
     monkeypatch.setattr(precompile, "_cores", lambda: 2)
@@ -184,7 +229,7 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
     def no_interpreter(*args, **kwargs):
         raise FileNotFoundError("python")
     monkeypatch.setattr(precompile.subprocess, "Popen", no_interpreter)
-    sharing = precompile._Sharing(0, lambda: [])
-    sharing.start()
+    sharing = precompile.Sharing(0)
+    sharing.start([])
     sharing.finish()
     assert claimed == []

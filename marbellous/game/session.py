@@ -94,6 +94,8 @@ class Game:
         #: the level's streams (``Fluid`` handles, in the order of the level file)
         self.streams = [add_stream(self.world, stream) for stream in level.streams]
         self._stream_rest = [fluid._state() for fluid in self.streams]
+        # the step's kernels compile in a helper process (on a first run) while the flag's ray casts compile here
+        self.world._compile_ahead(self.dt)
         self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
                               self._approach()) if flag else None)
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)

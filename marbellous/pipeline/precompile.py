@@ -24,6 +24,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import weakref
 
 import numba
 from numba.core import event
@@ -73,9 +74,9 @@ def compile_claimed(work, claims):
     """Compile (or load) each kernel of ``work`` (:func:`work_list`) that this process is the first to claim in
     directory ``claims``."""
     view = (RecordView(STEP_CONTEXT),)
-    for k, (module, name, signature) in enumerate(work):
-        try:
-            os.close(os.open(os.path.join(claims, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    for module, name, signature in work:
+        try:     # (claimed by name: a list that grows, :meth:`Sharing.start`, keeps its claims)
+            os.close(os.open(os.path.join(claims, f"{module}.{name}"), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
         except FileExistsError:
             continue
         getattr(importlib.import_module(module), name).compile(view if signature is None else signature)
@@ -110,21 +111,27 @@ def _start_helper(work):
         return None, None
 
 
-class _Sharing:
-    """One sharing out: the work list, the helper and its claims directory, started by :meth:`start`, finished
-    (this process's claims compiled, the helper waited for) by :meth:`finish`."""
+class Sharing:
+    """One sharing out of a world's lean step of ``coverage``: the helper and its claims directory, started by
+    :meth:`start`, finished (this process's claims compiled, the helper waited for) by :meth:`finish`."""
 
-    def __init__(self, coverage, extra):
+    def __init__(self, coverage):
         self.coverage = coverage
-        self.extra = extra
         self.work = self.helper = self.claims = None
 
-    def start(self):
-        """Start the helper on the work list (nothing without a cache or a second core, or when none starts)."""
+    def start(self, extra):
+        """Start the helper on :func:`work_list` of ``extra`` (nothing without a cache or a second core, or when
+        none starts).  Started already (:func:`ahead`), the helper goes on with its list while this process
+        will compile the new list's kernels that no one has claimed."""
+        if self.helper is not None:
+            self.work = work_list(self.coverage, extra)
+            return
         if cache.CACHE_DIR is None or _cores() < 2:
             return
-        self.work = work_list(self.coverage, self.extra())
+        self.work = work_list(self.coverage, extra)
         self.helper, self.claims = _start_helper(self.work)
+        if self.helper is not None:      # (a program that ends before its first step stops the helper)
+            weakref.finalize(self, _stop, self.helper, self.claims)
 
     def finish(self):
         """Compile the kernels this process claims, and wait for the helper."""
@@ -144,22 +151,52 @@ class _Sharing:
             shutil.rmtree(self.claims, ignore_errors=True)
 
 
+def _stop(helper, claims):
+    """Stop ``helper`` if it still runs, and remove its claims directory."""
+    if helper.poll() is None:
+        helper.kill()
+        helper.wait()
+    shutil.rmtree(claims, ignore_errors=True)
+
+
+def _cached(kernel):
+    """Whether the kernel cache holds an up-to-date compile of ``kernel`` (a dispatcher); True when that cannot
+    be told (it is a hint only)."""
+    try:
+        return bool(kernel._cache._cache_file._load_index())
+    except Exception:      # noqa: BLE001 (Numba's cache internals: any failure means "do not start a helper")
+        return True
+
+
+def ahead(coverage):
+    """A :class:`Sharing` of the lean step of ``coverage`` started now, before the step is first taken, when its
+    stages are not in the cache (for a program that compiles something else first, such as a ray cast: the
+    helper compiles the step's stages meanwhile); None when they are.  The step's first packing
+    (:func:`shared`) finishes it."""
+    if _cached(TIME_OF_IMPACT[coverage]):
+        return None
+    sharing = Sharing(coverage)
+    sharing.start([])
+    return sharing
+
+
 class _ShareOnCompile(event.Listener):
     """Starts the sharing out when the first of ``early`` (the context's packing, which compiles before the
     step) or ``entry`` begins to compile (it was not in the cache), and finishes it before ``entry`` compiles:
     the helper starts up while this process compiles the packing."""
 
-    def __init__(self, early, entry, sharing):
+    def __init__(self, early, entry, sharing, extra):
         self.early = early
         self.entry = entry
         self.sharing = sharing
+        self.extra = extra
         self.started = False
 
     def on_start(self, ev):
         dispatcher = ev.data.get("dispatcher")
         if not self.started and (dispatcher is self.early or dispatcher is self.entry):
             self.started = True
-            self.sharing.start()
+            self.sharing.start(self.extra())
         if dispatcher is self.entry:
             self.sharing.finish()
 
@@ -168,18 +205,21 @@ class _ShareOnCompile(event.Listener):
 
 
 @contextlib.contextmanager
-def shared(early, entry, coverage, lean, extra):
+def shared(early, entry, coverage, lean, extra, sharing=None):
     """Around the packing of a step's context (``early``, the packing kernel, a dispatcher) and the first call
     of step ``entry`` (a dispatcher) of ``coverage``: if either compiles and the step is ``lean``, its stages
     and the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) are
-    shared out: a helper starts when the first of them begins to compile, and the entry compiles once the
-    list is done (the entry loads the stages from the cache)."""
-    if not lean:
-        yield
-        return
-    sharing = _Sharing(coverage, extra)
+    shared out: a helper starts when the first of them begins to compile (or was started by :func:`ahead`:
+    ``sharing``), and the entry compiles once the list is done (the entry loads the stages from the cache)."""
+    if sharing is None or sharing.coverage != coverage or not lean:
+        if sharing is not None:
+            sharing.finish()          # (a helper started for another step: its kernels are in the cache)
+        sharing = Sharing(coverage)
     try:
-        with event.install_listener("numba:compile", _ShareOnCompile(early, entry, sharing)):
+        if lean:
+            with event.install_listener("numba:compile", _ShareOnCompile(early, entry, sharing, extra)):
+                yield
+        else:
             yield
     finally:
         sharing.finish()

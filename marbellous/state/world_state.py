@@ -19,7 +19,7 @@ from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..deformables.particle_state import ParticleState
 from ..pipeline.context import pack_context, pack_kernel
-from ..pipeline.precompile import shared
+from ..pipeline.precompile import ahead, shared
 from ..pipeline.stages import STAGES
 from ..collision.broadphase import GRID
 from ..dynamics.contact_bundles import MIN_BUNDLED_CONTACTS
@@ -129,24 +129,38 @@ class WorldState:
         self.context = self.entry = self.addresses = None
         self.statuses = np.zeros(1, dtype=np.int64)
         self.tier = None      # the tier of that step (pipeline/step.py: LEAN or FULL)
+        self.sharing = None   # a step compiling ahead in a helper process (compile_ahead), until the first pack
 
     # --- the step -----------------------------------------------------------------------------------------
     def invalidate(self):
         """Forget the packed context (a table was replaced, or the step's variant changed)."""
         self.context = None
 
+    def step_variant(self):
+        """``(coverage, tier, step)``: the pair tests the bodies can need (``scene_coverage``), the step's tier
+        (``scene_tier``) and the scheme's step kernel of them."""
+        coverage = scene_coverage(self.bi, self.si, self.bodies.end)
+        flags = self.bi[:self.bodies.end, L.FLAGS]
+        tier = scene_tier(self.solver, self.params_i, self.constraints.end,
+                          max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]),
+                          np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
+        return coverage, tier, STEPS[self.solver][coverage][tier]
+
+    def compile_ahead(self):
+        """Start compiling the step as it would be taken now in a helper process, when it is lean and not in the
+        kernel cache (``pipeline/precompile.ahead``); the first :meth:`pack` finishes it."""
+        coverage, tier, _ = self.step_variant()
+        if tier == LEAN and self.sharing is None:
+            self.sharing = ahead(coverage)
+
     def pack(self):
         """The step context of the current tables and the compiled entry of the scheme's step for the pair
         tests the bodies can need (``scene_coverage``; compiled on first use: a progress line, then a notice,
         ``_numba/progress.py``)."""
-        coverage = scene_coverage(self.bi, self.si, self.bodies.end)
-        flags = self.bi[:self.bodies.end, L.FLAGS]
-        self.tier = scene_tier(self.solver, self.params_i, self.constraints.end,
-                               max(self.contact_f[0].shape[0], self.contact_f[1].shape[0]),
-                               np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
-        step = STEPS[self.solver][coverage][self.tier]
+        coverage, self.tier, step = self.step_variant()
+        sharing, self.sharing = self.sharing, None
         with compiling(), shared(pack_kernel, step, coverage, self.tier == LEAN,
-                                 lambda: self.particles.kernel_work(self)):
+                                 lambda: self.particles.kernel_work(self), sharing):
             self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
                                         self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
                                         self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
