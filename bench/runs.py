@@ -1,8 +1,10 @@
 """Running one scene in one engine: the Marbellous adapter and the timed loop shared by every engine.
 
 An engine run offers ``step()``, ``positions()`` (dynamic bodies, Marbellous axes, (n, 3) m),
-``max_penetration()`` (m) and ``close()``.  ``timed_run`` times the ``step()`` calls only; between
-chunks of steps it samples positions and penetration (outside the clock) for the sanity measures.
+``max_penetration()`` (m) and ``close()``.  ``timed_run`` times the ``step()`` calls only, or, for a run
+that times its own steps (``timed_steps(n, budget)``: an engine in another process, whose requests cost
+more than its steps), the times it reports; between chunks of steps it samples positions and penetration
+(outside the clock) for the sanity measures.
 """
 import time
 
@@ -30,6 +32,23 @@ class MarbellousRun:
         pass
 
 
+def steps_timed(run, n, budget=None):
+    """Step ``run`` up to ``n`` times, stopping once the steps have taken more than ``budget`` seconds (None:
+    no limit): ``(steps done, seconds spent stepping)``.  The seconds are the run's own (``timed_steps``)
+    where it has them, else the clock's around each ``step()`` call."""
+    if hasattr(run, "timed_steps"):
+        seconds = run.timed_steps(n, budget)
+        return len(seconds), float(sum(seconds))
+    clock = time.perf_counter
+    done, spent = 0, 0.0
+    while done < n and (budget is None or spent <= budget):
+        t = clock()
+        run.step()
+        spent += clock() - t
+        done += 1
+    return done, spent
+
+
 def timed_run(run, steps, samples=10, time_cap=None):
     """Step ``run`` ``steps`` times; returns a dict with ``steps`` done, ``seconds`` spent in ``step()``,
     ``positions`` (list of (step, (n, 3) array) samples, the first at step 0, the last two at the final
@@ -39,25 +58,19 @@ def timed_run(run, steps, samples=10, time_cap=None):
     seconds = 0.0
     trace = [(0, run.positions())]
     pen = run.max_penetration()
-    clock = time.perf_counter
     done = 0
     capped = False
     while done < steps - 1 and not capped:
-        for _ in range(min(chunk, steps - 1 - done)):
-            t = clock()
-            run.step()
-            seconds += clock() - t
-            done += 1
-            capped = time_cap is not None and seconds > time_cap
-            if capped:
-                break
+        k, s = steps_timed(run, min(chunk, steps - 1 - done), None if time_cap is None else time_cap - seconds)
+        done += k
+        seconds += s
+        capped = time_cap is not None and seconds > time_cap
         trace.append((done, run.positions()))
         pen = max(pen, run.max_penetration())
     # the final step, one step after the last sample (speeds at the end)
-    t = clock()
-    run.step()
-    seconds += clock() - t
-    done += 1
+    k, s = steps_timed(run, 1)
+    done += k
+    seconds += s
     trace.append((done, run.positions()))
     pen = max(pen, run.max_penetration())
     return {"steps": done, "seconds": seconds, "positions": trace, "max_penetration": pen}
