@@ -1,38 +1,66 @@
-"""Peer engines for the benchmark: a Marbellous world translated body by body into PyBullet or MuJoCo.
+"""Peer engines for the benchmark: a Marbellous world translated body by body into PyBullet, MuJoCo, or
+Jolt Physics or Rapier in WebAssembly (run by node, ``wasm_world.py``).
 
 Every peer run is built from the same Marbellous world (shapes, poses, velocities, masses, friction),
-with the axes mapped (Marbellous is y-up, the peers z-up), and offers the same small interface as
-``bench.runs.MarbellousRun``: ``step()``, ``positions()`` of the dynamic bodies in Marbellous axes,
-``max_penetration()`` (m) and ``close()``.  ``make_peer(name, world)`` raises ``Unsupported`` when the
-peer has no equivalent of a shape, and ``ImportError`` when it is not installed.
+with the axes mapped where they differ (Marbellous is y-up, PyBullet and MuJoCo z-up; Jolt and Rapier are
+y-up), and offers the same small interface as ``bench.runs.MarbellousRun``: ``step()``, ``positions()`` of
+the dynamic bodies in Marbellous axes, ``max_penetration()`` (m) and ``close()``; the WebAssembly peers also
+``timed_steps(n, budget)``, their steps timed inside node.  ``make_peer(name, world)`` raises
+``Unsupported`` when the peer has no equivalent of a shape, and ``ImportError`` when it is not installed
+(for the WebAssembly peers: node or npm missing, or the first install of their npm packages failed).
 """
+import numpy as np
 
 
 class Unsupported(Exception):
     """The peer has no equivalent of a shape in the scene."""
 
 
+#: every peer's name
+NAMES = ("pybullet", "mujoco", "jolt-wasm", "rapier-wasm")
+
+
 def make_peer(name, world, dt):
-    """A run of ``world`` in peer ``name`` (``"pybullet"`` or ``"mujoco"``) with time step ``dt`` (s)."""
+    """A run of ``world`` in peer ``name`` (one of ``NAMES``) with time step ``dt`` (s)."""
     if name == "pybullet":
         from .pybullet_world import PyBulletRun
         return PyBulletRun(world, dt)
     if name == "mujoco":
         from .mujoco_world import MuJoCoRun
         return MuJoCoRun(world, dt)
-    raise ValueError(f"name must be 'pybullet' or 'mujoco', got {name!r}")
+    if name in NAMES:
+        from .wasm_world import PEERS
+        return PEERS[name](world, dt)
+    raise ValueError(f"name must be one of {', '.join(NAMES)}, got {name!r}")
 
 
 def version(name):
-    """Installed version string of a peer, or None when it is not installed."""
+    """Installed version string of a peer, or None when it is not installed.  For a WebAssembly peer, its npm
+    package's version, once node is found and the package is in place (installed now on first use)."""
     try:
         if name == "pybullet":
             import pybullet
             return str(pybullet.getAPIVersion())
-        import mujoco
-        return mujoco.__version__
+        if name == "mujoco":
+            import mujoco
+            return mujoco.__version__
+        from .npm_cache import PACKAGES, node_and_prefix
+        from .wasm_world import PEERS
+        node_and_prefix()
+        return PACKAGES[PEERS[name].package]
     except ImportError:
         return None
+
+
+def single_shape(rec):
+    """The one shape of a body record (``bodies_of``), centred on the body's origin and unturned; raises
+    ``Unsupported`` for compound bodies and offset shapes, which the peers do not translate."""
+    if len(rec["shapes"]) != 1:
+        raise Unsupported("compound bodies")
+    shape, lp, lq = rec["shapes"][0]
+    if np.any(lp != 0.0) or np.any(lq != np.array([1.0, 0.0, 0.0, 0.0])):
+        raise Unsupported("shapes offset from their body's origin")
+    return shape
 
 
 def bodies_of(world):

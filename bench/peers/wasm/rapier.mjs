@@ -1,0 +1,112 @@
+// Rapier (npm @dimforge/rapier3d-compat, WebAssembly) as a backend of driver.mjs.
+//
+// Each body is a rigid body (fixed or dynamic) with one collider.  Rapier's defaults otherwise (4 solver
+// iterations, sleeping, no damping, no continuous collision), except: the mass given, which sets the
+// collider's density and so the inertia Rapier computes from the shape (its default density is 1 kg/m^3).
+// Marbellous combines friction by geometric mean and restitution by maximum: each collider gets the square
+// root of its friction coefficient with Rapier's "multiply" rule, whose product is that mean, and its
+// restitution with the "max" rule.
+export async function load(require) {
+    const R = require("@dimforge/rapier3d-compat");
+    await R.init();
+    return new RapierWorld(R);
+}
+
+class RapierWorld {
+    constructor(R) {
+        this.R = R;
+    }
+
+    build(spec) {
+        const R = this.R;
+        if (this.world) {
+            this.world.free();     // the scene built before
+        }
+        const [gx, gy, gz] = spec.gravity;
+        this.world = new R.World({ x: gx, y: gy, z: gz });
+        this.world.timestep = spec.dt;
+        this.dynamic = [];
+        this.colliders = [];
+        for (const b of spec.bodies) {
+            const [w, x, y, z] = b.orientation;
+            const [px, py, pz] = b.position;
+            const desc = (b.static ? R.RigidBodyDesc.fixed() : R.RigidBodyDesc.dynamic())
+                .setTranslation(px, py, pz).setRotation({ w, x, y, z });
+            if (!b.static) {
+                const [vx, vy, vz] = b.velocity;
+                const [ax, ay, az] = b.angular_velocity;
+                desc.setLinvel(vx, vy, vz).setAngvel({ x: ax, y: ay, z: az });
+            }
+            const body = this.world.createRigidBody(desc);
+            const collider = this.collider(spec.shapes[b.shape])
+                .setFriction(Math.sqrt(b.friction)).setFrictionCombineRule(R.CoefficientCombineRule.Multiply)
+                .setRestitution(b.restitution).setRestitutionCombineRule(R.CoefficientCombineRule.Max);
+            if (!b.static) {
+                collider.setMass(b.mass);
+                this.dynamic.push(body);
+                this.colliders.push(this.world.createCollider(collider, body));
+            } else {
+                this.world.createCollider(collider, body);
+            }
+        }
+        return R.version();
+    }
+
+    collider(s) {
+        const R = this.R;
+        if (s.kind === "sphere") {
+            return R.ColliderDesc.ball(s.radius);
+        }
+        if (s.kind === "box") {
+            return R.ColliderDesc.cuboid(...s.half_extents);
+        }
+        if (s.kind === "capsule") {
+            return R.ColliderDesc.capsule(s.half_height, s.radius);
+        }
+        if (s.kind === "plane") {
+            // Rapier's half-space has its surface through the collider's origin: moved out to n . x = offset
+            const [nx, ny, nz] = s.normal;
+            return new R.ColliderDesc(new R.HalfSpace({ x: nx, y: ny, z: nz }))
+                .setTranslation(nx * s.offset, ny * s.offset, nz * s.offset);
+        }
+        if (s.kind === "hull") {
+            const desc = R.ColliderDesc.convexHull(new Float32Array(s.points));
+            if (desc === null) {
+                throw new Error("Rapier refused the convex hull's points");
+            }
+            return desc;
+        }
+        if (s.kind === "mesh") {
+            return R.ColliderDesc.trimesh(new Float32Array(s.vertices), new Uint32Array(s.triangles));
+        }
+        throw new Error(`no Rapier shape for ${s.kind}`);
+    }
+
+    step() {
+        this.world.step();
+    }
+
+    positions() {
+        const out = [];
+        for (const body of this.dynamic) {
+            const p = body.translation();
+            out.push(p.x, p.y, p.z);
+        }
+        return out;
+    }
+
+    penetration() {
+        // the contact points of Rapier's narrow phase, from the last step (negative distances overlap)
+        let deepest = 0.0;
+        for (const collider of this.colliders) {
+            this.world.contactPairsWith(collider, (other) => {
+                this.world.contactPair(collider, other, (manifold) => {
+                    for (let k = 0; k < manifold.numContacts(); k++) {
+                        deepest = Math.max(deepest, -manifold.contactDist(k));
+                    }
+                });
+            });
+        }
+        return deepest;
+    }
+}
