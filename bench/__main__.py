@@ -1,8 +1,11 @@
-"""``python -m bench``: Marbellous side by side with PyBullet and MuJoCo on the standard scenes.
+"""``python -m bench``: Marbellous side by side with PyBullet, MuJoCo, Jolt and Rapier on the standard scenes.
 
 Every scene is built once in Marbellous (``marbellous.scenes``) and translated body by body into each
 peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (best of the scene's
 repeats, which go round the engines in turn), and checked by a sanity measure (``bench/scenes.py``).
+``jolt-wasm`` and ``rapier-wasm`` are Jolt Physics and Rapier compiled to WebAssembly, run by node (their
+npm packages are installed on first use into a cache outside the checkout, ``bench/peers/npm_cache.py``)
+and timed inside node around each engine step; a peer that is not installed is reported and skipped.
 Prints a table and writes ``bench/results/<date>-<host>.json`` with its bar plot beside it (``.png``);
 ``--write-docs`` also publishes the table and the plot as ``docs/bench/latest.md`` and ``latest.png``.
 Runs from any directory: ``python -m bench`` with the checkout on the path, or ``python path/to/bench``.
@@ -10,6 +13,7 @@ Runs from any directory: ``python -m bench`` with the checkout on the path, or `
     python -m bench                         all scenes, all engines (about 10-15 minutes on 2 cores)
     python -m bench --quick                 small scenes, few steps: a check of the harness
     python -m bench --scenes tower_20 pile_1k --engines marbellous pybullet
+    python -m bench --engines marbellous jolt-wasm rapier-wasm
     python -m bench --profile               add the per-stage profile of Marbellous' step per scene
     python -m bench --write-docs            a full run that updates docs/bench/latest.md and latest.png
 """
@@ -32,8 +36,9 @@ from .scenes import DT, SCENES  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-#: "marbellous-2t": Marbellous with ``World.threads = 2`` (parallel contact passes; the default is serial)
-ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco")
+#: "marbellous-2t": Marbellous with ``World.threads = 2`` (parallel contact passes; the default is serial);
+#: "jolt-wasm", "rapier-wasm": Jolt Physics and Rapier in WebAssembly, run by node
+ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco", "jolt-wasm", "rapier-wasm")
 
 
 def warm_up():
@@ -100,8 +105,10 @@ def run_query_scene(engine, quick):
             raise ImportError("pybullet")
         us = r["random_us"]
         sanity = {"contacts_per_query": r["random_contacts"], "ok": r["random_contacts"] >= 1.0}
-    else:
+    elif engine == "mujoco":
         raise Unsupported("MuJoCo collides meshes as convex hulls")
+    else:
+        raise Unsupported("a query per request to node would time the pipe, not the engine")
     return {"status": "ok", "steps": meta["queries"], "seconds": us * 1e-6 * meta["queries"], "ms_per_step": us * 1e-3,
             "steps_per_s": 1e6 / us, "sanity": sanity, "unit": "query (from Python)"}
 
@@ -189,7 +196,8 @@ def plot(results, engines, machine, path):
     names = list(results)
     fig, ax = plt.subplots(figsize=(max(6.0, 1.6 * len(names)), 4.5))
     width = 0.8 / len(engines)
-    colours = {"marbellous": "#c0392b", "marbellous-2t": "#e67e22", "pybullet": "#2c3e50", "mujoco": "#7f8c8d"}
+    colours = {"marbellous": "#c0392b", "marbellous-2t": "#e67e22", "pybullet": "#2c3e50", "mujoco": "#7f8c8d",
+               "jolt-wasm": "#2980b9", "rapier-wasm": "#27ae60"}
     for k, engine in enumerate(engines):
         xs, ys, hatches = [], [], []
         for i, name in enumerate(names):
@@ -253,7 +261,7 @@ def main(argv=None):
     if args.write_docs and args.quick:
         ap.error("--write-docs publishes a full run's numbers, not a --quick check")
 
-    machine = describe(ROOT, {e: version(e) for e in ENGINES if not e.startswith("marbellous")})
+    machine = describe(ROOT, {e: version(e) for e in args.engines if not e.startswith("marbellous")})
     paths = output_paths(machine, args.out, args.quick, not args.no_plot, args.write_docs)
     print(f"{machine['cpu']}, {machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, "
           f"Numba {machine['numba']}, peers {machine['peers']}")
