@@ -15,7 +15,7 @@ import numpy as np
 
 from marbellous.shapes.primitives import Box, Plane, Sphere
 
-from . import Unsupported, bodies_of
+from . import Unsupported, bodies_of, single_shape
 from .axes import from_peer, quat_to_peer, to_peer
 
 
@@ -57,11 +57,7 @@ class MuJoCoRun:
         free = []
         records = bodies_of(world)
         for k, rec in enumerate(records):
-            if len(rec["shapes"]) != 1:
-                raise Unsupported("compound bodies")
-            shape, lp, lq = rec["shapes"][0]
-            if np.any(lp != 0.0) or np.any(lq != np.array([1.0, 0.0, 0.0, 0.0])):
-                raise Unsupported("shapes offset from their body's origin")
+            shape = single_shape(rec)
             pos = to_peer(rec["position"])
             if isinstance(shape, Plane):
                 n = to_peer(shape.normal)

@@ -22,7 +22,7 @@ import numpy as np
 from marbellous.shapes.mesh import TriangleMesh
 from marbellous.shapes.primitives import Box, Plane, Sphere
 
-from . import Unsupported, bodies_of
+from . import Unsupported, bodies_of, single_shape
 from .axes import from_peer, quat_to_peer, to_peer
 
 
@@ -79,11 +79,7 @@ class PyBulletRun:
         records = bodies_of(world)
         batches = {}
         for rec in records:
-            if len(rec["shapes"]) != 1:
-                raise Unsupported("compound bodies")
-            shape, lp, lq = rec["shapes"][0]
-            if np.any(lp != 0.0) or np.any(lq != np.array([1.0, 0.0, 0.0, 0.0])):
-                raise Unsupported("shapes offset from their body's origin")
+            shape = single_shape(rec)
             if isinstance(shape, Sphere):
                 key = ("sphere", shape.radius)
                 make = lambda s=shape: p.createCollisionShape(p.GEOM_SPHERE, radius=s.radius, **kw)
