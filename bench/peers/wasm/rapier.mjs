@@ -96,15 +96,17 @@ class RapierWorld {
     }
 
     penetration() {
-        // the contact points of Rapier's narrow phase, from the last step (negative distances overlap)
+        // Each dynamic collider against the colliders Rapier's narrow phase pairs it with, by Rapier's contact
+        // query at the current poses: the manifolds it keeps are not refreshed for a body resting on a triangle
+        // mesh (they keep the depth of the first impact).  The other collider goes first: Rapier 0.21 measures
+        // a ball against a half-space wrongly the other way round.
         let deepest = 0.0;
         for (const collider of this.colliders) {
             this.world.contactPairsWith(collider, (other) => {
-                this.world.contactPair(collider, other, (manifold) => {
-                    for (let k = 0; k < manifold.numContacts(); k++) {
-                        deepest = Math.max(deepest, -manifold.contactDist(k));
-                    }
-                });
+                const contact = other.contactCollider(collider, 0.0);
+                if (contact !== null) {
+                    deepest = Math.max(deepest, -contact.distance);
+                }
             });
         }
         return deepest;
