@@ -87,8 +87,8 @@ class WasmRun:
     name = backend = package = None
 
     def __init__(self, world, dt):
-        node, prefix = node_and_prefix()
         request = build_request(world, dt)
+        node, prefix = node_and_prefix()
         self._stderr = tempfile.TemporaryFile()
         self._proc = subprocess.Popen([node, DRIVER, self.backend, prefix], stdin=subprocess.PIPE,
                                       stdout=subprocess.PIPE, stderr=self._stderr, text=True)
