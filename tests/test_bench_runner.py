@@ -1,11 +1,14 @@
 """The benchmark runner (bench/__main__.py): a scene's repeats go round the engines in turn, each engine
 keeps its fastest run, and an engine that cannot run is not tried again; where a run writes; the runner
-starts from any directory."""
+starts from any directory; a run that times its own steps (bench/runs.py) is timed by them, time cap included."""
 import os
 import subprocess
 import sys
 
+import numpy as np
+
 import bench.__main__ as runner
+from bench.runs import timed_run
 from bench.scenes import SCENES
 
 
@@ -90,3 +93,33 @@ def test_a_quick_run_does_not_judge_a_pile_that_had_no_time_to_settle():
            "sanity": {"ok": None, "spread": 1.0}}
     text = runner.table({"pile_1k": {"marbellous": row}}, ["marbellous"])
     assert "n/a (quick)" in text and " NO" not in text
+
+
+class SelfTimed:
+    """A stand-in for an engine that times its own steps: each takes 0.5 s by its account."""
+
+    def __init__(self):
+        self.done = 0
+
+    def timed_steps(self, n, budget=None):
+        seconds = []
+        while len(seconds) < n and (budget is None or sum(seconds) <= budget):
+            seconds.append(0.5)
+            self.done += 1
+        return seconds
+
+    def positions(self):
+        return np.full((1, 3), float(self.done))
+
+    def max_penetration(self):
+        return 0.0
+
+
+def test_a_run_that_times_its_own_steps_is_timed_by_them():
+    res = timed_run(SelfTimed(), 20)
+    assert res["steps"] == 20 and res["seconds"] == 10.0
+    assert [step for step, _ in res["positions"]] == [0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 19, 20]
+    assert all(p[0, 0] == step for step, p in res["positions"])
+    # chunks of 2 steps: the fourth chunk stops after its first step, past the 3 s cap, then the final step
+    capped = timed_run(SelfTimed(), 20, time_cap=3.0)
+    assert capped["steps"] == 8 and capped["seconds"] == 4.0
