@@ -12,8 +12,12 @@ settings are listed there), which answers every request with one JSON line (the 
   combined as Marbellous combines them: friction by geometric mean (Jolt's own rule; Rapier's colliders get
   ``sqrt(mu)`` under its "multiply" rule, as PyBullet's bodies do), restitution by maximum.  Neither engine
   has rolling or torsional friction: those lever arms are dropped, so the piles' spheres roll freely.
-- No damping and no cap on linear speed, as in Marbellous; each engine's defaults otherwise (solver
-  iterations, sleeping, contact margins), one engine step per ``dt``.
+- No damping, as in Marbellous, and Jolt's cap on linear speed (500 m/s) lifted.  Rapier holds linear speed
+  to 400 m/s times its length unit (1 m) and has no setting for it (a larger length unit would scale its
+  contact and sleep tolerances too): the one-body scene's body, falling for 333 s, is held at 400 m/s from
+  41 s on and fails its check there.  Each engine's defaults otherwise (solver iterations, sleeping, contact
+  margins), one engine step per ``dt``.
+- ``max_penetration`` is each engine's own contact query at the current poses, outside the clock.
 - Steps are timed inside node (``performance.now()`` around each engine step), not from Python: a request
   through the pipe costs more than a small scene's whole step.  ``timed_steps`` returns those times, and
   ``bench.runs.timed_run`` counts them instead of its own clock.

@@ -1,8 +1,9 @@
 // Rapier (npm @dimforge/rapier3d-compat, WebAssembly) as a backend of driver.mjs.
 //
 // Each body is a rigid body (fixed or dynamic) with one collider.  Rapier's defaults otherwise (4 solver
-// iterations, sleeping, no damping, no continuous collision), except: the mass given, which sets the
-// collider's density and so the inertia Rapier computes from the shape (its default density is 1 kg/m^3).
+// iterations, sleeping, no damping, no continuous collision, linear speed held to 400 m/s), except: the mass
+// given, which sets the collider's density and so the inertia Rapier computes from the shape (its default
+// density is 1 kg/m^3).
 // Marbellous combines friction by geometric mean and restitution by maximum: each collider gets the square
 // root of its friction coefficient with Rapier's "multiply" rule, whose product is that mean, and its
 // restitution with the "max" rule.
