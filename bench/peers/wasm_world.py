@@ -20,7 +20,8 @@ settings are listed there), which answers every request with one JSON line (the 
 - ``max_penetration`` is each engine's own contact query at the current poses, outside the clock.
 - Steps are timed inside node (``performance.now()`` around each engine step), not from Python: a request
   through the pipe costs more than a small scene's whole step.  ``timed_steps`` returns those times, and
-  ``bench.runs.timed_run`` counts them instead of its own clock.
+  ``bench.runs.timed_run`` counts them instead of its own clock.  Before the scene is built, each engine steps
+  a small scene of every shape (``driver.mjs``), so that V8's compiling of the WebAssembly is not timed.
 """
 import json
 import os
