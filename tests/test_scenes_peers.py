@@ -37,14 +37,18 @@ def test_orientations_turn_with_the_axes(q):
     assert np.allclose(quat_to_matrix_np(quat_to_peer(q)), R @ quat_to_matrix_np(q), atol=1e-12)
 
 
-@pytest.fixture(scope="module")
-def wasm_peers():
-    """Node and the peers' npm packages (installed on first use), or the test skipped saying which is missing."""
+@pytest.fixture
+def wasm_peers(monkeypatch):
+    """Node and the peers' npm packages (installed on first use), or the test skipped saying which is missing.
+    Node compiles the engines lazily here: the benchmark's compiling of the whole engine up front takes seconds
+    a start and changes no result."""
+    from bench.peers import wasm_world
     from bench.peers.npm_cache import node_and_prefix
     try:
         node_and_prefix()
     except ImportError as e:
         pytest.skip(str(e))
+    monkeypatch.setattr(wasm_world, "NODE_FLAGS", ("--expose-gc",))
 
 
 @pytest.mark.parametrize("name", WASM_PEERS)

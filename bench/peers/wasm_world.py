@@ -20,8 +20,10 @@ settings are listed there), which answers every request with one JSON line (the 
 - ``max_penetration`` is each engine's own contact query at the current poses, outside the clock.
 - Steps are timed inside node (``performance.now()`` around each engine step), not from Python: a request
   through the pipe costs more than a small scene's whole step.  ``timed_steps`` returns those times, and
-  ``bench.runs.timed_run`` counts them instead of its own clock.  Before the scene is built, each engine steps
-  a small scene of every shape (``driver.mjs``), so that V8's compiling of the WebAssembly is not timed.
+  ``bench.runs.timed_run`` counts them instead of its own clock.  Nothing is compiled while steps are timed:
+  node compiles the whole engine when it loads it (``NODE_FLAGS``), and each engine steps a small scene of
+  every shape (``driver.mjs``) before the scene is built, as the benchmark's warm-up compiles Marbellous'
+  kernels before it times them.
 """
 import json
 import os
@@ -39,6 +41,11 @@ from .npm_cache import node_and_prefix
 
 #: the node side: one engine behind line-delimited JSON
 DRIVER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "wasm", "driver.mjs")
+#: node's options: V8 compiles the engine's whole WebAssembly module with its optimising compiler when it loads
+#: it (1.5 s for Jolt, 3.5 s for Rapier, before anything is timed) rather than function by function and again
+#: once hot, on another thread, while steps are timed; ``gc()`` for the driver, which collects the build's
+#: garbage before the steps
+NODE_FLAGS = ("--no-liftoff", "--no-wasm-lazy-compilation", "--expose-gc")
 #: seconds a closing engine is given to exit before it is killed
 CLOSE_TIMEOUT = 10.0
 
@@ -95,7 +102,7 @@ class WasmRun:
         request = build_request(world, dt)
         node, prefix = node_and_prefix()
         self._stderr = tempfile.TemporaryFile()
-        self._proc = subprocess.Popen([node, DRIVER, self.backend, prefix], stdin=subprocess.PIPE,
+        self._proc = subprocess.Popen([node, *NODE_FLAGS, DRIVER, self.backend, prefix], stdin=subprocess.PIPE,
                                       stdout=subprocess.PIPE, stderr=self._stderr, text=True)
         try:
             self.version = self._ask(request)["version"]

@@ -31,8 +31,9 @@ const engine = await (await import(backends[engineName])).load(requireFromPrefix
 warmUp();
 
 // A second of a small scene with every kind of shape and contact, stepped once before any request (and then
-// replaced by the scene built), so that V8's compilation of the engine's WebAssembly, function by function
-// on first call, is not timed, as the benchmark's warm-up compiles Marbellous' kernels before it times them.
+// replaced by the scene built), so that the first calls of the engine's code paths (V8 compiling the
+// engine's JavaScript, the engine's first allocations) are not timed, as the benchmark's warm-up compiles
+// Marbellous' kernels before it times them.
 function warmUp() {
     const body = (shape, position, isStatic = false) => ({
         shape, static: isStatic, position, orientation: [1, 0, 0, 0], velocity: [0, 0, 0],
@@ -60,6 +61,14 @@ function warmUp() {
     }
 }
 
+// The request's arrays and the engine's building garbage, collected before any step is timed (with node's
+// --expose-gc; else left to the collector).
+function collectGarbage() {
+    if (typeof globalThis.gc === "function") {
+        globalThis.gc();
+    }
+}
+
 function answer(reply) {
     process.stdout.write(JSON.stringify(reply) + "\n");
 }
@@ -81,7 +90,11 @@ function steps(n, budget) {
 }
 
 const handlers = {
-    build: (r) => ({ version: engine.build(r) }),
+    build: (r) => {
+        const version = engine.build(r);
+        collectGarbage();
+        return { version };
+    },
     step: (r) => steps(r.n, r.budget ?? null),
     positions: () => ({ positions: engine.positions() }),
     penetration: () => ({ depth: engine.penetration() }),
