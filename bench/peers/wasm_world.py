@@ -119,7 +119,11 @@ class WasmRun:
             line = self._proc.stdout.readline()
         except OSError:
             line = ""
-        reply = json.loads(line) if line else {"error": "node stopped"}
+        try:
+            reply = json.loads(line) if line else {"error": "node stopped"}
+        except ValueError:         # something else wrote to node's standard output: the driver cannot go on
+            self._proc.kill()
+            reply = {"error": f"not an answer: {line[:200]!r}"}
         if "error" in reply:
             self._wait()
             self._stderr.seek(0)

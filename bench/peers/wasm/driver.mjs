@@ -39,7 +39,8 @@ function warmUp() {
         shape, static: isStatic, position, orientation: [1, 0, 0, 0], velocity: [0, 0, 0],
         angular_velocity: [0, 0, 0], mass: isStatic ? 0 : 1, friction: 0.5, restitution: 0,
     });
-    const cube = [-1, 1].flatMap((x) => [-1, 1].flatMap((y) => [-1, 1].flatMap((z) => [x, y, z].map((c) => c * 0.5))));
+    const signs = [-0.5, 0.5];
+    const cube = signs.flatMap((x) => signs.flatMap((y) => signs.flatMap((z) => [x, y, z])));
     engine.build({
         dt: 1 / 60, gravity: [0, -9.81, 0],
         shapes: [
