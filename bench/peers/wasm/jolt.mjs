@@ -201,7 +201,7 @@ class JoltWorld {
         if (pairs > this.maxContacts) {
             throw new Error(`${pairs} pairs of bodies in contact, more than Jolt's ${this.maxContacts} contact `
                 + "constraints: it drops the others and bodies sink into each other (jolt-physics 1.1.0 fixes its "
-                + "temporary allocator at 10 MB, which holds about 25,000 at most)");
+                + "temporary allocator at 10 MB, which holds 20,000 to 30,000 at most)");
         }
         return deepest;
     }
