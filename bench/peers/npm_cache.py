@@ -6,6 +6,7 @@ runs ``npm install --prefix DIR`` with the exact versions of ``PACKAGES`` (a few
 registry); later runs find them there.  Needs ``node`` (tested with 20) and, for that first install, ``npm`` on
 the ``PATH``.
 """
+import fcntl
 import functools
 import json
 import os
@@ -45,6 +46,20 @@ def _setup():
     if node is None:
         return None, None, "node is not on the PATH"
     directory = prefix()
+    if not _missing(directory):
+        return node, directory, None
+    try:
+        os.makedirs(directory, exist_ok=True)
+        # (one install at a time: processes started together, such as test workers, wait for the first)
+        with open(os.path.join(directory, "install.lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            return _install(node, npm, directory)
+    except OSError as e:
+        return None, None, f"npm install failed: {e}"
+
+
+def _install(node, npm, directory):
+    """:func:`_setup`'s install of the packages still missing under ``directory``."""
     wanted = _missing(directory)
     if not wanted:
         return node, directory, None
@@ -52,7 +67,6 @@ def _setup():
         return None, None, f"npm is not on the PATH (to install {' '.join(wanted)})"
     print(f"installing {' '.join(wanted)} into {directory} (first use)", file=sys.stderr, flush=True)
     try:
-        os.makedirs(directory, exist_ok=True)
         r = subprocess.run([npm, "install", "--prefix", directory, "--no-audit", "--no-fund", "--save-exact",
                             *[f"{name}@{v}" for name, v in PACKAGES.items()]],
                            capture_output=True, text=True, timeout=INSTALL_TIMEOUT)
