@@ -126,21 +126,28 @@ def test_the_particle_kernels_are_typed_ahead_as_the_step_calls_them():
         assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures
 
 
-@pytest.mark.skipif(precompile._cores() < 2, reason="the helper runs only with a second core")
-def test_a_cold_lean_step_is_compiled_with_a_helper_process(tmp_path):
-    # a fresh kernel cache: the first world's step compiles, and some of its stages come from the helper
-    # (loaded from the cache, a cache hit in this process); the ball lands where it always does
+def run_a_ball_in_a_cold_cache(tmp_path, before, report):
+    """Run, in a new process with a fresh kernel cache in ``tmp_path``, a ball of 0.25 m dropped from 2 m onto a
+    plane (``w``, ``b``), code ``before`` its 120 steps of 1/60 s, and code ``report`` after them; returns what
+    ``report`` printed, split into words."""
     code = ("import marbellous as mb\n"
             "from marbellous.pipeline import precompile, step\n"
             "w = mb.World(); w.add_static(mb.Plane(), friction=0.6)\n"
             "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
-            "for _ in range(120): w.step(1 / 60)\n"
-            "print(w._state.tier == step.LEAN, round(float(b.position[1]), 4),\n"
-            "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
+            + before + "for _ in range(120): w.step(1 / 60)\n" + report)
     env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=900)
     assert run.returncode == 0, run.stderr
-    lean, height, from_helper = run.stdout.split()
+    return run.stdout.split()
+
+
+@pytest.mark.skipif(precompile._cores() < 2, reason="the helper runs only with a second core")
+def test_a_cold_lean_step_is_compiled_with_a_helper_process(tmp_path):
+    # a fresh kernel cache: the first world's step compiles, and some of its stages come from the helper
+    # (loaded from the cache, a cache hit in this process); the ball lands where it always does
+    lean, height, from_helper = run_a_ball_in_a_cold_cache(
+        tmp_path, "", "print(w._state.tier == step.LEAN, round(float(b.position[1]), 4),\n"
+                      "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
     assert lean == "True" and float(height) == pytest.approx(0.25, abs=0.01)
     assert int(from_helper) >= 1
 
@@ -149,20 +156,12 @@ def test_a_cold_lean_step_is_compiled_with_a_helper_process(tmp_path):
 def test_a_step_compiled_ahead_overlaps_a_ray_cast_and_lands_the_same(tmp_path):
     # a fresh kernel cache: the step's stages start compiling in the helper before the first step, while this
     # process compiles a ray cast; the first step then finds stages in the cache, and the ball lands as always
-    code = ("import marbellous as mb\n"
-            "from marbellous.pipeline import precompile, step\n"
-            "w = mb.World(); w.add_static(mb.Plane(), friction=0.6)\n"
-            "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
-            "w._compile_ahead(1 / 60)\n"
-            "started = w._state.sharing is not None\n"
-            "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n"
-            "for _ in range(120): w.step(1 / 60)\n"
-            "print(started, w._state.sharing is None, round(hit.distance, 6), round(float(b.position[1]), 4),\n"
-            "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
-    env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=900)
-    assert run.returncode == 0, run.stderr
-    started, finished, distance, height, from_helper = run.stdout.split()
+    started, finished, distance, height, from_helper = run_a_ball_in_a_cold_cache(
+        tmp_path, "w._compile_ahead(1 / 60)\n"
+                  "started = w._state.sharing is not None\n"
+                  "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n",
+        "print(started, w._state.sharing is None, round(hit.distance, 6), round(float(b.position[1]), 4),\n"
+        "      sum(sum(s._cache_hits.values()) > 0 for s in precompile.lean_stages(0)))\n")
     assert started == "True" and finished == "True"
     assert float(distance) == 5.0
     assert float(height) == pytest.approx(0.25, abs=0.01)
