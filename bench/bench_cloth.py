@@ -10,7 +10,9 @@ only by stretching).
 - Marbellous (``marbellous``): ``mb.cloth_grid(1, 1, N, N)`` and ``w.add_cloth(..., mass=0.5, thickness=0.01,
   position=(0, 1.1, 0))``, its defaults otherwise (stretch stiffness 1e4 N/m per unit strain, bend stiffness
   1e-3, damping 0.01 1/s, friction 0.5, self collision on); and again with ``self_collision=False``
-  (``marbellous-noself``).  ``World(sleeping=False)``, the sphere and the plane added with ``add_static``.
+  (``marbellous-noself``), and both again with the whole cloth's stretch and bending solved at once
+  (``w.cloth_stretch_passes = 1``: ``marbellous-global``, ``marbellous-global-noself``).  ``World(sleeping=False)``,
+  the sphere and the plane added with ``add_static``.
   Skipped, and said so, while the installed Marbellous has no ``add_cloth``/``cloth_grid``.
 - PyBullet (``pybullet``): its deformable world (``resetSimulation(RESET_USE_DEFORMABLE_WORLD)``, the implicit
   ``btDeformableMultiBodyDynamicsWorld``), the sheet an OBJ of the same grid (each square cut along one diagonal)
@@ -181,23 +183,34 @@ def _timed_steps(step, what, positions):
 
 
 # --- Marbellous -------------------------------------------------------------------------------------------------
-def run_marbellous(n, self_collision=True):
+def run_marbellous(n, self_collision=True, stretch_passes=0):
     if not (hasattr(mb, "cloth_grid") and hasattr(mb.World, "add_cloth")):
         raise NotAvailable("not available: this Marbellous has no mb.cloth_grid / World.add_cloth yet")
     w = mb.World(sleeping=False)
+    if stretch_passes:
+        w.cloth_stretch_passes = stretch_passes
     w.add_static(mb.Plane(), friction=FRICTION)
     w.add_static(mb.Sphere(RADIUS), position=CENTRE, friction=FRICTION)
     vertices, triangles = mb.cloth_grid(SIZE, SIZE, n, n)
     c = w.add_cloth(vertices, triangles, mass=MASS, thickness=THICKNESS, friction=FRICTION,
                     self_collision=self_collision, position=(0.0, HEIGHT, 0.0))
     x0 = c.positions
-    what = f"Marbellous' cloth of {n} x {n}" + ("" if self_collision else " without self collision")
+    what = f"Marbellous' cloth of {n} x {n}" + ("" if self_collision else " without self collision") \
+        + (" solved whole" if stretch_passes else "")
     ms, slowest = _timed_steps(lambda: w.step(DT), what, lambda: c.positions)
     return ms, slowest, *measures(x0, c.positions, n)
 
 
 def run_marbellous_noself(n):
     return run_marbellous(n, self_collision=False)
+
+
+def run_marbellous_global(n):
+    return run_marbellous(n, stretch_passes=1)
+
+
+def run_marbellous_global_noself(n):
+    return run_marbellous(n, self_collision=False, stretch_passes=1)
 
 
 # --- PyBullet ---------------------------------------------------------------------------------------------------
@@ -282,7 +295,9 @@ def run_mujoco_implicitfast(n):
     return run_mujoco(n, "implicitfast")
 
 
-RUNS = {"marbellous": run_marbellous, "marbellous-noself": run_marbellous_noself, "pybullet": run_pybullet,
+RUNS = {"marbellous": run_marbellous, "marbellous-noself": run_marbellous_noself,
+        "marbellous-global": run_marbellous_global, "marbellous-global-noself": run_marbellous_global_noself,
+        "pybullet": run_pybullet,
         "mujoco": run_mujoco, "mujoco-implicitfast": run_mujoco_implicitfast}
 
 

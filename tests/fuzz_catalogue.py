@@ -120,6 +120,7 @@ KINDS = {
     "threads": scalar_kind(lo=1, hi=64, int_only=True) + [("zero", 0)],
     "max_steps": scalar_kind(lo=1, hi=1_000_000, int_only=True, none_ok=True) + [("zero", 0), ("negative", -5)],
     "max_halvings": scalar_kind(lo=0, hi=30, int_only=True) + [("negative", -1), ("huge", 31)],
+    "passes": scalar_kind(lo=0, hi=100, int_only=True) + [("negative", -1), ("huge", 101)],
     "bits": _scalar_types() + [("float", 2.5), ("float", 3.0), ("nan", NAN), ("huge", 2 ** 63),
              ("huge", -(2 ** 63) - 1), ("huge", BIG_INT)],
     "flag": [("number", 1), ("number", 0), ("number", 1.0), ("str", "yes"), ("none", None), ("nested", [True])],
@@ -458,6 +459,7 @@ for _arg, _kind in (("edges", "edges"), ("kind", "choice"), ("stiffness", "stiff
     _add("World.add_network", _arg, _kind, _network(_arg))
 _add("World.add_network", "particles", "body", lambda ns, v: ns.w.add_network(v, [(0, 1)], kind="rod"))
 _add("World setter", "particle_substeps", "substeps", _setter("w", "particle_substeps"))
+_add("World setter", "cloth_stretch_passes", "passes", _setter("w", "cloth_stretch_passes"))
 _add("Particles setter", "positions", "particle_rows", _setter("beads", "positions"))
 _add("Particles setter", "velocities", "particle_rows", _setter("beads", "velocities"))
 _add("Particles.pin", "indices", "indices", lambda ns, v: ns.beads.pin(v))

@@ -46,10 +46,13 @@ def hinge_angle(x0, x1, x2, x3):
 
 
 @njit
-def solve_bends(pf, bend_f, bend_i, n_bends, h):
-    """One pass over the hinges ``0 .. n_bends - 1`` (module docstring) in a sub-step of ``h`` s."""
+def solve_bends(pf, bend_f, bend_i, n_bends, solved, h):
+    """One pass over the hinges ``0 .. n_bends - 1`` but those the global solve takes (``solved``,
+    stretch_solve.py) (module docstring) in a sub-step of ``h`` s."""
     g = np.zeros((4, 3))
     for k in range(n_bends):
+        if solved[k]:
+            continue
         r0, r1, r2, r3 = bend_i[k, BN_A], bend_i[k, BN_A + 1], bend_i[k, BN_A + 2], bend_i[k, BN_A + 3]
         e0, e1, e2 = pf[r1, P_POS] - pf[r0, P_POS], pf[r1, P_POS + 1] - pf[r0, P_POS + 1], \
             pf[r1, P_POS + 2] - pf[r0, P_POS + 2]

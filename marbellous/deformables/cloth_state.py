@@ -84,7 +84,9 @@ def tear(ps, record):
     """After the step broke some of the cloth's edges: split its vertices along the tears, grow its set of
     particles, and derive its springs and hinges again (module docstring)."""
     torn = torn_pairs(ps, record)
-    record.torn += torn.shape[0] - record.still_torn
+    # (an edge on the border, held by one triangle, separates nothing when it tears: it is derived again from its
+    # triangle below and acts on, and is not counted; the tears are the edges held by two)
+    record.torn += int(np.count_nonzero(edges_and_hinges(record.triangles, torn)[1])) - record.still_torn
     g = record.set
     old = ps.pf[g.start:g.start + g.count]
     triangles, source = split_torn(record.triangles, torn, g.count)

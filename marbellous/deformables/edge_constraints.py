@@ -58,12 +58,14 @@ def move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
 
 
 @njit
-def solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, share, first):
-    """One pass over the edges ``0 .. ne - 1`` (module docstring), in the sub-step that ends ``back`` s
-    before the step's end; ``first``: the sub-step's first pass, the multipliers start from 0 (else a second
-    pass over the cloths' edges only, going on from them).  Each edge's force gets ``share`` (1 / sub-steps) of
-    this sub-step's tension."""
+def solve_edges(pf, pi, ef, ei, ne, solved, bf, bi, bx, back, h, share, first):
+    """One pass over the edges ``0 .. ne - 1`` but those the whole-cloth solve takes (``solved``,
+    stretch_solve.py) (module docstring), in the sub-step that ends ``back`` s before the step's end;
+    ``first``: the sub-step's first pass, the multipliers start from 0 (else a second pass over the cloths' edges
+    only, going on from them).  Each edge's force gets ``share`` (1 / sub-steps) of this sub-step's tension."""
     for e in range(ne):
+        if solved[e]:
+            continue
         if first:
             ef[e, E_LAMBDA] = 0.0
         elif pi[ei[e, E_A], P_CLOTH] < 0:

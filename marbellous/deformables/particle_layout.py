@@ -116,4 +116,5 @@ KK_PARTICLE = 1
 Q_DT = 0             # the step (s)
 Q_GRAVITY = 1        # 3 (m/s^2)
 Q_SUBSTEPS = 4       # sub-steps per step (a whole number)
-Q_LEN = 5
+Q_STRETCH_PASSES = 5  # local-global passes of the cloths' stretch per sub-step (stretch_solve.py); 0: none
+Q_LEN = 6

@@ -12,6 +12,7 @@ from . import particle_layout as P
 from .body_motion import BX_COLS
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
 from .particle_step import find_candidates, find_candidates_apart, step_particles, step_particles_apart
+from .stretch_solve import StretchSystem
 from .soft_state import SOFT_TABLES, check_soft_bodies, load_soft_bodies, soft_tables
 from .tethers import find_tethers
 
@@ -67,6 +68,8 @@ class ParticleState:
         self.q_s = np.zeros(4)
         self.broken = 0                  # edges broken in the last step
         self.tethers = None              # (particles, pins, lengths) of tethers.py; None: to be found again
+        self.stretch = None              # the cloths' factored stretch (StretchSystem) ...
+        self.stretch_key = None          # ... for these tethers (found again on the same changes), h and passes
         self.cloths = []                 # ClothRecord of the live cloths, in creation order
         self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
         self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
@@ -307,8 +310,19 @@ class ParticleState:
                 edge_entries, self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1],
                 self.rot_s, self.q_s)
 
-    def _step_arguments(self, st, tri, bend_f, bend_i, cloth_f, scratch, counts, body_start):
-        """The arguments of ``step_particles`` (``counts`` those ``find_candidates`` returned)."""
+    def _stretch_system(self, bend_f, bend_i, h, passes):
+        """The cloths' stretch factored for sub-steps of ``h`` s (over no edge when ``passes`` is 0), kept while
+        the tethers are (they are found again whenever the edges, masses or pins change)."""
+        key = (h, passes > 0)
+        if self.stretch is None or self.stretch_key[0] is not self.tethers or self.stretch_key[1:] != key:
+            self.stretch = StretchSystem(self.pf, self.pi, self.n, self.ef, self.ei, self.ne, bend_f, bend_i, h,
+                                         passes > 0)
+            self.stretch_key = (self.tethers,) + key
+        return self.stretch
+
+    def _step_arguments(self, st, tri, bend_f, bend_i, cloth_f, scratch, counts, body_start, stretch):
+        """The arguments of ``step_particles`` (``counts`` those ``find_candidates`` returned, ``stretch`` a
+        ``StretchSystem``)."""
         n_shape, n_pair, n_triangle, n_edge = counts
         bx = scratch[-1]
         return (self.params, self.pf, self.pi, self.n, self.set_table(), len(self.sets), self.ef, self.ei, self.ne,
@@ -317,7 +331,7 @@ class ParticleState:
                 self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
                 self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start,
                 self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
-                np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)))
+                np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)), *stretch.arrays)
 
     def meeting(self):
         """Whether particles here can meet each other: soft bodies, two cloths, a cloth that collides with itself,
@@ -338,11 +352,14 @@ class ParticleState:
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         body_start = np.zeros((st.bodies.end, 9))
         candidates, step = self._kernels()
-        return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0), body_start)),
+        no_stretch = StretchSystem(self.pf, self.pi, self.n, self.ef, self.ei, self.ne, bend_f, bend_i, 1.0, False)
+        return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0), body_start,
+                                            no_stretch)),
                 (candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
 
-    def step(self, st, dt, gravity, substeps, body_start):
+    def step(self, st, dt, gravity, substeps, stretch_passes, body_start):
         """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``;
+        ``stretch_passes`` the global passes of the cloths' stretch per sub-step, stretch_solve.py;
         ``body_start`` (nb, 9) the bodies' positions, m, velocities, m/s, and user forces, N, before theirs)."""
         if self.n == 0:
             return
@@ -350,7 +367,9 @@ class ParticleState:
         q[P.Q_DT] = dt
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_SUBSTEPS] = substeps
+        q[P.Q_STRETCH_PASSES] = stretch_passes
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
+        stretch = self._stretch_system(bend_f, bend_i, dt / substeps, stretch_passes)
         candidates, step = self._kernels()
         while True:
             counts = candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
@@ -364,8 +383,8 @@ class ParticleState:
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
-        self.broken, most, *soft_solve = step(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f,
-                                                                              scratch, counts, body_start))
+        self.broken, most, *soft_solve = step(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, counts,
+                                                                    body_start, stretch))
         self.soft_solve = tuple(soft_solve)
         if self.broken:
             self.tethers = None

@@ -10,15 +10,18 @@ may meet in the step.  Each sub-step, in order:
     soft bodies     their nodes' velocities by one implicit step of their elastic forces (soft_step.py;
                     once per sub-step, so that a node stopped by a contact pushes back on its neighbours
                     before they have moved far into it)
-    integrate       v0 = v;  v += h (g + F / m) (not for soft bodies' nodes: their velocity for the step
-                    comes from the soft bodies' implicit step, soft_step.py);  internal motion damped;
+    integrate       v0 = v;  internal motion damped;  v += h (g + F / m) (not for soft bodies' nodes: their
+                    velocity for the step comes from the soft bodies' implicit step, soft_step.py);
                     x_prev = x;  x += h v;  particles pinned to the world put back on their pins
     pins            particles pinned to a body put on its point (a pinned particle is a point of its body)
+    whole cloths    with ``World.cloth_stretch_passes``: the cloths' springs and flat hinges solved together
+                    (stretch_solve.py)
     edges           the networks' springs, rods and cables (edge_constraints.py); an edge that ends on a
                     body-pinned particle pulls the body (two ways); the cloths' edges get a second pass
                     (with one, a 50 x 50 cloth dropped on a sphere at 16 sub-steps blew up on impact, and
-                    so does a plain XPBD sheet, wip/ref_drop_passes.py; with two it settles)
-    bends           the cloths' hinges (bend_constraints.py)
+                    so does a plain XPBD sheet written to check it; with two it settles)
+    bends           the cloths' hinges (bend_constraints.py; with the whole-cloth solve, the hinges bent at rest,
+                    before it)
     tethers         no particle farther from its world pin than its rods and cables allow (tethers.py)
     pins            again, where the edges have moved the bodies
     contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
@@ -45,10 +48,12 @@ from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
-                              P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_SUBSTEPS,
+                              P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_STRETCH_PASSES,
+                              Q_SUBSTEPS,
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
 from .soft_step import record_contact_normals, step_soft_bodies
+from .stretch_solve import solve_stretch
 from .tethers import solve_tethers
 from .triangle_contacts import triangle_candidates, triangle_contacts
 
@@ -60,13 +65,17 @@ def _integrate(params, pf, pi, n_particles, sets, n_sets, h):
     for p in range(n_particles):
         for k in range(3):
             pf[p, P_VEL0 + k] = pf[p, P_VEL + k]
+    # (damped before the forces act: damped after, a force on one particle is damped as if it were its motion,
+    # and a 19.6 N load on the middle vertex of a damped sheet (2 1/s) rested 0.5 % short of its equilibrium sag at
+    # 16 sub-steps, 69 % at 4)
+    for s in range(n_sets):
+        _damp(pf, sets[s, SET_START], sets[s, SET_COUNT], h)
+    for p in range(n_particles):
         if pf[p, P_INV_MASS] > 0.0 and (pi[p, P_FLAGS] & PP_SOFT) == 0:
             inv_m = pf[p, P_INV_MASS]
             pf[p, P_VEL] += h * (gx + pf[p, P_FORCE] * inv_m)
             pf[p, P_VEL + 1] += h * (gy + pf[p, P_FORCE + 1] * inv_m)
             pf[p, P_VEL + 2] += h * (gz + pf[p, P_FORCE + 2] * inv_m)
-    for s in range(n_sets):
-        _damp(pf, sets[s, SET_START], sets[s, SET_COUNT], h)
     for p in range(n_particles):
         for k in range(3):
             pf[p, P_PREV + k] = pf[p, P_POS + k]
@@ -174,15 +183,19 @@ def _kernels(meeting):
                        tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
                        particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
                        scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
-                       soft_tolerance, soft_iterations, soft_rot, soft_work):
+                       soft_tolerance, soft_iterations, soft_rot, soft_work, solved, stretch_edges, flat, hinges,
+                       weights, slot, rows, mass_h2, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
+                       u_diagonal, y, b, x):
         """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
         (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
         ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
-        ``step_soft_bodies``); returns ``(edges broken, most contacts of a sub-step, most soft-body solver
+        ``step_soft_bodies``; ``solved`` .. ``x`` the factored stretch of the cloths, ``stretch_solve.StretchSystem``);
+        returns ``(edges broken, most contacts of a sub-step, most soft-body solver
         iterations of a sub-step, its largest residual ratio)``
         (contacts past ``kf``'s length had no velocity pass)."""
         dt = params[Q_DT]
         substeps = int(params[Q_SUBSTEPS])
+        passes = int(params[Q_STRETCH_PASSES])
         h = dt / substeps
         g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
         start_motion(bf, bi, bx, nb, body_start, dt, (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]))
@@ -199,9 +212,17 @@ def _kernels(meeting):
                 soft_residual = max(soft_residual, residual)
             _integrate(params, pf, pi, n_particles, sets, n_sets, h)
             _pins(pf, pi, n_particles, bf, bi, bx, back)
-            solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, True)
-            solve_edges(pf, pi, ef, ei, ne, bf, bi, bx, back, h, 1.0 / substeps, False)
-            solve_bends(pf, bend_f, bend_i, n_bends, h)
+            # (the hinges left to the local pass before the whole-cloth solve, which takes their moves as part of the
+            # prediction, stretch_solve.py; without it, after the edges as they always were)
+            if passes > 0:
+                solve_bends(pf, bend_f, bend_i, n_bends, flat, h)
+            solve_stretch(pf, ef, ei, solved, stretch_edges, flat, hinges, weights, slot, rows, mass_h2, perm_r, perm_c,
+                          l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, y, b, x, passes, h,
+                          (params[Q_GRAVITY], params[Q_GRAVITY + 1], params[Q_GRAVITY + 2]), 1.0 / substeps)
+            solve_edges(pf, pi, ef, ei, ne, solved, bf, bi, bx, back, h, 1.0 / substeps, True)
+            solve_edges(pf, pi, ef, ei, ne, solved, bf, bi, bx, back, h, 1.0 / substeps, False)
+            if passes == 0:
+                solve_bends(pf, bend_f, bend_i, n_bends, flat, h)
             solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
             _pins(pf, pi, n_particles, bf, bi, bx, back)
             # (particles against particles first: the shapes' static friction then holds what a particle's load
