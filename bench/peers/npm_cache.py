@@ -6,13 +6,14 @@ runs ``npm install --prefix DIR`` with the exact versions of ``PACKAGES`` (a few
 registry); later runs find them there.  Needs ``node`` (tested with 20) and, for that first install, ``npm`` on
 the ``PATH``.
 """
-import fcntl
 import functools
 import json
 import os
 import shutil
 import subprocess
 import sys
+
+from .cache import cache_dir, exclusive
 
 #: the npm packages and the exact versions the peers are run with
 PACKAGES = {"jolt-physics": "1.1.0", "@dimforge/rapier3d-compat": "0.21.0"}
@@ -22,8 +23,7 @@ INSTALL_TIMEOUT = 600.0
 
 def prefix():
     """The npm prefix (a directory) the packages are installed under."""
-    user_cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.environ.get("MARBELLOUS_BENCH_NPM_DIR") or os.path.join(user_cache, "marbellous-bench", "npm")
+    return os.environ.get("MARBELLOUS_BENCH_NPM_DIR") or cache_dir("npm")
 
 
 def installed_version(directory, package):
@@ -49,10 +49,7 @@ def _setup():
     if not _missing(directory):
         return node, directory, None
     try:
-        os.makedirs(directory, exist_ok=True)
-        # (one install at a time: processes started together, such as test workers, wait for the first)
-        with open(os.path.join(directory, "install.lock"), "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)
+        with exclusive(os.path.join(directory, "install.lock")):     # one install at a time
             return _install(node, npm, directory)
     except OSError as e:
         return None, None, f"npm install failed: {e}"
