@@ -5,7 +5,11 @@ peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (
 repeats, which go round the engines in turn), and checked by a sanity measure (``bench/scenes.py``).
 ``jolt-wasm`` and ``rapier-wasm`` are Jolt Physics and Rapier compiled to WebAssembly, run by node (their
 npm packages are installed on first use into a cache outside the checkout, ``bench/peers/npm_cache.py``)
-and timed inside node around each engine step; a peer that is not installed is reported and skipped.
+and timed inside node around each engine step.  ``jolt-native`` and ``jolt-native-2t`` (two threads) are Jolt
+Physics compiled from its C++ source, a checkout the user names (``--jolt-source PATH`` or
+``$MARBELLOUS_JOLT_SOURCE``), built with CMake on first use into the same cache (``bench/peers/jolt_build.py``)
+and timed inside the program around each step, at the settings of ``jolt-wasm``.  A peer that is not installed
+is reported and skipped.
 Prints a table and writes ``bench/results/<date>-<host>.json`` with its bar plot beside it (``.png``);
 ``--write-docs`` also publishes the table and the plot as ``docs/bench/latest.md`` and ``latest.png``.
 Runs from any directory: ``python -m bench`` with the checkout on the path, or ``python path/to/bench``.
@@ -14,6 +18,7 @@ Runs from any directory: ``python -m bench`` with the checkout on the path, or `
     python -m bench --quick                 small scenes, few steps: a check of the harness
     python -m bench --scenes tower_20 pile_1k --engines marbellous pybullet
     python -m bench --engines marbellous jolt-wasm rapier-wasm
+    python -m bench --engines marbellous jolt-native jolt-native-2t --jolt-source ~/src/JoltPhysics
     python -m bench --profile               add the per-stage profile of Marbellous' step per scene
     python -m bench --write-docs            a full run that updates docs/bench/latest.md and latest.png
 """
@@ -30,15 +35,17 @@ if not __package__:         # run as ``python path/to/bench``: the checkout's be
     __package__ = "bench"   # noqa: A001 (makes the relative imports below resolve)
 
 from .machine import describe  # noqa: E402
-from .peers import Unsupported, make_peer, version  # noqa: E402
+from .peers import Unsupported, jolt_build, make_peer, version  # noqa: E402
 from .runs import MarbellousRun, timed_run  # noqa: E402
 from .scenes import DT, SCENES  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 #: "marbellous-2t": Marbellous with ``World.threads = 2`` (parallel contact passes; the default is serial);
+#: "jolt-native", "jolt-native-2t": Jolt Physics built from its C++ source, with one and two threads;
 #: "jolt-wasm", "rapier-wasm": Jolt Physics and Rapier in WebAssembly, run by node
-ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco", "jolt-wasm", "rapier-wasm")
+ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco", "jolt-native", "jolt-native-2t", "jolt-wasm",
+           "rapier-wasm")
 
 
 def warm_up():
@@ -108,7 +115,7 @@ def run_query_scene(engine, quick):
     elif engine == "mujoco":
         raise Unsupported("MuJoCo collides meshes as convex hulls")
     else:
-        raise Unsupported("a query per request to node would time the pipe, not the engine")
+        raise Unsupported("a query per request to its process would time the pipe, not the engine")
     return {"status": "ok", "steps": meta["queries"], "seconds": us * 1e-6 * meta["queries"], "ms_per_step": us * 1e-3,
             "steps_per_s": 1e6 / us, "sanity": sanity, "unit": "query (from Python)"}
 
@@ -147,7 +154,7 @@ def run_scene(name, engines, quick, cap):
                 steps = r["steps"]
             if best is None or r.get("ms_per_step", math.inf) < best["ms_per_step"]:
                 results[engine] = r
-            print(f"  {name:16s} {engine:13s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
+            print(f"  {name:16s} {engine:14s} {r.get('ms_per_step', math.nan):10.4f} ms/step  {r['status']}  "
                   f"({time.perf_counter() - t:.0f} s)", flush=True)
     return results
 
@@ -166,7 +173,7 @@ def _sanity_text(s):
 
 def table(results, engines):
     """The results as a text table: ms/step, steps/s, ratio to PyBullet's steps/s, sanity."""
-    lines = [f"{'scene':24s} {'engine':13s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}"
+    lines = [f"{'scene':24s} {'engine':14s} {'steps':>6s} {'ms/step':>10s} {'steps/s':>10s} {'vs PyBullet':>11s}"
              f"  ok    sanity"]
     for name, per in results.items():
         ref = per.get("pybullet", {}).get("steps_per_s")
@@ -175,12 +182,12 @@ def table(results, engines):
             if r is None:
                 continue
             if "steps_per_s" not in r:
-                lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['status']}")
+                lines.append(f"{SCENES[name].label:24s} {engine:14s} {r['status']}")
                 continue
             ratio = f"{r['steps_per_s'] / ref:.2f}x" if ref else "-"
             ok = _verdict(r["sanity"])
             note = "" if r["status"] == "ok" else f"  [{r['status']}]"
-            lines.append(f"{SCENES[name].label:24s} {engine:13s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
+            lines.append(f"{SCENES[name].label:24s} {engine:14s} {r['steps']:6d} {r['ms_per_step']:10.4f} "
                          f"{r['steps_per_s']:10.1f} "
                          f"{ratio:>11s}  {ok:5s} {_sanity_text(r['sanity'])}{note}")
     return "\n".join(lines)
@@ -197,7 +204,7 @@ def plot(results, engines, machine, path):
     fig, ax = plt.subplots(figsize=(max(6.0, 1.6 * len(names)), 4.5))
     width = 0.8 / len(engines)
     colours = {"marbellous": "#c0392b", "marbellous-2t": "#e67e22", "pybullet": "#2c3e50", "mujoco": "#7f8c8d",
-               "jolt-wasm": "#2980b9", "rapier-wasm": "#27ae60"}
+               "jolt-native": "#1a3c6e", "jolt-native-2t": "#8e44ad", "jolt-wasm": "#2980b9", "rapier-wasm": "#27ae60"}
     for k, engine in enumerate(engines):
         xs, ys, hatches = [], [], []
         for i, name in enumerate(names):
@@ -257,9 +264,18 @@ def main(argv=None):
     ap.add_argument("--no-plot", action="store_true", help="skip the plot beside the results file")
     ap.add_argument("--write-docs", action="store_true",
                     help="also publish the table and plot as docs/bench/latest.md and latest.png")
+    ap.add_argument("--jolt-source", metavar="PATH", default=None,
+                    help=f"a Jolt Physics checkout (holding Jolt/ and Build/) for jolt-native and jolt-native-2t, "
+                    f"built on first use (default ${jolt_build.ENV})")
     args = ap.parse_args(argv)
     if args.write_docs and args.quick:
         ap.error("--write-docs publishes a full run's numbers, not a --quick check")
+    if args.jolt_source is not None:
+        source = os.path.abspath(os.path.expanduser(args.jolt_source))
+        problem = jolt_build.checkout_problem(source)
+        if problem:
+            ap.error(f"--jolt-source: {problem}")
+        os.environ[jolt_build.ENV] = source     # for the native Jolt peers, in this process and its children
 
     machine = describe(ROOT, {e: version(e) for e in args.engines if not e.startswith("marbellous")})
     paths = output_paths(machine, args.out, args.quick, not args.no_plot, args.write_docs)

@@ -1,11 +1,13 @@
 """The benchmark runner (bench/__main__.py): a scene's repeats go round the engines in turn, each engine
 keeps its fastest run, and an engine that cannot run is not tried again; where a run writes; the runner
-starts from any directory; a run that times its own steps (bench/runs.py) is timed by them, time cap included."""
+starts from any directory; a run that times its own steps (bench/runs.py) is timed by them, time cap included;
+native Jolt is "not installed" without a Jolt checkout, and runs a scene (timed by its own clock) with one."""
 import os
 import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import bench.__main__ as runner
 from bench.runs import timed_run
@@ -123,3 +125,35 @@ def test_a_run_that_times_its_own_steps_is_timed_by_them():
     # chunks of 2 steps: the fourth chunk stops after its first step, past the 3 s cap, then the final step
     capped = timed_run(SelfTimed(), 20, time_cap=3.0)
     assert capped["steps"] == 8 and capped["seconds"] == 4.0
+
+
+def test_native_jolt_is_reported_not_installed_without_a_jolt_source(monkeypatch):
+    from bench.peers import jolt_build
+    monkeypatch.delenv(jolt_build.ENV, raising=False)
+    assert runner.run_one("one_body", "jolt-native", quick=True, cap=None) == {"status": "not installed"}
+    assert runner.run_one("one_body", "jolt-native-2t", quick=True, cap=None) == {"status": "not installed"}
+
+
+def test_the_jolt_source_must_be_a_jolt_checkout(tmp_path, capsys):
+    with pytest.raises(SystemExit) as stop:
+        runner.main(["--jolt-source", str(tmp_path), "--quick"])
+    assert stop.value.code == 2 and "is not a Jolt Physics checkout" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("engine", ["jolt-native", "jolt-native-2t"])
+def test_native_jolt_runs_a_scene_timed_by_its_own_clock(engine, monkeypatch):
+    """Skipped unless $MARBELLOUS_JOLT_SOURCE names a Jolt checkout native Jolt can be built from (not in CI)."""
+    from bench.peers import jolt_build, make_peer
+    try:
+        jolt_build.driver_and_version()
+    except ImportError as e:
+        pytest.skip(str(e))
+    world, _ = SCENES["one_body"].build(True)
+    run = make_peer(engine, world, 1 / 60)
+    try:
+        seconds = run.timed_steps(5)
+        assert len(seconds) == 5 and all(0.0 < s < 0.01 for s in seconds)      # one body: microseconds a step
+    finally:
+        run.close()
+    r = runner.run_one("one_body", engine, quick=True, cap=None)
+    assert r["status"] == "ok" and r["sanity"]["ok"] and r["steps"] == SCENES["one_body"].n_steps(True)

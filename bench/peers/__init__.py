@@ -1,13 +1,15 @@
-"""Peer engines for the benchmark: a Marbellous world translated body by body into PyBullet, MuJoCo, or
-Jolt Physics or Rapier in WebAssembly (run by node, ``wasm_world.py``).
+"""Peer engines for the benchmark: a Marbellous world translated body by body into PyBullet, MuJoCo, Jolt
+Physics compiled natively from its C++ source (``jolt_native_world.py``), or Jolt Physics or Rapier in
+WebAssembly (run by node, ``wasm_world.py``); the last three run in a process of their own (``pipe.py``).
 
 Every peer run is built from the same Marbellous world (shapes, poses, velocities, masses, friction),
 with the axes mapped where they differ (Marbellous is y-up, PyBullet and MuJoCo z-up; Jolt and Rapier are
 y-up), and offers the same small interface as ``bench.runs.MarbellousRun``: ``step()``, ``positions()`` of
-the dynamic bodies in Marbellous axes, ``max_penetration()`` (m) and ``close()``; the WebAssembly peers also
-``timed_steps(n, budget)``, their steps timed inside node.  ``make_peer(name, world)`` raises
-``Unsupported`` when the peer has no equivalent of a shape, and ``ImportError`` when it is not installed
-(for the WebAssembly peers: node or npm missing, or the first install of their npm packages failed).
+the dynamic bodies in Marbellous axes, ``max_penetration()`` (m) and ``close()``; the peers in a process of
+their own also ``timed_steps(n, budget)``, their steps timed inside that process.  ``make_peer(name, world)``
+raises ``Unsupported`` when the peer has no equivalent of a shape, and ``ImportError`` when it is not installed
+(for the WebAssembly peers: node or npm missing, or the first install of their npm packages failed; for native
+Jolt: no Jolt checkout named, CMake or a compiler missing, or its first build failed).
 """
 import numpy as np
 
@@ -16,8 +18,10 @@ class Unsupported(Exception):
     """The peer has no equivalent of a shape in the scene."""
 
 
+#: the native Jolt peers' names (one thread, two threads)
+JOLT_NATIVE = ("jolt-native", "jolt-native-2t")
 #: every peer's name
-NAMES = ("pybullet", "mujoco", "jolt-wasm", "rapier-wasm")
+NAMES = ("pybullet", "mujoco", *JOLT_NATIVE, "jolt-wasm", "rapier-wasm")
 
 
 def make_peer(name, world, dt):
@@ -28,6 +32,9 @@ def make_peer(name, world, dt):
     if name == "mujoco":
         from .mujoco_world import MuJoCoRun
         return MuJoCoRun(world, dt)
+    if name in JOLT_NATIVE:
+        from .jolt_native_world import PEERS
+        return PEERS[name](world, dt)
     if name in NAMES:
         from .wasm_world import PEERS
         return PEERS[name](world, dt)
@@ -36,7 +43,8 @@ def make_peer(name, world, dt):
 
 def version(name):
     """Installed version string of a peer, or None when it is not installed.  For a WebAssembly peer, its npm
-    package's version, once node is found and the package is in place (installed now on first use)."""
+    package's version, once node is found and the package is in place (installed now on first use); for native
+    Jolt, Jolt's version and commit, once its driver is built (now, on first use)."""
     try:
         if name == "pybullet":
             import pybullet
@@ -44,6 +52,9 @@ def version(name):
         if name == "mujoco":
             import mujoco
             return mujoco.__version__
+        if name in JOLT_NATIVE:
+            from .jolt_build import driver_and_version
+            return driver_and_version()[1]
         from .npm_cache import PACKAGES, node_and_prefix
         from .wasm_world import PEERS
         node_and_prefix()
