@@ -9,7 +9,7 @@ CMake, and keeps the program in ``~/.cache/marbellous-bench/jolt-native/<key>/``
 build at a time under a lock; later runs find it there.  The key hashes the source (its path, its git commit when
 it is a git checkout, and the size and modification time of each of its files), the driver's two files, the
 compiler and the build options: a change to any of them builds anew.  The build needs CMake 3.20 or later and a
-C++17 compiler (``$CXX``, else CMake's choice), and takes about a minute on 2 cores.
+C++17 compiler (``$CXX``, else CMake's choice), and takes about a minute and a half on 2 cores.
 
 The build: Jolt's ``Distribution`` configuration (``-O3``; no asserts, profiler or debug renderer),
 ``-march=native``, link-time optimisation where CMake finds it supported, single precision, and Jolt's
@@ -171,8 +171,8 @@ def _setup(path):
 def _build(cmake, directory, options, version):
     """Configure and build the driver with CMake into ``directory``; the reason it failed, or None.  The program
     is moved to ``directory`` and the build tree removed (about 110 MB); the build's output stays, ``build.log``."""
-    print(f"building Jolt Physics {version} from {options['JOLT_SOURCE']} into {directory} (first use, about a "
-          "minute)", file=sys.stderr, flush=True)
+    print(f"building Jolt Physics {version} from {options['JOLT_SOURCE']} into {directory} (first use, a minute or "
+          "two)", file=sys.stderr, flush=True)
     tree, log = os.path.join(directory, "build"), os.path.join(directory, "build.log")
     shutil.rmtree(tree, ignore_errors=True)     # a build that was stopped
     os.makedirs(directory, exist_ok=True)
