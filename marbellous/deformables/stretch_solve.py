@@ -230,20 +230,23 @@ def solve_stretch(pf, ef, ei, solved, edges, flat, hinges, weights, slot, rows, 
                     b[sb, k] += -p[k] + (k_e * pf[pa, P_POS + k] if sa < 0 else 0.0)
         # a hinge's corner fixed in the world: -K_i sum_{j fixed} K_j x_j on the others
         for t in range(hinges.shape[0]):
-            known = [0.0, 0.0, 0.0]
+            k0 = k1 = k2 = 0.0
             unknowns = 0
             for c in range(4):
-                if slot[hinges[t, c]] < 0:
-                    for k in range(3):
-                        known[k] += weights[t, c] * pf[hinges[t, c], P_POS + k]
+                q = hinges[t, c]
+                if slot[q] < 0:
+                    k0 += weights[t, c] * pf[q, P_POS]
+                    k1 += weights[t, c] * pf[q, P_POS + 1]
+                    k2 += weights[t, c] * pf[q, P_POS + 2]
                 else:
                     unknowns += 1
             if unknowns < 4:
                 for c in range(4):
                     s = slot[hinges[t, c]]
                     if s >= 0:
-                        for k in range(3):
-                            b[s, k] -= weights[t, c] * known[k]
+                        b[s, 0] -= weights[t, c] * k0
+                        b[s, 1] -= weights[t, c] * k1
+                        b[s, 2] -= weights[t, c] * k2
         _solve_factored(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, b, x)
         for i in range(u):
             for k in range(3):
