@@ -61,14 +61,13 @@ class StretchSystem:
     - ``y``, ``b``, ``x`` (u, 3): scratch (the predicted positions, the right-hand side, the solve's work).
     """
 
-    __slots__ = ("h", "arrays")
+    __slots__ = ("arrays",)
 
     def __init__(self, pf, pi, n, ef, ei, ne, bend_f, bend_i, h, whole=True):
         """The system of the particles ``0 .. n - 1``, edges ``0 .. ne - 1`` and hinges ``bend_f`` / ``bend_i``;
         ``whole`` False: of no edge and no hinge (the local passes solve them all)."""
         from scipy.sparse import coo_matrix, tril, triu  # (imported here: only worlds with cloth need them)
         from scipy.sparse.linalg import splu
-        self.h = h
         a, b = ei[:ne, E_A], ei[:ne, E_B]
         on_body = ((pi[:n, P_FLAGS] & PP_PINNED) != 0) & (pi[:n, P_PIN_BODY] >= 0)
         held = np.unique(pi[:n, P_CLOTH][on_body & (pi[:n, P_CLOTH] >= 0)])
