@@ -1088,7 +1088,8 @@ class World:
         loop = self._last if isinstance(self._last, StepLoop) else None
         if loop is None:
             m = int(st.stats[L.STAT_PREVIOUS])
-            before = (st.contact_table_f(False)[:m], st.contact_table_i(False)[:m])
+            kept = st.stats[L.STAT_KEPT] != 0       # (the step began with its cache and kept it as it was)
+            before = after if kept else (st.contact_table_f(False)[:m], st.contact_table_i(False)[:m])
             approach = approach_table(*after)
         else:
             before = loop.start_contacts

@@ -64,6 +64,16 @@ def match_contacts(cf, ci, nc, pcf, pci, npc):
 
 
 @njit
+def mark_resting(pci, npc):
+    """Flag the cache's ``npc`` contacts ``CP_RESTING`` in place: the step found no new contact and every
+    cached one rests (:func:`keep_resting_contacts` counted them all), so the cache is the step's table as
+    it stands, and copying it row by row into the other table (a sleeping pyramid's 2,360 rows, 50 us a
+    step) would change nothing."""
+    for r in range(npc):
+        pci[r, C_FLAGS] |= CP_RESTING
+
+
+@njit
 def keep_resting_contacts(cf, ci, nc, pcf, pci, npc, bf, bi, write):
     """Copy (when ``write``; else only count) the cache's contacts of resting pairs (neither body moves, one
     sleeps, and no kinematic body in motion is one of them) after this step's ``nc`` contacts, flagged

@@ -63,6 +63,7 @@ FIELDS = TABLE_FIELDS + (
     ("n_pairs", types.int64),       # candidate pairs the broad phase found
     ("nc", types.int64),      # contact points the narrow phase found
     ("n_resting", types.int64),     # resting pairs' contacts kept from the cache, after the nc rows
+    ("kept", types.boolean),        # no new contact and every cached one resting: the cache stays as it is
     ("constrained", types.boolean),  # the step has contacts or constraints (else the solver rests)
     ("bundled", types.boolean),      # contacts solved in coloured bundles (chosen once, by prepare)
     ("regions", types.int64),       # regions of the contact passes (1 unless threads)
@@ -149,6 +150,7 @@ def pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
     t.nb, t.nk = nb, nk
     t.h, t.substeps, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 1, 0, 0, False, False
     t.n_resting = 0
+    t.kept = False
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
     t.iteration_cap = 1
     t.turning, t.n_supported, t.n_static = False, 0, 0

@@ -30,7 +30,7 @@ from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, COVE
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
-from ..dynamics.contact_cache import keep_resting_contacts, match_contacts
+from ..dynamics.contact_cache import keep_resting_contacts, mark_resting, match_contacts
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_push, apply_restitution,
                                        clear_push, has_turning_contacts, heavy_on_light, list_static_contacts,
@@ -61,8 +61,8 @@ from ..state.layout import (BOTTOM_UP, BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORC
                             PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVE_ORDER, PI_SOLVER,
                             PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT,
                             SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES,
-                            STAT_ITERATIONS, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS, STAT_SUM_ITERATIONS,
-                            STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
+                            STAT_ITERATIONS, STAT_KEPT, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
+                            STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
 from .impacts import stage_time_of_impact
@@ -278,8 +278,13 @@ def _find_contacts(ctx, coverage):
     status = time_of_impact_stage(ctx, coverage)
     lap(ctx, ST_TIME_OF_IMPACT)
     if status == OK and resting > 0:
-        ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi,
-                                               True)
+        if ctx.nc == 0 and resting == npc:      # nothing new, all at rest: the cache is the step's table
+            mark_resting(ctx.pci, npc)
+            ctx.kept = True
+            ctx.n_resting = npc
+        else:
+            ctx.n_resting = keep_resting_contacts(ctx.cf, ctx.ci, ctx.nc, ctx.pcf, ctx.pci, npc, ctx.bf, ctx.bi,
+                                                   True)
     return status
 
 
@@ -322,6 +327,7 @@ def collide(ctx, coverage, tier):
     by the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns OK, or which buffer is too small
     (nothing but scratch changed), or the time-of-impact stage's SPLIT or DETECTED (pipeline/impacts.py)."""
     ctx.n_resting = 0
+    ctx.kept = False
     stage_aabbs(ctx)
     if tier == FULL:
         stage_broad_phase(ctx)
@@ -944,7 +950,8 @@ def stage_islands_and_sleep(ctx):
 @njit
 def finish_step(ctx):
     """The step's counts into ``stats``, and this step's contacts become the next step's cache (the caller
-    swaps the context's two contact tables: :func:`swap_contact_tables`)."""
+    swaps the context's two contact tables: :func:`swap_contact_tables`; not when the step kept the cache
+    as it stood, ``ctx.kept``)."""
     stats = ctx.stats
     stats[STAT_ITERATIONS] = ctx.iterations
     if ctx.params_i[PI_PROFILE] != 0:
@@ -953,8 +960,10 @@ def finish_step(ctx):
         stats[STAT_SUM_CONTACTS] += ctx.nc
         stats[STAT_SUM_ITERATIONS] += ctx.iterations
     stats[STAT_PREVIOUS] = stats[STAT_CACHED]
-    stats[STAT_CACHED] = ctx.nc + ctx.n_resting
-    stats[STAT_CACHE_SIDE] = 1 - stats[STAT_CACHE_SIDE]
+    stats[STAT_KEPT] = ctx.kept
+    if not ctx.kept:
+        stats[STAT_CACHED] = ctx.nc + ctx.n_resting
+        stats[STAT_CACHE_SIDE] = 1 - stats[STAT_CACHE_SIDE]
     return OK
 
 
@@ -1062,8 +1071,9 @@ def step_lcp(ctx, coverage):
 
 @njit_inline
 def _completed(record, status):
-    """After a step on ``record``: swap its contact tables if the step completed; returns ``status``."""
-    if status == OK:
+    """After a step on ``record``: swap its contact tables if the step completed and did not keep its cache
+    as it stood; returns ``status``."""
+    if status == OK and not view(record).kept:
         swap_contact_tables(record)
     return status
 

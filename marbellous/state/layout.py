@@ -234,7 +234,9 @@ STAT_SUM_PAIRS = 6      # candidate pairs, summed over the profiled steps
 STAT_SUM_CONTACTS = 7   # contact points, summed
 STAT_SUM_ITERATIONS = 8  # velocity iterations, summed
 STAT_PREVIOUS = 9       # rows of the table that was the cache before the last step (the contacts it began with)
-STAT_CYCLES = 10        # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
+STAT_KEPT = 10          # 1 if the last step kept its cache as it stood: no contact new, every one resting (the
+#                         cache is then also the table the step began with; nothing was copied or swapped)
+STAT_CYCLES = 11        # processor cycles of each stage of pipeline.stages.STAGES, one slot per stage
 
 # --- time stepping, float time_f: what the step's time-of-impact stage reports to the stepping loop ------
 T_LIMIT = 0             # the interval the step asks for when it stopped with SPLIT (s)
