@@ -18,6 +18,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from ._numba.record import array_address
 from ._validate import as_int
 from .world import World
 
@@ -125,15 +126,16 @@ def _run(entry, addresses, statuses, threads):
     n = addresses.shape[0]
     runs = min(threads, n)
     if runs == 1:
-        entry(addresses, statuses)
+        entry(array_address(addresses), array_address(statuses), n)
         return
     global _POOL
     if _POOL is None:
         _POOL = ThreadPoolExecutor(max_workers=MAX_THREADS, thread_name_prefix="marbellous-batch")
     bounds = np.linspace(0, n, runs + 1).astype(int)
     # (the calling thread takes the first run itself rather than wait idle: one hand-over fewer)
-    others = [_POOL.submit(entry, addresses[a:b], statuses[a:b]) for a, b in zip(bounds[1:-1], bounds[2:])]
-    entry(addresses[:bounds[1]], statuses[:bounds[1]])
+    others = [_POOL.submit(entry, array_address(addresses[a:b]), array_address(statuses[a:b]), b - a)
+              for a, b in zip(bounds[1:-1], bounds[2:])]
+    entry(array_address(addresses[:bounds[1]]), array_address(statuses[:bounds[1]]), int(bounds[1]))
     for f in others:
         f.result()
 

@@ -115,3 +115,40 @@ def test_the_example_hears_each_landing_once_at_its_fall_speed():
         fall = math.sqrt(2.0 * G * h)
         assert fall - G * DT <= speed <= fall + 1e-9
     assert heard[-1][3] == pytest.approx(3.0, abs=G * DT)
+
+
+def test_a_sleeping_stack_keeps_its_contacts_as_they_were_and_wakes_to_a_new_one():
+    """Once a stack of three boxes sleeps, each step keeps its contacts as the last awake step left them (the
+    same points, normals and impulses, reported by ``contacts``; no copy: the step keeps its cache in place)
+    and makes no event; a ball dropped on top begins touching it, and the step that meets the ball copies the
+    resting contacts again."""
+    from marbellous.state import layout as L
+    w = mb.World()
+    w.add_static(mb.Plane())
+    boxes = [w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(0.0, 0.5 + k, 0.0)) for k in range(3)]
+    for _ in range(600):
+        w.step(DT)
+        if all(b.is_sleeping for b in boxes):
+            break
+    assert all(b.is_sleeping for b in boxes)
+    w.step(DT)
+    asleep = w.contacts()
+    assert len(asleep) >= 12                      # four corners or more under each box
+    for _ in range(30):
+        w.step(DT)
+        assert w._state.stats[L.STAT_KEPT] == 1
+        assert w.contact_events() == []
+        now = w.contacts()
+        assert [(c.body_a, c.body_b) for c in now] == [(c.body_a, c.body_b) for c in asleep]
+        for c, d in zip(now, asleep):
+            np.testing.assert_array_equal(c.point, d.point)
+            assert c.normal_impulse == d.normal_impulse
+    ball = w.add_body(mb.Sphere(0.2), position=(0.0, 3.5, 0.0), velocity=(0.0, -3.0, 0.0))
+    kinds, kept = [], []
+    for _ in range(30):
+        w.step(DT)
+        kinds += [(e.kind, e.body_a, e.body_b) for e in w.contact_events()]
+        kept.append(int(w._state.stats[L.STAT_KEPT]))
+    assert ("begin", boxes[2], ball) in kinds
+    assert 0 in kept
+    assert not boxes[2].is_sleeping

@@ -24,6 +24,7 @@ import numpy as np
 
 from .._numba.clock import cycle_counter
 from .._numba.jit import njit, njit_calls_parallel, njit_inline
+from .._numba.record import int64_array_at
 from .._numba.wide import LANES
 from ..collision.broadphase import GRID, find_pairs
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, COVERAGES
@@ -182,10 +183,12 @@ def stage_narrow_phase(ctx, coverage):
     number in ``ctx.nc``, which may exceed its capacity: the caller then grows it), by the pair tests of
     ``coverage``."""
     raw_f, cf = ctx.raw_f, ctx.cf
-    nc = narrow_phase(coverage, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
-                      ctx.geom_i, ctx.pairs, ctx.n_pairs, ctx.sweep,
-                      ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, ctx.pose_pos,
-                      ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
+    nc = 0
+    if ctx.n_pairs > 0:     # (the call passes 17 arrays: ~50 ns, more than a lone body's whole narrow phase)
+        nc = narrow_phase(coverage, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
+                          ctx.geom_i, ctx.pairs, ctx.n_pairs, ctx.sweep,
+                          ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, ctx.pose_pos,
+                          ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
     ctx.nc = nc
     ctx.stats[STAT_CONTACTS] = nc
     if nc <= cf.shape[0]:
@@ -1081,17 +1084,21 @@ def _completed(record, status):
 def _entry(scheme, coverage, tier):
     """The compiled entry of ``scheme``'s step (SEQUENTIAL_IMPULSE, PENALTY, LCP) with the pair tests of
     ``coverage`` (``shape_types.COVER_*``), the lean step (:func:`step_lean`) when ``tier`` is LEAN:
-    ``step_at(addresses, statuses)`` runs one step on each context whose address
-    (``_numba.record.record_address``) is in ``addresses``, in order, writes each one's status into
-    ``statuses`` and returns the first that is not OK (OK if none).  One world passes one address; a batch
+    ``step_at(addresses_at, statuses_at, n)`` runs one step on each of the ``n`` contexts whose addresses
+    (``_numba.record.record_address``) are in the int64 array at ``addresses_at``, in order, writes each one's
+    status into the int64 array at ``statuses_at`` and returns the first that is not OK (OK if none); the two
+    arrays are passed by address (``_numba.record.array_address``).  One world passes one context; a batch
     of worlds that share this step passes theirs and is stepped by one call (``marbellous/batch.py``).
-    Addresses rather than contexts: an int crosses into a kernel ~0.1 us faster.  The codes are constants
+    Addresses rather than contexts and arrays: an int crosses into a kernel ~0.1 us faster than a record,
+    ~50 ns faster than an array.  The codes are constants
     of the compiled function, so it holds only its own scheme's stages and its coverage's pair tests
     (Numba caches each such closure apart, keyed by them)."""
     @njit
-    def step_at(addresses, statuses):
+    def step_at(addresses_at, statuses_at, n):
+        addresses = int64_array_at(addresses_at, n)
+        statuses = int64_array_at(statuses_at, n)
         first = OK
-        for k in range(addresses.shape[0]):
+        for k in range(n):
             record = context_at(addresses[k])
             if tier == LEAN:
                 status = step_lean(view(record), coverage)

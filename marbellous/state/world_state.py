@@ -14,7 +14,7 @@ import numpy as np
 
 from .._numba.progress import compiling
 from .._numba.progress import install as install_compile_progress
-from .._numba.record import compiled_entry, record_address
+from .._numba.record import array_address, compiled_entry, record_address
 from ..collision import shape_types as st
 from ..collision.broadphase import make_state as make_broadphase_state
 from ..deformables.particle_state import ParticleState
@@ -24,7 +24,7 @@ from ..pipeline.stages import STAGES
 from ..collision.broadphase import GRID
 from ..dynamics.contact_bundles import MIN_BUNDLED_CONTACTS
 from ..dynamics.integrators import SEMI_IMPLICIT_EULER
-from ..pipeline.step import FULL, GROW_CONTACTS, GROW_PAIRS, LEAN, STEPS
+from ..pipeline.step import FULL, GROW_CONTACTS, GROW_PAIRS, LEAN, OK, STEPS
 from . import layout as L
 from .shared_geometry import shared_array
 from .slots import Slots
@@ -124,9 +124,10 @@ class WorldState:
         self.threads = 1
         self.solver = L.SEQUENTIAL_IMPULSE
         self.particles = ParticleState()     # particles and networks (deformables/particle_state.py)
-        # The step context of the current tables (None whenever one of them is replaced), its address as the
-        # compiled step takes it (an array of one), that step's entry point, and where it writes its status.
-        self.context = self.entry = self.addresses = None
+        # The step context of the current tables (None whenever one of them is replaced), its address (an
+        # array of one), that step's entry point and the arguments it takes (the addresses of that array and
+        # of the one where it writes its status, and their length).
+        self.context = self.entry = self.addresses = self.arguments = None
         self.statuses = np.zeros(1, dtype=np.int64)
         self.tier = None      # the tier of that step (pipeline/step.py: LEAN or FULL)
         self.sharing = None   # a step compiling ahead in a helper process (compile_ahead), until the first pack
@@ -169,7 +170,8 @@ class WorldState:
                                         self.impact_f)
             self.addresses = np.array([record_address(self.context)],
                                       dtype=object if numba.config.DISABLE_JIT else np.int64)
-            self.entry = compiled_entry(step, self.addresses, self.statuses)
+            self.arguments = (array_address(self.addresses), array_address(self.statuses), 1)
+            self.entry = compiled_entry(step, *self.arguments)
 
     def step(self):
         """One step (or interval) with the parameters in ``params_f``/``params_i``; buffers that turn out too
@@ -178,7 +180,8 @@ class WorldState:
         or DETECTED (a detection pass: ``params_i[PI_DETECT]``), from ``pipeline/impacts.py``."""
         if self.context is None:
             self.pack()
-        return self.settle(self.entry(self.addresses, self.statuses))
+        status = self.entry(*self.arguments)
+        return status if status == OK else self.settle(status)
 
     def settle(self, status):
         """The step's status once the buffers that ``status`` (the entry's) says were too small are grown and
@@ -190,7 +193,7 @@ class WorldState:
             else:
                 self.grow_contacts(int(self.stats[L.STAT_CONTACTS]))
             self.pack()
-            status = self.entry(self.addresses, self.statuses)
+            status = self.entry(*self.arguments)
         return status
 
     # --- contacts -------------------------------------------------------------------------------------------
