@@ -42,7 +42,7 @@ import math
 
 
 from .._numba.jit import njit, njit_inline
-from ..math3d import dot3, quat_step, row3, row4
+from ..math3d import dot3, quat_step, row3, row4, row9
 from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A, C_BODY_B, C_DEPTH, C_E, C_FLAGS,
                             C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2, C_MAX_N,
                             C_MU_D, C_MU_S, C_NORMAL, C_PAIR_SLIP, C_POINT, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1,
@@ -172,8 +172,8 @@ def _warm_start_contact(cf, ci, c, sb):
     ub = push(sb, b, velocity(sb, b), row3(cf, c, C_RB), px, py, pz, 1.0)
     lr = row3(cf, c, C_LAMBDA_R)
     if lr[0] != 0.0 or lr[1] != 0.0 or lr[2] != 0.0:
-        ua = twist(sb, a, ua, lr[0], lr[1], lr[2], -1.0)
-        ub = twist(sb, b, ub, lr[0], lr[1], lr[2], 1.0)
+        ua = twist(ua, row9(sb, a, SB_INV_I), lr, -1.0)
+        ub = twist(ub, row9(sb, b, SB_INV_I), lr, 1.0)
     set_velocity(sb, a, ua)
     set_velocity(sb, b, ub)
 
@@ -618,6 +618,39 @@ def solve_supported(cf, ci, supported, sb, pb, h, pushing, rate, max_push, depth
                     set_velocity(sb, a, ua)
 
 
+@njit_inline
+def angular_cofactors(inv_i_a, inv_i_b):
+    """The cofactors ``(c0, .., c8)`` and the determinant of the angular effective mass's inverse
+
+        K = I_a^-1 + I_b^-1,   K^-1 = adj(K) / det K,   adj(K) = the cofactors' transpose
+
+    from the bodies' world inverse inertias (row-major 9-tuples).  Plain arithmetic, so the wide floats of
+    ``contact_bundles`` take it too, lane by lane with the same rounding."""
+    k0, k1, k2 = inv_i_a[0] + inv_i_b[0], inv_i_a[1] + inv_i_b[1], inv_i_a[2] + inv_i_b[2]
+    k3, k4, k5 = inv_i_a[3] + inv_i_b[3], inv_i_a[4] + inv_i_b[4], inv_i_a[5] + inv_i_b[5]
+    k6, k7, k8 = inv_i_a[6] + inv_i_b[6], inv_i_a[7] + inv_i_b[7], inv_i_a[8] + inv_i_b[8]
+    c0, c1, c2 = k4 * k8 - k5 * k7, k5 * k6 - k3 * k8, k3 * k7 - k4 * k6
+    c3, c4, c5 = k2 * k7 - k1 * k8, k0 * k8 - k2 * k6, k1 * k6 - k0 * k7
+    c6, c7, c8 = k1 * k5 - k2 * k4, k2 * k3 - k0 * k5, k0 * k4 - k1 * k3
+    return (c0, c1, c2, c3, c4, c5, c6, c7, c8), k0 * c0 + k1 * c1 + k2 * c2
+
+
+@njit_inline
+def rolling_split(cofactors, det, w, old, n):
+    """The angular impulse that stops the relative angular velocity ``w = w_b - w_a``, before its bounds,
+
+        lambda_r = old - K^-1 w,   K^-1 w = adj(K) w / det K  (:func:`angular_cofactors`),
+
+    split along the unit normal ``n``: its part across ``n`` (rolling) and its component along ``n``
+    (torsion).  Plain arithmetic, as :func:`angular_cofactors`."""
+    c0, c1, c2, c3, c4, c5, c6, c7, c8 = cofactors
+    r0 = old[0] - (c0 * w[0] + c3 * w[1] + c6 * w[2]) / det
+    r1 = old[1] - (c1 * w[0] + c4 * w[1] + c7 * w[2]) / det
+    r2 = old[2] - (c2 * w[0] + c5 * w[1] + c8 * w[2]) / det
+    spin = r0 * n[0] + r1 * n[1] + r2 * n[2]
+    return (r0 - spin * n[0], r1 - spin * n[1], r2 - spin * n[2]), spin
+
+
 @njit
 def _solve_rolling(cf, c, sb, a, b, ua, ub, rolling_bound, torsion_bound):
     """Drive the relative angular velocity ``w_b - w_a`` to zero with the impulse's part across the normal
@@ -626,31 +659,17 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, rolling_bound, torsion_bound):
         K = I_a^-1 + I_b^-1,   lambda_r := lambda_r - K^-1 (w_b - w_a),   K^-1 = adj(K) / det K,
         lambda_r := clamp(lambda_r - (lambda_r.n) n, rolling_bound) + clamp(lambda_r.n, torsion_bound) n
 
-    Returns the bodies' updated ``(v, omega)``.
+    Returns the bodies' updated ``(v, omega)``.  (``contact_bundles`` solves it lane by lane with the same
+    arithmetic.)
     """
-    # K = I_a^-1 + I_b^-1 (world, row-major)
-    k0, k1, k2 = (sb[a, SB_INV_I] + sb[b, SB_INV_I], sb[a, SB_INV_I + 1] + sb[b, SB_INV_I + 1],
-                  sb[a, SB_INV_I + 2] + sb[b, SB_INV_I + 2])
-    k3, k4, k5 = (sb[a, SB_INV_I + 3] + sb[b, SB_INV_I + 3], sb[a, SB_INV_I + 4] + sb[b, SB_INV_I + 4],
-                  sb[a, SB_INV_I + 5] + sb[b, SB_INV_I + 5])
-    k6, k7, k8 = (sb[a, SB_INV_I + 6] + sb[b, SB_INV_I + 6], sb[a, SB_INV_I + 7] + sb[b, SB_INV_I + 7],
-                  sb[a, SB_INV_I + 8] + sb[b, SB_INV_I + 8])
-    # cofactors of K (the adjugate is their transpose)
-    c0, c1, c2 = k4 * k8 - k5 * k7, k5 * k6 - k3 * k8, k3 * k7 - k4 * k6
-    det = k0 * c0 + k1 * c1 + k2 * c2
+    inv_i_a, inv_i_b = row9(sb, a, SB_INV_I), row9(sb, b, SB_INV_I)
+    cofactors, det = angular_cofactors(inv_i_a, inv_i_b)
     if det <= 0.0:
         return ua, ub
-    c3, c4, c5 = k2 * k7 - k1 * k8, k0 * k8 - k2 * k6, k1 * k6 - k0 * k7
-    c6, c7, c8 = k1 * k5 - k2 * k4, k2 * k3 - k0 * k5, k0 * k4 - k1 * k3
-    w0, w1, w2 = ub[3] - ua[3], ub[4] - ua[4], ub[5] - ua[5]
-    x0 = (c0 * w0 + c3 * w1 + c6 * w2) / det
-    x1 = (c1 * w0 + c4 * w1 + c7 * w2) / det
-    x2 = (c2 * w0 + c5 * w1 + c8 * w2) / det
-    o0, o1, o2 = cf[c, C_LAMBDA_R], cf[c, C_LAMBDA_R + 1], cf[c, C_LAMBDA_R + 2]
-    nx, ny, nz = cf[c, C_NORMAL], cf[c, C_NORMAL + 1], cf[c, C_NORMAL + 2]
-    r0, r1, r2 = o0 - x0, o1 - x1, o2 - x2
-    spin = r0 * nx + r1 * ny + r2 * nz
-    r0, r1, r2 = r0 - spin * nx, r1 - spin * ny, r2 - spin * nz
+    old = row3(cf, c, C_LAMBDA_R)
+    n = row3(cf, c, C_NORMAL)
+    across, spin = rolling_split(cofactors, det, (ub[3] - ua[3], ub[4] - ua[4], ub[5] - ua[5]), old, n)
+    r0, r1, r2 = across
     length = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
     if length > rolling_bound:
         scale = rolling_bound / length if length > 0.0 else 0.0
@@ -658,12 +677,11 @@ def _solve_rolling(cf, c, sb, a, b, ua, ub, rolling_bound, torsion_bound):
         r1 *= scale
         r2 *= scale
     spin = min(max(spin, -torsion_bound), torsion_bound)
-    n0, n1, n2 = r0 + spin * nx, r1 + spin * ny, r2 + spin * nz
-    cf[c, C_LAMBDA_R] = n0
-    cf[c, C_LAMBDA_R + 1] = n1
-    cf[c, C_LAMBDA_R + 2] = n2
-    return (twist(sb, a, ua, n0 - o0, n1 - o1, n2 - o2, -1.0),
-            twist(sb, b, ub, n0 - o0, n1 - o1, n2 - o2, 1.0))
+    new = (r0 + spin * n[0], r1 + spin * n[1], r2 + spin * n[2])
+    for k in range(3):
+        cf[c, C_LAMBDA_R + k] = new[k]
+    change = (new[0] - old[0], new[1] - old[1], new[2] - old[2])
+    return twist(ua, inv_i_a, change, -1.0), twist(ub, inv_i_b, change, 1.0)
 
 
 @njit_inline

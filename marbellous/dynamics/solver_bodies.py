@@ -127,13 +127,19 @@ def push(sb, i, u, r, px, py, pz, sign):
             u[5] + sign * (sb[i, SB_INV_I + 6] * cx + sb[i, SB_INV_I + 7] * cy + sb[i, SB_INV_I + 8] * cz))
 
 
-@njit
-def twist(sb, i, u, lx, ly, lz, sign):
-    """``u`` of body ``i`` after the angular impulse ``sign l`` (N m s):  omega += sign I_w^-1 l."""
+@njit_inline
+def twist(u, inv_i, impulse, sign):
+    """``u`` of a body of world inverse inertia ``inv_i`` (row-major 9-tuple) after the angular impulse
+    ``sign l`` (``l`` = ``impulse``, N m s):
+
+        omega += sign I_w^-1 l
+
+    Plain arithmetic, so the wide floats of ``contact_bundles`` take it too, lane by lane with the same
+    rounding."""
     return (u[0], u[1], u[2],
-            u[3] + sign * (sb[i, SB_INV_I] * lx + sb[i, SB_INV_I + 1] * ly + sb[i, SB_INV_I + 2] * lz),
-            u[4] + sign * (sb[i, SB_INV_I + 3] * lx + sb[i, SB_INV_I + 4] * ly + sb[i, SB_INV_I + 5] * lz),
-            u[5] + sign * (sb[i, SB_INV_I + 6] * lx + sb[i, SB_INV_I + 7] * ly + sb[i, SB_INV_I + 8] * lz))
+            u[3] + sign * (inv_i[0] * impulse[0] + inv_i[1] * impulse[1] + inv_i[2] * impulse[2]),
+            u[4] + sign * (inv_i[3] * impulse[0] + inv_i[4] * impulse[1] + inv_i[5] * impulse[2]),
+            u[5] + sign * (inv_i[6] * impulse[0] + inv_i[7] * impulse[1] + inv_i[8] * impulse[2]))
 
 
 @njit
