@@ -2,7 +2,9 @@
 every solved contact is in exactly one lane or the overflow, and a pass over the bundles gives bit for
 bit what the scalar pass (contact_solver.solve_contacts) gives visiting the same contacts in bundle
 order, and a push pass of the split impulses (push_bundles) what contact_solver.push_contacts gives: for
-spheres (isotropic inertia) and for flat boxes (the inertia turns with the body)."""
+spheres (isotropic inertia), for flat boxes (the inertia turns with the body) and for a mix of spheres,
+cubes and flat boxes, with and without rolling and torsional friction.  Balls rolling or spinning on a
+plane, enough of them for the step to bundle their contacts, slow down as the closed forms say."""
 import numpy as np
 import pytest
 from numba import njit
@@ -17,7 +19,7 @@ from marbellous.dynamics.solver_bodies import prepare_solver_bodies
 from marbellous.scenes import sphere_pile
 from marbellous.state import layout as L
 from marbellous.state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, PB_COLS, SB_COLS, SB_ISO, WB_LAMBDA_P, WI_CONTACT,
-                                     WI_READ_A, WI_READ_B, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
+                                     WI_READ_A, WI_READ_B, WI_ROLLING, WI_TURNING, WI_WRITE_A, WI_WRITE_B)
 
 DT = 1 / 60
 H = DT / 4
@@ -25,6 +27,7 @@ SOFT = (30.0, 0.9, 0.1, 3.0)    # (bias rate, mass scale, impulse scale, max pus
 RATE = 30.0             # bias rate of the push (1/s)
 MAX_PUSH = 0.05         # (low enough that some contacts push at the cap)
 DEPTH = 1e-3            # overlap left to the velocity passes (m)
+G = 9.81
 
 
 @njit
@@ -39,16 +42,31 @@ def _accumulate(cf, ci, nc):
     accumulate_applied(cf, ci, nc)
 
 
-class Bundled:
-    """The last step's contacts of a world laid out in bundles, with the solver bodies they were made from."""
+def _rolling_materials(cf):
+    """Rolling friction on contacts 0, 2, 4, ..., torsional friction on contacts 1, 2, 5, 6, ... (so some
+    have both, some neither), and an angular impulse to warm-start of up to 1.5 times 1 % of the normal
+    impulse on each contact with either (some start beyond their bounds) and on every eighth without (as
+    a contact keeps its impulse when its bodies' rolling friction is set to zero: warm-started, never
+    solved)."""
+    rng = np.random.default_rng(11)
+    for c in range(len(cf)):
+        cf[c, L.C_ROLL] = 0.01 if c % 2 == 0 else 0.0
+        cf[c, L.C_TORSION] = 0.01 if c % 4 in (1, 2) else 0.0
+        if cf[c, L.C_ROLL] > 0.0 or cf[c, L.C_TORSION] > 0.0 or c % 8 == 7:
+            cf[c, L.C_LAMBDA_R:L.C_LAMBDA_R + 3] = 0.015 * cf[c, L.C_LAMBDA_N] * rng.uniform(-1.0, 1.0, 3)
 
-    def __init__(self, world, rolling=(), deeper=0.0):
+
+class Bundled:
+    """The last step's contacts of a world laid out in bundles, with the solver bodies they were made from
+    (``rolling``: with :func:`_rolling_materials`)."""
+
+    def __init__(self, world, rolling=False, deeper=0.0):
         self.nc = world._state.n_cached
         self.cf = world._state.cache_f[:self.nc].copy()
         self.ci = world._state.cache_i[:self.nc].copy()
         self.cf[:, L.C_ADJ_SEP] -= deeper           # overlap, some of it deeper than DEPTH, for the pushes
-        for c in rolling:
-            self.cf[c, L.C_ROLL] = 0.01
+        if rolling:
+            _rolling_materials(self.cf)
         self.sb = _solver_bodies(world._state.bf, world._state.bi, world._state.bodies.end)
         capacity = bundle_capacity(self.nc, 1)
         self.wide_f = np.zeros(capacity * BUNDLE_FIELDS * LANES)
@@ -95,15 +113,33 @@ def slabs():
     return _settle(w, 30)
 
 
+@pytest.fixture(scope="module")
+def mixed():
+    """Spheres, cubes (isotropic inertia) and flat boxes (not) side by side and on one another on the ground."""
+    w = mb.World()
+    w.add_static(mb.Plane())
+    shapes = (mb.Sphere(0.3), mb.Box((0.3, 0.3, 0.3)), mb.Box((0.45, 0.2, 0.35)))
+    for layer in range(2):
+        for i in range(4):
+            for j in range(4):
+                x, z = i * 1.0 + 0.2 * layer, j * 1.0 + 0.1 * layer
+                w.add_body(shapes[(i + j + layer) % 3], position=(x, 0.35 + 0.65 * layer, z), friction=0.6)
+    return _settle(w, 40)
+
+
 def test_a_colour_shares_no_movable_body_and_every_contact_has_one_place(pile):
-    b = Bundled(pile, rolling=(5, 17))
+    b = Bundled(pile, rolling=True)
     assert b.nc >= MIN_BUNDLED_CONTACTS
     assert b.bundles * LANES < 1.2 * b.nc                       # bundles are mostly full
     pad, sink = b.sb.shape[0] - 2, b.sb.shape[0] - 1
     seen = list(b.overflow[:b.n_over])
-    assert sorted(seen) == [5, 17]                              # rolling resistance: the scalar pass
+    assert seen == []                                           # rolling resistance too in the bundles
     for k in range(b.bundles):
         contacts = b.block(k, WI_CONTACT)
+        real = contacts[contacts >= 0]
+        angular = (b.cf[real, L.C_ROLL] > 0.0) | (b.cf[real, L.C_TORSION] > 0.0)
+        angular |= np.any(b.cf[real, L.C_LAMBDA_R:L.C_LAMBDA_R + 3] != 0.0, axis=1)
+        assert np.all(b.block(k, WI_ROLLING) == int(np.any(angular)))     # the whole bundle, or none of it
         for lane, c in enumerate(contacts):
             rows = [b.block(k, kind)[lane] for kind in (WI_READ_A, WI_READ_B, WI_WRITE_A, WI_WRITE_B)]
             if c < 0:
@@ -137,10 +173,10 @@ def test_the_serial_step_solves_a_pile_in_bundles(pile):
     assert n_over == 0 and n <= bundles * LANES < n + LANES * MAX_COLOURS
 
 
-def _compare_passes(world):
+def _compare_passes(world, rolling=False):
     """Warm start, three soft and one rigid velocity pass and three push passes, wide and scalar in the same
-    contact order."""
-    b = Bundled(world, deeper=3e-3)
+    contact order (``rolling``: with :func:`_rolling_materials`)."""
+    b = Bundled(world, rolling=rolling, deeper=3e-3)
     order = b.lane_order()
     assert b.n_over == 0 and len(order) == b.nc and b.bundles >= 4
     cf, sb = b.cf.copy(), b.sb[:-2].copy()
@@ -172,17 +208,52 @@ def _compare_passes(world):
     stored = b.cf.copy()
     store_bundles(b.wide_f, b.wide_i, b.bundles, stored)
     assert np.array_equal(stored, cf)
+    flagged = [b.block(k, WI_ROLLING)[0] for k in range(b.bundles)]
+    if not rolling:
+        assert not any(flagged)                                  # no rolling friction: no rolling block
+        return b
+    assert any(flagged)
+    # lambda_r was solved: across the normal some contacts hold their bound rho lambda_n, along it some
+    # hold tau lambda_n, and those without rolling or torsional friction kept what they had
+    lambda_r, n = cf[:, L.C_LAMBDA_R:L.C_LAMBDA_R + 3], cf[:, L.C_NORMAL:L.C_NORMAL + 3]
+    spin = np.sum(lambda_r * n, axis=1)
+    across = np.linalg.norm(lambda_r - spin[:, None] * n, axis=1)
+    rolling_bound, torsion_bound = cf[:, L.C_ROLL] * cf[:, L.C_LAMBDA_N], cf[:, L.C_TORSION] * cf[:, L.C_LAMBDA_N]
+    inert = (b.cf[:, L.C_ROLL] == 0.0) & (b.cf[:, L.C_TORSION] == 0.0)
+    rounding = 1e-12 * np.linalg.norm(lambda_r, axis=1)
+    assert np.all((across <= rolling_bound + rounding) | inert)
+    assert np.all((np.abs(spin) <= torsion_bound + rounding) | inert)
+    assert np.count_nonzero((rolling_bound > 0.0) & (across >= rolling_bound * (1 - 1e-12))) > 0
+    assert np.count_nonzero((torsion_bound > 0.0) & (np.abs(spin) >= torsion_bound * (1 - 1e-12))) > 0
+    assert np.array_equal(lambda_r[inert], b.cf[inert, L.C_LAMBDA_R:L.C_LAMBDA_R + 3])
+    assert np.any(lambda_r[inert] != 0.0)
     return b
 
 
-def test_bundles_solve_spheres_as_the_scalar_pass(pile):
-    b = _compare_passes(pile)
+@pytest.mark.parametrize("rolling", (False, True))
+def test_bundles_solve_spheres_as_the_scalar_pass(pile, rolling):
+    b = _compare_passes(pile, rolling)
     assert not any(b.block(k, WI_TURNING)[0] for k in range(b.bundles))
 
 
-def test_bundles_solve_turning_boxes_as_the_scalar_pass(slabs):
-    b = _compare_passes(slabs)
+@pytest.mark.parametrize("rolling", (False, True))
+def test_bundles_solve_turning_boxes_as_the_scalar_pass(slabs, rolling):
+    b = _compare_passes(slabs, rolling)
     assert all(b.block(k, WI_TURNING)[0] for k in range(b.bundles))
+
+
+@pytest.mark.parametrize("rolling", (False, True))
+def test_bundles_solve_spheres_cubes_and_boxes_as_the_scalar_pass(mixed, rolling):
+    b = _compare_passes(mixed, rolling)
+    # bundles that turn hold lanes whose bodies are all isotropic (spheres, cubes, the ground) beside others
+    isotropic = 0
+    for k in range(b.bundles):
+        contacts = b.block(k, WI_CONTACT)
+        lanes = contacts[contacts >= 0]
+        assert b.block(k, WI_TURNING)[0] == np.any(b.sb[b.ci[lanes, :2], SB_ISO] < 0.0)
+        if b.block(k, WI_TURNING)[0]:
+            isotropic += np.count_nonzero(np.all(b.sb[b.ci[lanes, :2], SB_ISO] >= 0.0, axis=1))
+    assert isotropic > 0
 
 
 def test_bundles_refresh_the_masses_of_turned_bodies_as_the_scalar_pass(slabs):
@@ -219,3 +290,52 @@ def test_bundles_refresh_the_masses_of_turned_bodies_as_the_scalar_pass(slabs):
         assert np.array_equal(stored[:, column], cf[:, column])
         assert np.all(np.abs(cf[:, column]) <= np.abs(b.cf[:, column]))     # scaled down, never up
     assert changed > 0
+
+
+def _balls_on_a_plane(radius, angular_velocity, velocity=(0.0, 0.0, 0.0), **material):
+    """81 balls of ``radius`` (m) and 2 kg on a plane, 9 by 9, 4 m apart along x and 1.5 m along z (one contact
+    each: enough contacts for the step to solve them in bundles), the plane and the balls of ``material``."""
+    w = mb.World(sleeping=False)
+    w.add_static(mb.Plane(), **material)
+    balls = [w.add_body(mb.Sphere(radius), mass=2.0, position=(4.0 * i, radius, 1.5 * j), velocity=velocity,
+                        angular_velocity=angular_velocity, **material) for i in range(9) for j in range(9)]
+    return w, balls
+
+
+def _bundled(world):
+    bundles, n_over = _bundled_in_step(world._state.context)
+    return bundles > 0 and n_over == 0
+
+
+def test_balls_rolling_in_bundles_stop_as_rolling_friction_says():
+    """A ball rolling on a plane feels the rolling resistance torque rho N (and the friction force that
+    keeps it rolling): it slows at a = rho g / (r (1 + 2/5)) (a solid sphere) and stops after v^2 / (2 a),
+    as test_contact_dynamics' marble does through the scalar pass."""
+    r, v0, rho = 0.1, 2.0, 0.01
+    w, balls = _balls_on_a_plane(r, (0.0, 0.0, -v0 / r), (v0, 0.0, 0.0), friction=0.5, rolling_friction=rho)
+    decel = rho * G / (r * 1.4)
+    start = [b.position[0] for b in balls]
+    for step in range(int((v0 / decel + 0.5) * 60)):
+        w.step(DT)
+        if step == 30:
+            assert _bundled(w)
+            for b in balls:
+                assert b.velocity[0] == pytest.approx(v0 - decel * 31 * DT, rel=0.02)
+    assert _bundled(w)
+    for b, x0 in zip(balls, start):
+        assert np.linalg.norm(b.velocity) < 1e-3
+        assert np.linalg.norm(b.angular_velocity) < 1e-2
+        assert b.position[0] - x0 == pytest.approx(v0 ** 2 / (2 * decel), rel=0.05)
+
+
+def test_balls_spinning_in_bundles_stop_at_the_rate_of_torsional_friction():
+    """A ball resting on a plane spinning about the normal: I domega/dt = -tau m g, I = 2/5 m r^2, so after
+    2 s the spin is 10 - 2 tau g / (0.4 r^2) (test_materials' ball, solved here in bundles)."""
+    tau, r = 0.01, 0.5
+    w, balls = _balls_on_a_plane(r, (0.0, 10.0, 0.0), torsional_friction=tau)
+    for _ in range(120):
+        w.step(DT)
+    assert _bundled(w)
+    expected = 10.0 - G * tau / (0.4 * r * r) * 2.0
+    for b in balls:
+        np.testing.assert_allclose(b.angular_velocity, [0.0, expected, 0.0], atol=1e-9)

@@ -11,13 +11,14 @@ of a colour touch the same movable body.
                   so any number of a colour's contacts may share them); at most ``MAX_COLOURS``
     bundle        ``LANES`` contacts of one colour; the last bundle of a colour is filled with pad lanes
                   that read an all-zero solver-body row and write a row nothing reads
-    overflow      contacts with rolling resistance and those beyond the last colour: solved by the scalar
-                  pass after the bundles
+    overflow      contacts beyond the last colour: solved by the scalar pass after the bundles
 
 Per bundle the table ``wide_f`` holds ``BUNDLE_FIELDS`` blocks of ``LANES`` values (field ``f`` of lane
 ``l`` at ``bundle * BUNDLE_FIELDS * LANES + f * LANES + l``), and ``wide_i`` holds ``BUNDLE_ROWS`` blocks of
 ``LANES`` ints: the solver-body rows read for a and b, the rows written for a and b (the sink row for a
-body that cannot move), and the contact of each lane (-1 for a pad).  The solver-body table has two rows
+body that cannot move), the contact of each lane (-1 for a pad) and two flags of the whole bundle: some
+lane's body turns (its world inertia is not isotropic), some lane has rolling or torsional friction (only
+such bundles pay for the angular impulse ``lambda_r``).  The solver-body table has two rows
 more than the world has body slots: the pad row (second to last) and the sink row (last).
 
 Stages, as the step calls them: ``bundle_contacts`` (once per step, after ``prepare_contacts``),
@@ -29,16 +30,18 @@ step: impulses back to the contact table).
 from .._numba.jit import njit, njit_inline
 from .._numba.wide import LANES, abs_w, gather_w, load_w, max_w, min_w, scatter_w, splat_w, sqrt_w, store_w, where_gt
 from ..state.layout import (BUNDLE_FIELDS, BUNDLE_ROWS, CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY_A,
-                            C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1, C_MASS_T2,
-                            C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1, C_T2,
-                            C_TORSION, C_VN0, SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A, WB_INV_I_B,
-                            WB_INV_MASS_A, WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_T1, WB_LAMBDA_T2, WB_MASS_N,
-                            WB_MASS_T1, WB_MASS_T2, WB_LAMBDA_P, WB_MAX_N, WB_MU, WB_NEW, WB_NORMAL, WB_RA, WB_RB,
-                            WB_SEPARATION, WB_SUM_N, WB_SUM_T, WB_T1, WB_T2, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B,
-                            WI_TURNING, WI_WRITE_A, WI_WRITE_B)
+                            C_BODY_B, C_FLAGS, C_LAMBDA_N, C_LAMBDA_R, C_LAMBDA_T1, C_LAMBDA_T2, C_MASS_N, C_MASS_T1,
+                            C_MASS_T2, C_MAX_N, C_MU_D, C_MU_S, C_NORMAL, C_RA, C_RB, C_ROLL, C_SUM_N, C_SUM_T, C_T1,
+                            C_T2, C_TORSION, C_VN0, SB_DP, SB_INV_MASS, SB_ISO, SB_V, WB_ADJ_SEP, WB_INV_I_A,
+                            WB_INV_I_B, WB_INV_MASS_A, WB_INV_MASS_B, WB_LAMBDA_N, WB_LAMBDA_R, WB_LAMBDA_T1,
+                            WB_LAMBDA_T2, WB_MASS_N, WB_MASS_T1, WB_MASS_T2, WB_LAMBDA_P, WB_MAX_N, WB_MU, WB_NEW,
+                            WB_NORMAL, WB_RA, WB_RB, WB_ROLL, WB_SEPARATION, WB_SUM_N, WB_SUM_T, WB_T1, WB_T2,
+                            WB_TORSION, WB_VN0, WI_CONTACT, WI_READ_A, WI_READ_B, WI_ROLLING, WI_TURNING, WI_WRITE_A,
+                            WI_WRITE_B)
 
 # (gathered as blocks of columns: 1/m then I^-1 (10), v then omega (6), dx then dtheta (6))
-from .solver_bodies import effective_mass_along, lighter
+from .contact_solver import angular_cofactors, rolling_split
+from .solver_bodies import effective_mass_along, lighter, twist
 
 #: most colours; contacts that find none free go to the overflow (one bit per colour in an int64 mask)
 MAX_COLOURS = 63
@@ -81,7 +84,7 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         colour = MAX_COLOURS                         # the overflow, unless a colour is free
         if (ci[c, C_FLAGS] & CP_SENSOR) != 0:
             colour = -1                              # sensors are reported, not solved
-        elif cf[c, C_ROLL] <= 0.0 and cf[c, C_TORSION] <= 0.0:
+        else:
             a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
             move_a, move_b = sb[a, SB_ISO] != 0.0, sb[b, SB_ISO] != 0.0
             taken = (used[a] if move_a else 0) | (used[b] if move_b else 0)
@@ -114,6 +117,7 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         wide_i[i0 + WI_WRITE_B * LANES] = sink
         wide_i[i0 + WI_CONTACT * LANES] = -1
         wide_i[i0 + WI_TURNING * LANES] = 0
+        wide_i[i0 + WI_ROLLING * LANES] = 0
     for position in range(first, last):
         c = order[position]
         colour = colour_of[c]
@@ -132,8 +136,13 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         if sb[a, SB_ISO] < 0.0 or sb[b, SB_ISO] < 0.0:    # not isotropic: the whole bundle turns
             for k in range(LANES):
                 wide_i[bundle * BUNDLE_ROWS * LANES + WI_TURNING * LANES + k] = 1
+        if (cf[c, C_ROLL] > 0.0 or cf[c, C_TORSION] > 0.0 or cf[c, C_LAMBDA_R] != 0.0 or cf[c, C_LAMBDA_R + 1] != 0.0
+                or cf[c, C_LAMBDA_R + 2] != 0.0):     # the whole bundle solves and warm-starts lambda_r
+            for k in range(LANES):
+                wide_i[bundle * BUNDLE_ROWS * LANES + WI_ROLLING * LANES + k] = 1
         for k in range(3):
             wide_f[_at(bundle, WB_NORMAL + k) + lane] = cf[c, C_NORMAL + k]
+            wide_f[_at(bundle, WB_LAMBDA_R + k) + lane] = cf[c, C_LAMBDA_R + k]
             wide_f[_at(bundle, WB_RA + k) + lane] = cf[c, C_RA + k]
             wide_f[_at(bundle, WB_RB + k) + lane] = cf[c, C_RB + k]
             wide_f[_at(bundle, WB_T1 + k) + lane] = cf[c, C_T1 + k]
@@ -143,6 +152,8 @@ def bundle_contacts(cf, ci, order, first, last, sb, used, colour_of, colour_fill
         wide_f[_at(bundle, WB_MASS_T2) + lane] = cf[c, C_MASS_T2]
         sliding = (ci[c, C_FLAGS] & CP_SLIDING) != 0
         wide_f[_at(bundle, WB_MU) + lane] = cf[c, C_MU_D] if sliding else cf[c, C_MU_S]
+        wide_f[_at(bundle, WB_ROLL) + lane] = cf[c, C_ROLL]
+        wide_f[_at(bundle, WB_TORSION) + lane] = cf[c, C_TORSION]
         wide_f[_at(bundle, WB_LAMBDA_N) + lane] = cf[c, C_LAMBDA_N]
         wide_f[_at(bundle, WB_LAMBDA_T1) + lane] = cf[c, C_LAMBDA_T1]
         wide_f[_at(bundle, WB_LAMBDA_T2) + lane] = cf[c, C_LAMBDA_T2]
@@ -226,6 +237,43 @@ def _turning(wide_i, bundle):
     return wide_i[bundle * BUNDLE_ROWS * LANES + WI_TURNING * LANES] != 0
 
 
+@njit_inline
+def _rolling(wide_i, bundle):
+    """True if some lane of ``bundle`` has rolling or torsional friction or an angular impulse to warm-start."""
+    return wide_i[bundle * BUNDLE_ROWS * LANES + WI_ROLLING * LANES] != 0
+
+
+@njit_inline
+def _solve_rolling(wide_f, bundle, ua, ub, normal_impulse):
+    """Rolling and torsional friction of every lane, as ``contact_solver._solve_rolling`` (term for term):
+
+        K = I_a^-1 + I_b^-1,   lambda_r := lambda_r - K^-1 (w_b - w_a),   K^-1 = adj(K) / det K,
+        lambda_r := clamp(lambda_r - (lambda_r.n) n, rho lambda_n) + clamp(lambda_r.n, tau lambda_n) n
+
+    with ``lambda_n`` the lane's ``normal_impulse``.  A lane without rolling or torsional friction
+    (``rho = tau = 0``: the scalar pass skips it) and one whose ``K`` is singular (a pad lane) keep their
+    ``lambda_r``.  Returns the bodies' updated ``(v, omega)``."""
+    zero = splat_w(0.0)
+    inv_i_a = _inertia(wide_f, _at(bundle, WB_INV_I_A), True)
+    inv_i_b = _inertia(wide_f, _at(bundle, WB_INV_I_B), True)
+    cofactors, det = angular_cofactors(inv_i_a, inv_i_b)
+    old, n = _vector(wide_f, _at(bundle, WB_LAMBDA_R)), _vector(wide_f, _at(bundle, WB_NORMAL))
+    across, spin = rolling_split(cofactors, det, (ub[3] - ua[3], ub[4] - ua[4], ub[5] - ua[5]), old, n)
+    roll, torsion = load_w(wide_f, _at(bundle, WB_ROLL)), load_w(wide_f, _at(bundle, WB_TORSION))
+    rolling_bound, torsion_bound = roll * normal_impulse, torsion * normal_impulse
+    length = sqrt_w(_dot(across, across))
+    scale = where_gt(length, rolling_bound, rolling_bound / length, splat_w(1.0))
+    spin = min_w(max_w(spin, -torsion_bound), torsion_bound)
+    solved = where_gt(det, zero, max_w(roll, torsion), zero)      # > 0: the lane solves lambda_r
+    new = (where_gt(solved, zero, across[0] * scale + spin * n[0], old[0]),
+           where_gt(solved, zero, across[1] * scale + spin * n[1], old[1]),
+           where_gt(solved, zero, across[2] * scale + spin * n[2], old[2]))
+    for k in range(3):
+        store_w(wide_f, _at(bundle, WB_LAMBDA_R + k), new[k])
+    change = (new[0] - old[0], new[1] - old[1], new[2] - old[2])
+    return twist(ua, inv_i_a, change, -1.0), twist(ub, inv_i_b, change, 1.0)
+
+
 @njit
 def load_bundle_bodies(wide_f, wide_i, bundles, sb, all_masses):
     """After the solver bodies are filled: each lane's current separation
@@ -280,7 +328,9 @@ def refresh_bundle_masses(wide_f, wide_i, bundles, sb):
 
 @njit
 def warm_start_bundles(wide_f, wide_i, bundles, sb):
-    """Stage "warm start": apply each lane's accumulated impulse  p = lambda_n n + lambda_1 t1 + lambda_2 t2."""
+    """Stage "warm start": apply each lane's accumulated impulse  p = lambda_n n + lambda_1 t1 + lambda_2 t2,
+    and in bundles with rolling or torsional friction its angular impulse lambda_r:
+    omega_a -= I_a^-1 lambda_r,  omega_b += I_b^-1 lambda_r  (``contact_solver.warm_start_listed``, term for term)."""
     for bundle in range(bundles):
         rows = bundle * BUNDLE_ROWS * LANES
         ln, l1, l2 = (load_w(wide_f, _at(bundle, WB_LAMBDA_N)), load_w(wide_f, _at(bundle, WB_LAMBDA_T1)),
@@ -296,6 +346,10 @@ def warm_start_bundles(wide_f, wide_i, bundles, sb):
         ub = _push(_gather_u(sb, wide_i, rows + WI_READ_B * LANES, SB_V), load_w(wide_f, _at(bundle, WB_INV_MASS_B)),
                    _inertia(wide_f, _at(bundle, WB_INV_I_B), turning), _vector(wide_f, _at(bundle, WB_RB)), p, 1.0,
                    turning)
+        if _rolling(wide_i, bundle):
+            lambda_r = _vector(wide_f, _at(bundle, WB_LAMBDA_R))
+            ua = twist(ua, _inertia(wide_f, _at(bundle, WB_INV_I_A), True), lambda_r, -1.0)
+            ub = twist(ub, _inertia(wide_f, _at(bundle, WB_INV_I_B), True), lambda_r, 1.0)
         _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, ua)
         _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, ub)
 
@@ -305,7 +359,8 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
     """Stage "solve" (``soft`` = (bias_rate, mass_scale, impulse_scale, max_bias)) or "relax" (rigid:
     (0, 1, 0, 0)): one pass of sequential impulses over the bundles ``first:last``, as
     ``contact_solver.solve_contacts`` (normal impulse closing a speculative gap exactly or opening overlap
-    softly, then Coulomb friction on the tangent disc).  Returns the largest velocity change (m/s);
+    softly, then Coulomb friction on the tangent disc, then in bundles that have them rolling and torsional
+    friction: :func:`_solve_rolling`).  Returns the largest velocity change (m/s);
     ``largest`` is scratch of ``LANES`` floats."""
     zero = splat_w(0.0)
     one = splat_w(1.0)
@@ -358,8 +413,13 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
         store_w(wide_f, _at(bundle, WB_LAMBDA_T2), n2)
         d1, d2 = n1 - o1, n2 - o2
         p = (d1 * t1[0] + d2 * t2[0], d1 * t1[1] + d2 * t2[1], d1 * t1[2] + d2 * t2[2])
-        _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, _push(ua, ima, ia, ra, p, -1.0, turning))
-        _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, _push(ub, imb, ib, rb, p, 1.0, turning))
+        ua = _push(ua, ima, ia, ra, p, -1.0, turning)
+        ub = _push(ub, imb, ib, rb, p, 1.0, turning)
+        # --- rolling and torsional friction: an angular impulse bounded by rho and tau times lambda_n ------
+        if _rolling(wide_i, bundle):
+            ua, ub = _solve_rolling(wide_f, bundle, ua, ub, new)
+        _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, ua)
+        _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, ub)
     change = 0.0
     for lane in range(LANES):
         change = max(change, largest[lane])
@@ -423,8 +483,8 @@ def accumulate_bundles(wide_f, bundles):
 
 @njit
 def store_bundles(wide_f, wide_i, bundles, cf):
-    """Stage "store impulses": the bundles' impulses, largest normal impulse, approach speed and totals
-    back to the contact table."""
+    """Stage "store impulses": the bundles' impulses (normal, friction, rolling), largest normal impulse,
+    approach speed and totals back to the contact table."""
     for j in range(bundles * LANES):
         bundle, lane = j // LANES, j % LANES
         c = wide_i[bundle * BUNDLE_ROWS * LANES + WI_CONTACT * LANES + lane]
@@ -437,4 +497,5 @@ def store_bundles(wide_f, wide_i, bundles, cf):
         cf[c, C_VN0] = wide_f[_at(bundle, WB_VN0) + lane]
         cf[c, C_SUM_N] += wide_f[_at(bundle, WB_SUM_N) + lane]
         for k in range(3):
+            cf[c, C_LAMBDA_R + k] = wide_f[_at(bundle, WB_LAMBDA_R + k) + lane]
             cf[c, C_SUM_T + k] += wide_f[_at(bundle, WB_SUM_T + k) + lane]
