@@ -221,11 +221,12 @@ def _push(u, inv_mass, inv_i, r, p, sign, turning):
 
 @njit_inline
 def _inertia(wide_f, at, turning):
-    """The 9 FloatW of a row-major inverse inertia whose block starts at ``at`` (unless ``turning``, only
-    the first is read: the others are not used)."""
+    """The 9 FloatW of a row-major inverse inertia whose block starts at ``at``.  Unless ``turning`` only the
+    first block ``s`` is read: every lane's inverse inertia is then ``s E``, its other entries zero."""
     first = load_w(wide_f, at)
     if not turning:
-        return first, first, first, first, first, first, first, first, first
+        zero = splat_w(0.0)
+        return first, zero, zero, zero, first, zero, zero, zero, first
     return (first, load_w(wide_f, at + LANES), load_w(wide_f, at + 2 * LANES),
             load_w(wide_f, at + 3 * LANES), load_w(wide_f, at + 4 * LANES), load_w(wide_f, at + 5 * LANES),
             load_w(wide_f, at + 6 * LANES), load_w(wide_f, at + 7 * LANES), load_w(wide_f, at + 8 * LANES))
@@ -244,18 +245,17 @@ def _rolling(wide_i, bundle):
 
 
 @njit_inline
-def _solve_rolling(wide_f, bundle, ua, ub, normal_impulse):
+def _solve_rolling(wide_f, bundle, ua, inv_i_a, ub, inv_i_b, normal_impulse):
     """Rolling and torsional friction of every lane, as ``contact_solver._solve_rolling`` (term for term):
 
         K = I_a^-1 + I_b^-1,   lambda_r := lambda_r - K^-1 (w_b - w_a),   K^-1 = adj(K) / det K,
         lambda_r := clamp(lambda_r - (lambda_r.n) n, rho lambda_n) + clamp(lambda_r.n, tau lambda_n) n
 
-    with ``lambda_n`` the lane's ``normal_impulse``.  A lane without rolling or torsional friction
-    (``rho = tau = 0``: the scalar pass skips it) and one whose ``K`` is singular (a pad lane) keep their
-    ``lambda_r``.  Returns the bodies' updated ``(v, omega)``."""
+    with ``lambda_n`` the lane's ``normal_impulse`` and ``I^-1`` the bodies' ``inv_i_a``, ``inv_i_b``
+    (:func:`_inertia`).  A lane without rolling or torsional friction (``rho = tau = 0``: the scalar pass
+    skips it) and one whose ``K`` is singular (a pad lane) keep their ``lambda_r``.  Returns the bodies'
+    updated ``(v, omega)``."""
     zero = splat_w(0.0)
-    inv_i_a = _inertia(wide_f, _at(bundle, WB_INV_I_A), True)
-    inv_i_b = _inertia(wide_f, _at(bundle, WB_INV_I_B), True)
     cofactors, det = angular_cofactors(inv_i_a, inv_i_b)
     old, n = _vector(wide_f, _at(bundle, WB_LAMBDA_R)), _vector(wide_f, _at(bundle, WB_NORMAL))
     across, spin = rolling_split(cofactors, det, (ub[3] - ua[3], ub[4] - ua[4], ub[5] - ua[5]), old, n)
@@ -340,16 +340,15 @@ def warm_start_bundles(wide_f, wide_i, bundles, sb):
         p = (ln * n[0] + l1 * t1[0] + l2 * t2[0], ln * n[1] + l1 * t1[1] + l2 * t2[1],
              ln * n[2] + l1 * t1[2] + l2 * t2[2])
         turning = _turning(wide_i, bundle)
+        ia, ib = _inertia(wide_f, _at(bundle, WB_INV_I_A), turning), _inertia(wide_f, _at(bundle, WB_INV_I_B), turning)
         ua = _push(_gather_u(sb, wide_i, rows + WI_READ_A * LANES, SB_V), load_w(wide_f, _at(bundle, WB_INV_MASS_A)),
-                   _inertia(wide_f, _at(bundle, WB_INV_I_A), turning), _vector(wide_f, _at(bundle, WB_RA)), p, -1.0,
-                   turning)
+                   ia, _vector(wide_f, _at(bundle, WB_RA)), p, -1.0, turning)
         ub = _push(_gather_u(sb, wide_i, rows + WI_READ_B * LANES, SB_V), load_w(wide_f, _at(bundle, WB_INV_MASS_B)),
-                   _inertia(wide_f, _at(bundle, WB_INV_I_B), turning), _vector(wide_f, _at(bundle, WB_RB)), p, 1.0,
-                   turning)
+                   ib, _vector(wide_f, _at(bundle, WB_RB)), p, 1.0, turning)
         if _rolling(wide_i, bundle):
             lambda_r = _vector(wide_f, _at(bundle, WB_LAMBDA_R))
-            ua = twist(ua, _inertia(wide_f, _at(bundle, WB_INV_I_A), True), lambda_r, -1.0)
-            ub = twist(ub, _inertia(wide_f, _at(bundle, WB_INV_I_B), True), lambda_r, 1.0)
+            ua = twist(ua, ia, lambda_r, -1.0)
+            ub = twist(ub, ib, lambda_r, 1.0)
         _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, ua)
         _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, ub)
 
@@ -417,7 +416,7 @@ def solve_bundles(wide_f, wide_i, first, last, sb, h, soft, largest):
         ub = _push(ub, imb, ib, rb, p, 1.0, turning)
         # --- rolling and torsional friction: an angular impulse bounded by rho and tau times lambda_n ------
         if _rolling(wide_i, bundle):
-            ua, ub = _solve_rolling(wide_f, bundle, ua, ub, new)
+            ua, ub = _solve_rolling(wide_f, bundle, ua, ia, ub, ib, new)
         _scatter_u(sb, wide_i, rows + WI_WRITE_A * LANES, ua)
         _scatter_u(sb, wide_i, rows + WI_WRITE_B * LANES, ub)
     change = 0.0
