@@ -46,6 +46,25 @@ def test_torsional_friction_stops_a_spin_at_the_rate_of_its_torque(solver):
 
 
 @pytest.mark.parametrize("solver", SOLVERS)
+def test_a_spin_turns_freely_once_its_torsional_friction_is_set_to_zero(solver):
+    """Torsional friction slows the spin for 1 s; then the ball's is set to 0 (the plane's is 0): from the
+    next step on, no angular impulse about the normal may act, not even the one the contact had
+    accumulated (warm-started with nothing left to bound it, it would keep slowing the spin at the old
+    rate, 0.98 rad/s^2), so the spin stays as it was to round-off."""
+    w, ball = _spinning_ball(solver, torsional_friction=0.0)
+    ball.torsional_friction = 0.01
+    for _ in range(60):
+        w.step(DT)
+    ball.torsional_friction = 0.0
+    w.step(DT)
+    spin = ball.angular_velocity.copy()
+    assert spin[1] < 9.1
+    for _ in range(60):
+        w.step(DT)
+    np.testing.assert_allclose(ball.angular_velocity, spin, atol=1e-9)
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
 def test_rolling_friction_leaves_a_spin_about_the_normal_alone(solver):
     """Rolling resistance acts across the normal only: a ball spinning about the vertical on its one
     contact point feels no torque about it (the friction force's lever arm is parallel to the normal)."""

@@ -88,6 +88,7 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_ROLL] = max(bf[a, ROLLING], bf[b, ROLLING])
         cf[c, C_TORSION] = max(bf[a, TORSION], bf[b, TORSION])
+        _drop_unbounded_angular_impulse(cf, c, n)
         dv = relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb)
         cf[c, C_VN0] = dot3(dv, n)
         vt1 = dot3(dv, t1)
@@ -649,6 +650,25 @@ def rolling_split(cofactors, det, w, old, n):
     r2 = old[2] - (c2 * w[0] + c5 * w[1] + c8 * w[2]) / det
     spin = r0 * n[0] + r1 * n[1] + r2 * n[2]
     return (r0 - spin * n[0], r1 - spin * n[1], r2 - spin * n[2]), spin
+
+
+@njit_inline
+def _drop_unbounded_angular_impulse(cf, c, n):
+    """The warm-start angular impulse ``lambda_r`` of contact ``c`` keeps only the parts a friction still
+    bounds: across the normal ``n`` if rolling friction is on, along it if torsional friction is on,
+
+        lambda_r := [rho > 0] (lambda_r - (lambda_r.n) n) + [tau > 0] (lambda_r.n) n
+
+    (a pair whose friction was set to zero while it touched would otherwise have the impulse applied at
+    every warm start and never solved again)."""
+    roll, torsion = cf[c, C_ROLL] > 0.0, cf[c, C_TORSION] > 0.0
+    if roll and torsion:
+        return
+    spin = cf[c, C_LAMBDA_R] * n[0] + cf[c, C_LAMBDA_R + 1] * n[1] + cf[c, C_LAMBDA_R + 2] * n[2]
+    for k in range(3):
+        along = spin * n[k]
+        across = cf[c, C_LAMBDA_R + k] - along
+        cf[c, C_LAMBDA_R + k] = (across if roll else 0.0) + (along if torsion else 0.0)
 
 
 @njit
