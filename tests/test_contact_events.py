@@ -142,6 +142,7 @@ def test_a_sleeping_stack_keeps_its_contacts_as_they_were_and_wakes_to_a_new_one
         assert [(c.body_a, c.body_b) for c in now] == [(c.body_a, c.body_b) for c in asleep]
         for c, d in zip(now, asleep):
             np.testing.assert_array_equal(c.point, d.point)
+            np.testing.assert_array_equal(c.normal, d.normal)
             assert c.normal_impulse == d.normal_impulse
     ball = w.add_body(mb.Sphere(0.2), position=(0.0, 3.5, 0.0), velocity=(0.0, -3.0, 0.0))
     kinds, kept = [], []
