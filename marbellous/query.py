@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._validate import as_quat, as_vec3
-from .collision.pairs.dispatch import collide_pair, collide_sphere_pair
-from .collision.shape_types import SPHERE
+from .collision.pairs.dispatch import SPHERE_PAIR, collide_pair
+from .collision.shape_types import SPHERE, sphere_coverage
 from .math3d import quat_to_matrix_np
 from .shapes.primitives import Shape
 
@@ -56,8 +56,9 @@ def collide(shape_a: Shape, shape_b: Shape, *, position_a: ArrayLike = (0.0, 0.0
     geom_i = np.ascontiguousarray(np.concatenate([geom_i_a, geom_i_b]), dtype=np.int64)
     off_f_b = len(geom_f_a)
     off_i_b = len(geom_i_a)
-    # (a sphere's pairs by the kernel compiled with the sphere's tests alone)
-    pair_test = collide_sphere_pair if SPHERE in (shape_a._type, shape_b._type) else collide_pair
+    # (a sphere's pairs by the kernel compiled with the tests of the other shape's kind alone)
+    pair_test = SPHERE_PAIR[sphere_coverage(shape_b._type if shape_a._type == SPHERE else shape_a._type)] \
+        if SPHERE in (shape_a._type, shape_b._type) else collide_pair
     capacity = 16
     while True:
         out_f = np.zeros((capacity, 7))

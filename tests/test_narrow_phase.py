@@ -27,8 +27,8 @@ from marbellous.collision.pairs.plane_pairs import collide_box_plane, collide_ca
 from marbellous.collision.pairs.sphere_box import collide_sphere_box
 from marbellous.collision.pairs.sphere_capsule import collide_sphere_capsule
 from marbellous.collision.pairs.sphere_sphere import collide_sphere_sphere
-from marbellous.pipeline.collide import (narrow_phase_all, narrow_phase_ground, narrow_phase_spheres, pose_tables,
-                                         shape_pose, update_aabbs)
+from marbellous.pipeline.collide import (narrow_phase_all, narrow_phase_ground, narrow_phase_meshes,
+                                         narrow_phase_spheres, pose_tables, shape_pose, update_aabbs)
 from marbellous.dynamics.soft import SOFT_DEPTH
 from marbellous.state.world_state import scene_coverage
 from marbellous.state import layout as L
@@ -127,19 +127,20 @@ def random_shape(rng):
             (mb.Capsule(0.1, 0.2), rng.uniform(-0.4, 0.4, 3), random_quat(rng))]
 
 
-def mixed_world(seed, bodies=24, moving=None, ground=True):
+def mixed_world(seed, bodies=24, moving=None, ground=True, heightfield=True):
     """Bodies of every kind crowded over a plane, a static box, a bumpy mesh and a height field, some
     of them moving, asleep or sensors: many overlaps and near misses.  ``moving``: a function of the
     random generator giving each moving body's shape (every kind by default); without ``ground``, no
-    mesh and no height field."""
+    mesh and no height field; without ``heightfield``, no height field."""
     rng = np.random.default_rng(seed)
     moving = random_shape if moving is None else moving
     w = mb.World()
     w.add_static(mb.Plane((0.0, 1.0, 0.0), -0.3))
     if ground:
         w.add_static(bump_mesh(rng))
-        w.add_static(mb.HeightField(0.2 * rng.standard_normal((5, 5)), spacing=(0.75, 0.75),
-                                    origin=(-1.5, -0.1, -1.5)))
+        heights = 0.2 * rng.standard_normal((5, 5))
+        if heightfield:
+            w.add_static(mb.HeightField(heights, spacing=(0.75, 0.75), origin=(-1.5, -0.1, -1.5)))
     w.add_static(mb.Box((0.5, 0.3, 0.5)), position=rng.uniform(-1.0, 1.0, 3), orientation=random_quat(rng))
     w.add_static(mb.Sphere(0.4), position=rng.uniform(-1.0, 1.0, 3), sensor=True)
     for k in range(bodies):
@@ -194,18 +195,19 @@ def _sphere(rng):
 
 
 @settings(max_examples=15, deadline=None)
-@given(hs.integers(0, 2 ** 31), hs.booleans())
-def test_the_narrow_phase_of_a_coverage_matches_the_plain_loop_in_its_worlds(seed, ground):
-    # moving spheres over a plane, a box and a sphere sensor, and (ground) meshes and a height field: the
-    # narrow phase compiled for the world's coverage, without the pair tests it cannot meet, finds every
-    # contact the full one does
-    w = mixed_world(seed, moving=_sphere, ground=ground)
+@given(hs.integers(0, 2 ** 31), hs.sampled_from([st.COVER_SPHERES, st.COVER_MESHES, st.COVER_GROUND]))
+def test_the_narrow_phase_of_a_coverage_matches_the_plain_loop_in_its_worlds(seed, expected):
+    # moving spheres over a plane, a box and a sphere sensor, meshes (from COVER_MESHES) and a height field
+    # (COVER_GROUND): the narrow phase compiled for the world's coverage, without the pair tests it cannot
+    # meet, finds every contact the full one does
+    w = mixed_world(seed, moving=_sphere, ground=expected != st.COVER_SPHERES, heightfield=expected == st.COVER_GROUND)
     coverage = scene_coverage(w._state.bi, w._state.si, w._state.bodies.end)
-    assert coverage == (st.COVER_GROUND if ground else st.COVER_SPHERES)
+    assert coverage == expected
     pairs, sweep = collide_input(w)
     ref_f, ref_i, ref_ci = reference_narrow_phase(w, pairs, sweep)
-    n, raw_f, raw_i, ci = run_narrow_phase(w, pairs, sweep, 4096,
-                                           narrow_phase_ground if ground else narrow_phase_spheres)
+    kernel = {st.COVER_SPHERES: narrow_phase_spheres, st.COVER_MESHES: narrow_phase_meshes,
+              st.COVER_GROUND: narrow_phase_ground}[expected]
+    n, raw_f, raw_i, ci = run_narrow_phase(w, pairs, sweep, 4096, kernel)
     assert n == len(ref_f) > 0
     assert np.array_equal(raw_f[:n], ref_f)
     assert np.array_equal(raw_i[:n], ref_i)
@@ -220,7 +222,11 @@ def test_a_world_has_the_coverage_of_its_moving_shapes():
     w.add_body(mb.Sphere(0.5), position=(0.0, 3.0, 0.0))
     assert coverage() == st.COVER_SPHERES
     w.add_static(mb.TriangleMesh([(0, 0, 0), (1, 0, 0), (0, 0, 1)], [(0, 2, 1)]), position=(5.0, 0.0, 0.0))
-    assert coverage() == st.COVER_GROUND
+    assert coverage() == st.COVER_MESHES
+    field = w.add_static(mb.HeightField(np.zeros((3, 3)), spacing=(1.0, 1.0)), position=(0.0, -5.0, 0.0))
+    assert coverage() == st.COVER_GROUND                # a height field
+    w.remove(field)
+    assert coverage() == st.COVER_MESHES
     hull = w.add_static(mb.ConvexHull([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]),
                         position=(-5.0, 0.0, 0.0))
     assert coverage() == st.COVER_GROUND                # and a static hull
@@ -228,7 +234,7 @@ def test_a_world_has_the_coverage_of_its_moving_shapes():
     capsule = w.add_body(mb.Capsule(0.2, 0.5), position=(0.0, 6.0, 0.0))
     assert coverage() == st.COVER_ALL
     w.remove(capsule)
-    assert coverage() == st.COVER_GROUND
+    assert coverage() == st.COVER_MESHES
     w.add_body([mb.Sphere(0.2), (mb.Box((0.1, 0.1, 0.1)), (0.5, 0.0, 0.0))], position=(3.0, 6.0, 0.0))
     assert coverage() == st.COVER_ALL
 

@@ -19,9 +19,19 @@ NAMES = ("sphere", "capsule", "box", "plane", "heightfield", "mesh", "hull")
 # tests its scene can meet (static shapes never meet each other):
 #: every moving shape a sphere, no mesh, height field or hull: the sphere-primitive tests alone
 COVER_SPHERES = 0
-#: every moving shape a sphere, meshes, height fields or static hulls too (the marble on its level)
-COVER_GROUND = 1
+#: every moving shape a sphere, triangle meshes too but no height field or hull (the marble on its level)
+COVER_MESHES = 1
+#: every moving shape a sphere, height fields or static hulls too
+COVER_GROUND = 2
 #: capsules, boxes or hulls that move: every pair test
-COVER_ALL = 2
+COVER_ALL = 3
 #: the number of coverages
-COVERAGES = 3
+COVERAGES = 4
+
+
+def sphere_coverage(kind):
+    """The coverage a sphere needs to meet a shape of ``kind``: ``COVER_SPHERES`` for a sphere, capsule, box or
+    plane, ``COVER_MESHES`` for a triangle mesh, ``COVER_GROUND`` for a height field or hull."""
+    if kind <= PLANE:
+        return COVER_SPHERES
+    return COVER_MESHES if kind == MESH else COVER_GROUND

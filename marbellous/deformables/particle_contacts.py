@@ -2,10 +2,12 @@
 fields), and the contacts' friction and restitution, two ways with the bodies.
 
 A particle is a sphere of its radius: its contacts with a shape are the narrow phase's sphere pair tests
-(``collide_pair``), ghost-free on meshes as for bodies.  Once per step, the shapes whose boxes the particle's
-swept box meets are listed as candidates; in each sub-step, each candidate is tested at the poses the bodies
-have then (``body_motion``), and every overlap ``d`` along the unit normal ``n`` (from the shape to the
-particle) is removed in position, split by the generalised inverse masses:
+(``collide_pair``), ghost-free on meshes as for bodies, compiled for the kinds of shape the world has (its
+coverage, ``shape_types.COVER_*``: the sphere-primitive tests alone, meshes too, or height fields and hulls
+too).  Once per step, the shapes whose boxes the particle's swept box meets are listed as candidates; in each
+sub-step, each candidate is tested at the poses the bodies have then (``body_motion``), and every overlap
+``d`` along the unit normal ``n`` (from the shape to the particle) is removed in position, split by the
+generalised inverse masses:
 
     dlambda = d / (w_p + w_b),     x_p += w_p dlambda n,    the body gets the positional impulse -dlambda n
 
@@ -22,7 +24,7 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision.pairs.dispatch import collide_sphere_shape
-from ..collision.shape_types import COVER_ALL, N_SHAPE_PARAMS
+from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..math3d import quat_product, quat_to_matrix
 from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTION, S_BODY, S_LOCAL_POS,
                             S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
@@ -47,13 +49,13 @@ def _swept_box(pf, p, dt, grow):
 
 
 @njit_inline
-def shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, prediction, scratch_f, scratch_i, sphere,
-                pos_a, rot_a, pos_s, rot_s, q_s):
+def shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, prediction, scratch_f, scratch_i,
+                sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """The contact rows of particle row ``p`` (a sphere of its radius) with shape row ``s``, its body posed
     ``back`` s before the step's end, gaps up to ``prediction`` (m) included: ``(rows, x_b, q_b)``, the rows in
     ``scratch_f`` / ``scratch_i`` (``collide_pair``'s layout, normals from the particle to the shape) and the
     body's pose.  Scratch: ``sphere`` (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a`` (the identity),
-    ``rot_s`` (3, 3), ``q_s`` (4)."""
+    ``rot_s`` (3, 3), ``q_s`` (4).  ``coverage``: the world's (a constant where this is inlined)."""
     b = si[s, S_BODY]
     x_b, q_b = body_pose(bf, bi, bx, b, back)
     centre = to_world(x_b, q_b, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]))
@@ -63,15 +65,15 @@ def shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, prediction, 
         pos_s[k] = centre[k]
         pos_a[k] = pf[p, P_POS + k]
     sphere[0] = pf[p, P_RADIUS]
-    m = collide_sphere_shape(COVER_ALL, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
+    m = collide_sphere_shape(coverage, pos_a, rot_a, sphere, si[s, S_TYPE], pos_s, rot_s,
                              sf[s, S_PARAMS:S_PARAMS + N_SHAPE_PARAMS], geom_f, geom_i, si[s, S_OFF_F], si[s, S_OFF_I],
                              prediction, scratch_f, scratch_i, 0)
     return min(m, scratch_f.shape[0]), x_b, q_b
 
 
-@njit
-def shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out, scratch_f,
-                     scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+@njit_inline
+def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                      scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """List ``(particle, shape)`` rows into ``out`` for every unpinned particle and shape that may touch in the
     step: the particle's swept box meets the body's box (sensors left out), and the shape lies within the
     particle's and its body's reach of the particle at the poses of the step's end (one exact query per pair
@@ -95,7 +97,7 @@ def shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb
             s0 = bi[b, SHAPE_START]
             for s in range(s0, s0 + bi[b, SHAPE_COUNT]):
                 turn = w_b * min(sf[s, S_RADIUS] + 1e-12, 1e12) * dt if w_b > 0.0 else 0.0
-                rows, _, _ = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, 0.0,
+                rows, _, _ = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, 0.0,
                                          travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
                                          pos_s, rot_s, q_s)
                 if rows > 0:
@@ -191,9 +193,9 @@ def record_contact(kf, ki, nk, p, other, kind, n, point, depth, vn0, mu, e, stuc
     return nk + 1
 
 
-@njit
-def shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk, scratch_f,
-                   scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+@njit_inline
+def _shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
+                    scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """The position pass of the sub-step ending ``back`` s before the step's end over the candidate pairs:
     overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  A soft
     body's node also records the contacts it merely touches (within ``SOFT_TOUCH`` of its radius: the
@@ -206,8 +208,8 @@ def shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_can
         b = si[s, S_BODY]
         soft = (pi[p, P_FLAGS] & PP_SOFT) != 0
         touch = SOFT_TOUCH * pf[p, P_RADIUS] if soft else 0.0
-        m, x_b, q_b = shape_query(pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f, scratch_i,
-                                  sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+        m, x_b, q_b = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f,
+                                  scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         moved0, moved1, moved2 = 0.0, 0.0, 0.0
         for j in range(m):
             # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
@@ -233,6 +235,85 @@ def shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_can
                                 math.sqrt(pf[p, P_FRICTION] * bf[b, FRICTION]),
                                 max(pf[p, P_RESTITUTION], bf[b, RESTITUTION]), stuck)
     return nk
+
+
+# --- the shape passes of each coverage: a world compiles the ones of its own ------------------------------------
+@njit
+def shape_candidates_spheres(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_candidates` of a world of coverage ``COVER_SPHERES``."""
+    return _shape_candidates(COVER_SPHERES, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
+                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit
+def shape_candidates_meshes(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_candidates` of a world of coverage ``COVER_MESHES``."""
+    return _shape_candidates(COVER_MESHES, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
+                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit
+def shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                            scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_candidates` with every sphere pair test (height fields and hulls too)."""
+    return _shape_candidates(COVER_GROUND, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
+                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit_inline
+def shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                     scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`_shape_candidates` compiled for ``coverage`` (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``,
+    a constant where this is inlined)."""
+    if coverage == COVER_SPHERES:
+        return shape_candidates_spheres(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
+                                        out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    if coverage == COVER_MESHES:
+        return shape_candidates_meshes(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
+                                       out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    return shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+                                   scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit
+def shape_contacts_spheres(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
+                           scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_contacts` of a world of coverage ``COVER_SPHERES``."""
+    return _shape_contacts(COVER_SPHERES, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit
+def shape_contacts_meshes(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
+                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_contacts` of a world of coverage ``COVER_MESHES``."""
+    return _shape_contacts(COVER_MESHES, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit
+def shape_contacts_ground(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
+                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`shape_contacts` with every sphere pair test (height fields and hulls too)."""
+    return _shape_contacts(COVER_GROUND, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+
+
+@njit_inline
+def shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
+                   scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """:func:`_shape_contacts` compiled for ``coverage`` (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``, a
+    constant where this is inlined)."""
+    if coverage == COVER_SPHERES:
+        return shape_contacts_spheres(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h,
+                                      kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    if coverage == COVER_MESHES:
+        return shape_contacts_meshes(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h,
+                                     kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    return shape_contacts_ground(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf,
+                                 ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
 
 
 @njit_inline

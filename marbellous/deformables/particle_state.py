@@ -11,7 +11,7 @@ import numpy as np
 from . import particle_layout as P
 from .body_motion import BX_COLS
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
-from .particle_step import find_candidates, find_candidates_apart, step_particles, step_particles_apart
+from .particle_step import KERNELS
 from .stretch_solve import StretchSystem
 from .soft_state import SOFT_TABLES, check_soft_bodies, load_soft_bodies, soft_tables
 from .tethers import find_tethers
@@ -340,9 +340,10 @@ class ParticleState:
         return bool(self.softs) or len(self.cloths) > 1 or any(c.self_collision for c in self.cloths) \
             or bool(np.any(self.pi[:self.n, P.P_FLAGS] & P.PP_COLLIDE))
 
-    def _kernels(self):
-        """``(find_candidates, step_particles)`` for the particles as they are (:meth:`meeting`)."""
-        return (find_candidates, step_particles) if self.meeting() else (find_candidates_apart, step_particles_apart)
+    def _kernels(self, st):
+        """``(find_candidates, step_particles)`` for the particles as they are (:meth:`meeting`) among the shapes
+        of ``st`` (the world's ``WorldState``: ``sphere_coverage``)."""
+        return KERNELS[self.meeting()][st.sphere_coverage()]
 
     def kernel_work(self, st):
         """``[(kernel, argument types)]`` of the particles' step kernels as the next step will call them (for
@@ -351,7 +352,7 @@ class ParticleState:
             return []
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         body_start = np.zeros((st.bodies.end, 9))
-        candidates, step = self._kernels()
+        candidates, step = self._kernels(st)
         no_stretch = StretchSystem(self.pf, self.pi, self.n, self.ef, self.ei, self.ne, bend_f, bend_i, 1.0, False)
         return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0), body_start,
                                             no_stretch)),
@@ -370,7 +371,7 @@ class ParticleState:
         q[P.Q_STRETCH_PASSES] = stretch_passes
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         stretch = self._stretch_system(bend_f, bend_i, dt / substeps, stretch_passes)
-        candidates, step = self._kernels()
+        candidates, step = self._kernels(st)
         while True:
             counts = candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
             n_shape, n_pair, n_triangle, n_edge = counts

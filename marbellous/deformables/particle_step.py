@@ -42,6 +42,7 @@ Damping: each particle's velocity relative to its set's mean velocity (mass-weig
 import math
 
 from .._numba.jit import njit
+from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
@@ -133,13 +134,15 @@ def _velocities(pf, n_particles, h):
                 pf[p, P_VEL + k] = (pf[p, P_POS + k] - pf[p, P_PREV + k]) / h
 
 
-def _kernels(meeting):
+def _kernels(meeting, coverage):
     """``(find_candidates, step_particles)``: the particles' step kernels, with (``meeting``) or without the
     paths of particles that meet each other (colliding particles, cloth on cloth or on itself, soft bodies:
-    their candidates, contacts and the soft bodies' sub-step).  Without them, a scene that needs none (a
-    single cloth that does not collide with itself, a net of particles) compiles about a third less; the
-    results are the same, since those paths do nothing when there is nothing to meet (Numba compiles the
-    variants apart: ``meeting`` is a constant of each)."""
+    their candidates, contacts and the soft bodies' sub-step), with the sphere pair tests of ``coverage``
+    (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``: the kinds of shape the world has).  Without the
+    meeting paths, a scene that needs none (a single cloth that does not collide with itself, a net of
+    particles) compiles about a third less; the results are the same, since those paths do nothing when there
+    is nothing to meet (Numba compiles the variants apart: ``meeting`` and ``coverage`` are constants of
+    each)."""
     @njit
     def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
                         aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
@@ -155,8 +158,8 @@ def _kernels(meeting):
         g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
         reach = g * dt * dt
         clear_motion(bx, nb)
-        n_shape = shape_candidates(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
-                                   shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+        n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
+                                   reach, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
         if not meeting:
             return n_shape, 0, 0, 0
         # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
@@ -233,15 +236,15 @@ def _kernels(meeting):
                 nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
                 triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
                 edge_contacts(pf, ei, edge_pairs, n_edge, h)
-            nk = shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
-                                scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+            nk = shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
+                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             if meeting and n_triangle > 0:
                 # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
                 # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
                 # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
                 triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-                shape_contacts(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h, kf, ki, nk,
-                               scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
+                               kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             most = max(most, nk)
             _velocities(pf, n_particles, h)
             velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
@@ -257,6 +260,9 @@ def _kernels(meeting):
     return find_candidates, step_particles
 
 
-#: the kernels of scenes whose particles meet each other (``ParticleState.meeting``), and of the others
-find_candidates, step_particles = _kernels(True)
-find_candidates_apart, step_particles_apart = _kernels(False)
+#: the particles' step kernels ``(find_candidates, step_particles)`` of each kind of scene,
+#: ``KERNELS[meeting][coverage]``: ``meeting`` whether its particles meet each other (``ParticleState.meeting``),
+#: ``coverage`` the kinds of shape it has (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``,
+#: ``world_state.shape_coverage``)
+KERNELS = tuple(tuple(_kernels(meeting, coverage) for coverage in (COVER_SPHERES, COVER_MESHES, COVER_GROUND))
+                for meeting in (False, True))

@@ -29,7 +29,7 @@ from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
-from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, N_SHAPE_PARAMS
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_driven, is_dynamic, is_moving
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
@@ -293,9 +293,19 @@ def narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, 
 
 
 @njit
+def narrow_phase_meshes(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
+                        pos_t, rot_t, state, q):
+    """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes but no height field or
+    hull."""
+    return _narrow_phase(COVER_MESHES, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                         raw_i, ci, pos_t, rot_t, state, q)
+
+
+@njit
 def narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
                         pos_t, rot_t, state, q):
-    """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes or height fields."""
+    """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes, height fields or static
+    hulls."""
     return _narrow_phase(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
                          raw_i, ci, pos_t, rot_t, state, q)
 
@@ -319,6 +329,9 @@ def narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep
     if coverage == COVER_SPHERES:
         return narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
                                     raw_i, ci, pos_t, rot_t, state, q)
+    if coverage == COVER_MESHES:
+        return narrow_phase_meshes(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                                   raw_i, ci, pos_t, rot_t, state, q)
     if coverage == COVER_GROUND:
         return narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
                                    raw_i, ci, pos_t, rot_t, state, q)

@@ -35,7 +35,7 @@ import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision import shape_types as st
-from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from ..collision.toi.closed_forms import gap_comes_within, spheres_come_within
 from ..collision.toi.conservative_advancement import IMPACT, MISS, made_of_pieces, time_of_impact
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
@@ -249,6 +249,14 @@ def pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, 
 
 
 @njit
+def pair_time_of_impact_meshes(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
+                               pos_t, rot_t, q, touch):
+    """:func:`pair_time_of_impact` in a world of coverage ``COVER_MESHES``."""
+    return _pair_time_of_impact(COVER_MESHES, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed,
+                                out_f, out_i, pos_t, rot_t, q, touch)
+
+
+@njit
 def pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f, out_i,
                                pos_t, rot_t, q, touch):
     """:func:`pair_time_of_impact` in a world of coverage ``COVER_GROUND``."""
@@ -274,6 +282,9 @@ def pair_time_of_impact(coverage, bf, bi, sf, si, geom_f, geom_i, ci, c, gravity
     if coverage == COVER_SPHERES:
         return pair_time_of_impact_spheres(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f,
                                            out_i, pos_t, rot_t, q, touch)
+    if coverage == COVER_MESHES:
+        return pair_time_of_impact_meshes(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f,
+                                          out_i, pos_t, rot_t, q, touch)
     if coverage == COVER_GROUND:
         return pair_time_of_impact_ground(bf, bi, sf, si, geom_f, geom_i, ci, c, gravity, lead, horizon, speed, out_f,
                                           out_i, pos_t, rot_t, q, touch)

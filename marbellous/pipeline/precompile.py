@@ -55,15 +55,40 @@ def lean_stages(coverage):
             FIND_CONTACTS[coverage])
 
 
+def _path_in(value, kernel):
+    """The indices that lead from ``value`` (a kernel, or nested tuples of them) to ``kernel``: ``()`` for the
+    kernel itself, None if it is not there."""
+    if value is kernel:
+        return ()
+    if isinstance(value, tuple):
+        for k, item in enumerate(value):
+            path = _path_in(item, kernel)
+            if path is not None:
+                return (k,) + path
+    return None
+
+
 def _name(kernel):
-    """``(module, name)`` of a kernel held by a module-level name (a function, or a variant a factory made,
-    such as ``particle_step.step_particles_apart``)."""
+    """``(module, name, path)`` of a kernel held by a module-level name, itself (a function: ``path`` is ``()``)
+    or in nested tuples at indices ``path`` (variants a factory made, such as ``particle_step.KERNELS``)."""
     module = kernel.py_func.__module__
-    return module, next(name for name, value in vars(importlib.import_module(module)).items() if value is kernel)
+    for name, value in vars(importlib.import_module(module)).items():
+        path = _path_in(value, kernel)
+        if path is not None:
+            return module, name, path
+    raise LookupError(f"{module}.{kernel.py_func.__qualname__} is not held by a module-level name")
+
+
+def _kernel(module, name, path):
+    """The kernel that :func:`_name` names."""
+    kernel = getattr(importlib.import_module(module), name)
+    for k in path:
+        kernel = kernel[k]
+    return kernel
 
 
 def work_list(coverage, extra):
-    """The kernels to share out: ``[(module, name, argument types or None for the context's view)]``, the
+    """The kernels to share out: ``[(module, name, path, argument types or None for the context's view)]``, the
     dearest first: the lean step's stages for ``coverage`` after the kernels of ``extra``
     (``[(kernel, arguments)]``: the particles' step, ~25 s, whose arguments are typed here)."""
     typed = [(*_name(kernel), tuple(numba.typeof(a) for a in arguments)) for kernel, arguments in extra]
@@ -74,12 +99,13 @@ def compile_claimed(work, claims):
     """Compile (or load) each kernel of ``work`` (:func:`work_list`) that this process is the first to claim in
     directory ``claims``."""
     view = (RecordView(STEP_CONTEXT),)
-    for module, name, signature in work:
+    for module, name, path, signature in work:
         try:     # (claimed by name: a list that grows, :meth:`Sharing.start`, keeps its claims)
-            os.close(os.open(os.path.join(claims, f"{module}.{name}"), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            claim = ".".join([module, name] + [str(k) for k in path])
+            os.close(os.open(os.path.join(claims, claim), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
         except FileExistsError:
             continue
-        getattr(importlib.import_module(module), name).compile(view if signature is None else signature)
+        _kernel(module, name, path).compile(view if signature is None else signature)
 
 
 def _cores():

@@ -27,7 +27,7 @@ from .._numba.jit import njit, njit_calls_parallel, njit_inline
 from .._numba.record import int64_array_at
 from .._numba.wide import LANES
 from ..collision.broadphase import GRID, find_pairs
-from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES, COVERAGES
+from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, COVERAGES
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
@@ -207,6 +207,12 @@ def stage_narrow_phase_spheres(ctx):
 
 
 @njit
+def stage_narrow_phase_meshes(ctx):
+    """:func:`stage_narrow_phase` with the pair tests of ``COVER_MESHES``."""
+    stage_narrow_phase(ctx, COVER_MESHES)
+
+
+@njit
 def stage_narrow_phase_ground(ctx):
     """:func:`stage_narrow_phase` with the pair tests of ``COVER_GROUND``."""
     stage_narrow_phase(ctx, COVER_GROUND)
@@ -225,6 +231,12 @@ def stage_time_of_impact_spheres(ctx):
 
 
 @njit
+def stage_time_of_impact_meshes(ctx):
+    """``impacts.stage_time_of_impact`` with the pair tests of ``COVER_MESHES``."""
+    return stage_time_of_impact(ctx, COVER_MESHES)
+
+
+@njit
 def stage_time_of_impact_ground(ctx):
     """``impacts.stage_time_of_impact`` with the pair tests of ``COVER_GROUND``."""
     return stage_time_of_impact(ctx, COVER_GROUND)
@@ -237,9 +249,11 @@ def stage_time_of_impact_all(ctx):
 
 
 #: the narrow phase stage of each coverage, ``NARROW_PHASE[coverage]``
-NARROW_PHASE = (stage_narrow_phase_spheres, stage_narrow_phase_ground, stage_narrow_phase_all)
+NARROW_PHASE = (stage_narrow_phase_spheres, stage_narrow_phase_meshes, stage_narrow_phase_ground,
+                stage_narrow_phase_all)
 #: the time-of-impact stage of each coverage, ``TIME_OF_IMPACT[coverage]``
-TIME_OF_IMPACT = (stage_time_of_impact_spheres, stage_time_of_impact_ground, stage_time_of_impact_all)
+TIME_OF_IMPACT = (stage_time_of_impact_spheres, stage_time_of_impact_meshes, stage_time_of_impact_ground,
+                  stage_time_of_impact_all)
 
 
 @njit_inline
@@ -247,6 +261,8 @@ def narrow_phase_stage(ctx, coverage):
     """The narrow phase stage of ``coverage`` (a constant where this is inlined)."""
     if coverage == COVER_SPHERES:
         stage_narrow_phase_spheres(ctx)
+    elif coverage == COVER_MESHES:
+        stage_narrow_phase_meshes(ctx)
     elif coverage == COVER_GROUND:
         stage_narrow_phase_ground(ctx)
     else:
@@ -258,6 +274,8 @@ def time_of_impact_stage(ctx, coverage):
     """The time-of-impact stage of ``coverage`` (a constant where this is inlined)."""
     if coverage == COVER_SPHERES:
         return stage_time_of_impact_spheres(ctx)
+    if coverage == COVER_MESHES:
+        return stage_time_of_impact_meshes(ctx)
     if coverage == COVER_GROUND:
         return stage_time_of_impact_ground(ctx)
     return stage_time_of_impact_all(ctx)
@@ -299,6 +317,12 @@ def find_contacts_spheres(ctx):
 
 
 @njit
+def find_contacts_meshes(ctx):
+    """:func:`_find_contacts` with the pair tests of ``COVER_MESHES``."""
+    return _find_contacts(ctx, COVER_MESHES)
+
+
+@njit
 def find_contacts_ground(ctx):
     """:func:`_find_contacts` with the pair tests of ``COVER_GROUND``."""
     return _find_contacts(ctx, COVER_GROUND)
@@ -311,7 +335,7 @@ def find_contacts_all(ctx):
 
 
 #: the contact stages of each coverage, ``FIND_CONTACTS[coverage]``
-FIND_CONTACTS = (find_contacts_spheres, find_contacts_ground, find_contacts_all)
+FIND_CONTACTS = (find_contacts_spheres, find_contacts_meshes, find_contacts_ground, find_contacts_all)
 
 
 @njit_inline
@@ -319,6 +343,8 @@ def find_contacts(ctx, coverage):
     """The contact stages of ``coverage`` (a constant where this is inlined)."""
     if coverage == COVER_SPHERES:
         return find_contacts_spheres(ctx)
+    if coverage == COVER_MESHES:
+        return find_contacts_meshes(ctx)
     if coverage == COVER_GROUND:
         return find_contacts_ground(ctx)
     return find_contacts_all(ctx)

@@ -32,25 +32,36 @@ from .slots import Slots
 install_compile_progress()
 
 
-def scene_coverage(bi, si, end):
-    """``shape_types.COVER_*`` of the bodies in rows ``0 .. end - 1``: which pair tests their step can need
-    (static shapes never meet each other).  ``COVER_ALL`` if a moving body has a shape other than a sphere,
-    else ``COVER_GROUND`` if there is a mesh, height field or hull, else ``COVER_SPHERES``."""
+def _live_shapes(bi, si, end):
+    """``(kinds, moving)``: the shape kind of every shape of the live bodies in rows ``0 .. end - 1``, and whether
+    its body can move."""
     flags = bi[:end, L.FLAGS]
     rows = np.flatnonzero((flags & L.F_ALIVE) != 0)
     starts, counts = bi[rows, L.SHAPE_START], bi[rows, L.SHAPE_COUNT]
-    if counts.sum() == 0:
-        return st.COVER_SPHERES
-    # the shape rows of the live bodies, body by body, and whether their body can move
     first = np.concatenate(([0], np.cumsum(counts)[:-1]))
     shapes = np.repeat(starts - first, counts) + np.arange(counts.sum())
-    kinds = si[shapes, L.S_TYPE]
-    moving = np.repeat((flags[rows] & L.F_STATIC) == 0, counts)
+    return si[shapes, L.S_TYPE], np.repeat((flags[rows] & L.F_STATIC) == 0, counts)
+
+
+def _sphere_coverage(kinds):
+    """The coverage a sphere needs among shapes of ``kinds`` (``shape_types.sphere_coverage`` of each)."""
+    return max((st.sphere_coverage(kind) for kind in np.unique(kinds)), default=st.COVER_SPHERES)
+
+
+def scene_coverage(bi, si, end):
+    """``shape_types.COVER_*`` of the bodies in rows ``0 .. end - 1``: which pair tests their step can need
+    (static shapes never meet each other).  ``COVER_ALL`` if a moving body has a shape other than a sphere,
+    else :func:`_sphere_coverage`."""
+    kinds, moving = _live_shapes(bi, si, end)
     if np.any(moving & (kinds != st.SPHERE)):
         return st.COVER_ALL
-    if np.any((kinds == st.MESH) | (kinds == st.HEIGHTFIELD) | (kinds == st.HULL)):
-        return st.COVER_GROUND
-    return st.COVER_SPHERES
+    return _sphere_coverage(kinds)
+
+
+def shape_coverage(bi, si, end):
+    """The pair tests a sphere (a moving one, a particle) can need against the shapes of the bodies in rows
+    ``0 .. end - 1`` (:func:`_sphere_coverage`)."""
+    return _sphere_coverage(_live_shapes(bi, si, end)[0])
 
 
 #: most moving bodies of a world that steps lean: more, and its contacts will soon pass the first rows of its
@@ -131,6 +142,7 @@ class WorldState:
         self.statuses = np.zeros(1, dtype=np.int64)
         self.tier = None      # the tier of that step (pipeline/step.py: LEAN or FULL)
         self.sharing = None   # a step compiling ahead in a helper process (compile_ahead), until the first pack
+        self.packed_coverage = st.COVER_GROUND    # shape_coverage at the last packing
 
     # --- the step -----------------------------------------------------------------------------------------
     def invalidate(self):
@@ -147,6 +159,12 @@ class WorldState:
                           np.count_nonzero((flags & (L.F_ALIVE | L.F_STATIC)) == L.F_ALIVE))
         return coverage, tier, STEPS[self.solver][coverage][tier]
 
+    def sphere_coverage(self):
+        """:func:`shape_coverage` of the bodies as they are (kept from the last packing while it holds)."""
+        if self.context is None:
+            return shape_coverage(self.bi, self.si, self.bodies.end)
+        return self.packed_coverage
+
     def compile_ahead(self):
         """Start compiling the step as it would be taken now in a helper process, when it is lean and not in the
         kernel cache (``pipeline/precompile.ahead``); the first :meth:`pack` finishes it."""
@@ -159,6 +177,7 @@ class WorldState:
         tests the bodies can need (``scene_coverage``; compiled on first use: a progress line, then a notice,
         ``_numba/progress.py``)."""
         coverage, self.tier, step = self.step_variant()
+        self.packed_coverage = shape_coverage(self.bi, self.si, self.bodies.end)
         sharing, self.sharing = self.sharing, None
         with compiling(), shared(pack_kernel, step, coverage, self.tier == LEAN,
                                  lambda: self.particles.kernel_work(self), sharing):

@@ -13,7 +13,7 @@ cannot meet, so that they are not compiled for it.
 """
 from ..._numba.jit import njit, njit_inline
 from .. import shape_types as st
-from ..shape_types import COVER_ALL, COVER_GROUND, COVER_SPHERES
+from ..shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from ..hull.hull_pairs import collide_hull_shape
 from ..hull.polytope import hull_polytope
 from ..hull.round_polytope import collide_segment_polytope
@@ -163,7 +163,8 @@ def collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b,
     """:func:`collide_pair` of a sphere a (radius ``params_a[0]``, m) with shape b of any kind, normals from the
     sphere to b, with the sphere's pair tests only (a particle's, or any pair of a world whose moving shapes
     are spheres: no box, capsule or hull test against other shapes is compiled for it); with ``coverage``
-    ``COVER_SPHERES``, not against meshes, height fields or hulls either."""
+    ``COVER_SPHERES``, not against meshes, height fields or hulls either, with ``COVER_MESHES`` not against height
+    fields or hulls."""
     if type_b <= st.PLANE:
         hit, p, normal, depth = sphere_primitive(load(pos_a), params_a[0], type_b, load(pos_b), matrix(rot_b),
                                                  (params_b[0], params_b[1], params_b[2], params_b[3]), prediction)
@@ -173,6 +174,8 @@ def collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b,
     if type_b == st.MESH:
         return collide_sphere_mesh(load(pos_a), params_a[0], load(pos_b), matrix(rot_b), params_b, geom_f, geom_i,
                                    off_f_b, off_i_b, prediction, out_f, out_i, n)
+    if coverage == COVER_MESHES:
+        return n                    # no height field or hull in this world
     if type_b == st.HEIGHTFIELD:
         return collide_sphere_heightfield(pos_a, rot_a, params_a, pos_b, rot_b, params_b, geom_f, off_f_b, prediction,
                                           out_f, out_i, n)
@@ -184,9 +187,31 @@ def collide_sphere_shape(coverage, pos_a, rot_a, params_a, type_b, pos_b, rot_b,
 
 
 @njit
+def collide_sphere_primitive_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                                  off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """:func:`collide_pair` of a sphere and a sphere, capsule, box or plane, compiled with the sphere-primitive
+    tests alone (the game's goal test, a sphere against a box, compiles in a second)."""
+    return collide_pair_covering(COVER_SPHERES, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                 geom_f, geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)
+
+
+@njit
+def collide_sphere_mesh_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i,
+                             off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
+    """:func:`collide_pair` of a sphere and a primitive or a triangle mesh, compiled with those tests alone."""
+    return collide_pair_covering(COVER_MESHES, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
+                                 geom_f, geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)
+
+
+@njit
 def collide_sphere_pair(type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b, geom_f, geom_i, off_f_a,
                         off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n):
     """:func:`collide_pair` where a or b is a sphere, compiled with the sphere's pair tests only (a query of a
-    sphere, such as the game's goal test, need not wait for every pair test to compile)."""
+    sphere need not wait for every pair test to compile)."""
     return collide_pair_covering(COVER_GROUND, type_a, pos_a, rot_a, params_a, type_b, pos_b, rot_b, params_b,
                                  geom_f, geom_i, off_f_a, off_i_a, off_f_b, off_i_b, prediction, out_f, out_i, n)
+
+
+#: a sphere's pair test by its coverage (``shape_types.COVER_*`` below ``COVER_ALL``: the other shape's kind),
+#: ``SPHERE_PAIR[coverage]``
+SPHERE_PAIR = (collide_sphere_primitive_pair, collide_sphere_mesh_pair, collide_sphere_pair)
