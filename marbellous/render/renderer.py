@@ -248,7 +248,8 @@ class Renderer:
         self.line_vbo = ctx.buffer(reserve=6 * 4 * 2 * 1024)
         self.line_vao = ctx.vertex_array(self.lines, [(self.line_vbo, "3f 3f", "in_pos", "in_color")])
         self._offscreen = None
-        self._samples = samples
+        self.samples, self.shadow_size = samples, shadow_size
+        self.antialiasing = f"{samples}x MSAA" if samples > 1 else "none"
 
     def _mesh(self, pos, nrm, color):
         data = np.hstack([pos, nrm]).astype(np.float32)
@@ -389,10 +390,21 @@ class Renderer:
     def render_to_array(self, view, marble_position, marble_rotation, hud_lines=(), debug=None):
         """Render offscreen at :attr:`size` and return the image as a (height, width, 3) uint8 array
         (top row first)."""
+        self.draw_offscreen(view, marble_position, marble_rotation, hud_lines, debug)
+        return self.read_offscreen()
+
+    @in_own_context
+    def draw_offscreen(self, view, marble_position, marble_rotation, hud_lines=(), debug=None):
+        """Submit one frame (as :meth:`render`) to the offscreen target of :attr:`size`; the GPU may still be
+        drawing it when this returns.  :meth:`read_offscreen` reads it."""
         if self._offscreen is None:
             self._offscreen = self._make_offscreen()
+        self.render(self._offscreen[0], view, marble_position, marble_rotation, hud_lines, debug)
+
+    @in_own_context
+    def read_offscreen(self):
+        """The frame last drawn by :meth:`draw_offscreen` as a (height, width, 3) uint8 array (top row first)."""
         draw, resolve = self._offscreen
-        self.render(draw, view, marble_position, marble_rotation, hud_lines, debug)
         if resolve is not draw:
             self.ctx.copy_framebuffer(resolve, draw)
         raw = resolve.read(components=3, alignment=1)
@@ -403,7 +415,7 @@ class Renderer:
         ctx = self.ctx
         resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
                                   depth_attachment=ctx.depth_renderbuffer(self.size))
-        samples = min(self._samples, ctx.max_samples)
+        samples = min(self.samples, ctx.max_samples)
         if samples <= 1:
             return resolve, resolve
         draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],

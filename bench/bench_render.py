@@ -1,0 +1,129 @@
+"""Time of a frame of the game's headless renderer (``marbellous.render.renderer.Renderer``, as ``marbellous demo``
+draws): the course level, the camera following the autopilot.
+
+The autopilot plays the level first (at the demo's 30 frames per second), and ``--frames`` camera views spread
+evenly over its first ``--seconds`` are kept with the marble's place and the HUD's lines; then each size draws
+``--warmup`` of them untimed and all of them timed, one at a time:
+- submit: ``Renderer.draw_offscreen`` returns (Python, and the vertex work llvmpipe does in the calling thread);
+- raster: ``ctx.finish()`` returns (the rest of the drawing);
+- read: ``Renderer.read_offscreen`` returns (multisample resolve, if any, and the read-back to NumPy);
+- total: the three together.
+Reported: the median of each over the frames (ms).  No GPU is needed: Mesa's llvmpipe draws through EGL.
+
+    python bench/bench_render.py                          640 x 360 and 1280 x 720, 60 frames
+    python bench/bench_render.py --frames 5 --warmup 1    a check of the script
+    python bench/bench_render.py --json                   also write bench/results/<date>-<host>-render.json
+"""
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+
+from bench.machine import describe  # noqa: E402
+
+#: the demo's video frame rate (frames per second)
+FPS = 30
+#: what each frame's time is split into, in order
+PARTS = ("submit", "raster", "read", "total")
+
+
+def course_views(frames, seconds, level="course"):
+    """``(level, game, [(view, marble position, marble rotation, HUD lines)] * frames)``: the autopilot's run of
+    ``level`` at :data:`FPS` frames per second, ``frames`` of its first ``seconds`` (s) kept, evenly spread."""
+    from marbellous.game.autopilot import Autopilot
+    from marbellous.game.goal import BestTimes
+    from marbellous.game.level import load_level
+    from marbellous.game.session import Game
+
+    lvl = load_level(level)
+    game = Game(lvl, best_times=BestTimes(persistent=False))
+    pilot = Autopilot(game.course, game.spec.push)
+    steps_per_frame = max(1, int(round(1.0 / (FPS * game.dt))))
+    total = max(frames, int(seconds * FPS))
+    keep = set(np.linspace(0, total - 1, frames).round().astype(int).tolist())
+    views = []
+    for k in range(total):
+        for _ in range(steps_per_frame):
+            pilot.step(game)
+        view = game.update_camera(steps_per_frame * game.dt)
+        if k in keep:
+            views.append((view, game.marble.position.copy(), game.marble_rotation().copy(), game.hud_lines()))
+    return lvl, game, views
+
+
+def time_frames(renderer, views, warmup):
+    """``{part: median ms}`` over ``views`` drawn by ``renderer`` after ``warmup`` of them untimed."""
+    for v in views[:warmup]:
+        renderer.render_to_array(*v)
+    times = []
+    for v in views:
+        t0 = time.perf_counter()
+        renderer.draw_offscreen(*v)
+        t1 = time.perf_counter()
+        renderer.ctx.finish()
+        t2 = time.perf_counter()
+        renderer.read_offscreen()
+        t3 = time.perf_counter()
+        times.append((t1 - t0, t2 - t1, t3 - t2, t3 - t0))
+    return {part: 1e3 * float(np.median(column)) for part, column in zip(PARTS, np.array(times).T)}
+
+
+def run(sizes, frames, warmup, seconds, samples=None, shadow_size=None):
+    """``{"settings": {...}, "results": {"WxH": {part: median ms}}}`` of the course at each (width, height) in
+    ``sizes``; ``samples`` and ``shadow_size`` (None: the renderer's defaults) are passed to ``Renderer``."""
+    from marbellous.render.context import headless_context
+    from marbellous.render.renderer import Renderer
+
+    lvl, game, views = course_views(frames, seconds)
+    options = {k: v for k, v in (("samples", samples), ("shadow_size", shadow_size)) if v is not None}
+    ctx = headless_context()
+    results, settings = {}, {}
+    try:
+        for size in sizes:
+            r = Renderer(ctx, lvl, game.spec.radius, size, flag=game.flag, soft_bodies=game.soft_blocks, **options)
+            settings = {"samples": r.samples, "shadow_size": r.shadow_size, "antialiasing": r.antialiasing}
+            results[f"{size[0]}x{size[1]}"] = time_frames(r, views, warmup)
+    finally:
+        ctx.release()
+    return {"settings": settings, "frames": frames, "warmup": warmup, "seconds": seconds, "results": results}
+
+
+def default_json_path(machine):
+    """``bench/results/<date>-<host>-render.json``."""
+    return os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-render.json")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="640x360,1280x720", help="comma-separated WIDTHxHEIGHT (pixels)")
+    parser.add_argument("--frames", type=int, default=60, help="timed frames per size")
+    parser.add_argument("--warmup", type=int, default=5, help="untimed frames first")
+    parser.add_argument("--seconds", type=float, default=20.0, help="the frames are spread over this much play (s)")
+    parser.add_argument("--samples", type=int, help="MSAA samples (default: the renderer's)")
+    parser.add_argument("--shadow-size", type=int, help="shadow map side in texels (default: the renderer's)")
+    parser.add_argument("--json", nargs="?", const="", metavar="FILE",
+                        help="write the results to FILE (no FILE: bench/results/<date>-<host>-render.json)")
+    args = parser.parse_args(argv)
+    sizes = [tuple(int(x) for x in s.split("x")) for s in args.sizes.split(",")]
+    out = run(sizes, args.frames, args.warmup, args.seconds, args.samples, args.shadow_size)
+    print(f"course, {args.frames} frames after {args.warmup} untimed; {out['settings']}; median ms per frame")
+    print(f"{'size':>10s} " + " ".join(f"{p:>7s}" for p in PARTS))
+    for size, r in out["results"].items():
+        print(f"{size:>10s} " + " ".join(f"{r[p]:7.2f}" for p in PARTS))
+    if args.json is not None:
+        machine = describe(os.path.dirname(HERE), {})
+        path = args.json or default_json_path(machine)
+        with open(path, "w") as f:
+            json.dump({"benchmark": "render", "machine": machine, **out}, f, indent=1)
+        print(f"wrote {path}")
+    return out
+
+
+if __name__ == "__main__":
+    main()
