@@ -13,7 +13,7 @@ import numpy as np
 from .billboard import billboard_y_matrix
 from .context import in_own_context
 from .cloth_drawing import vertex_normals
-from .geometry import collider_triangles, flat, grid_cells, uv_sphere
+from .geometry import capsule_triangles, collider_triangles, flat, grid_cells, indexed, uv_sphere
 from .hud import HudText
 from .sun import SUN
 from .transforms import look_at, model_matrix, orthographic, perspective
@@ -151,6 +151,11 @@ SKY = (0.70, 0.80, 0.92)
 FLAG_COLOR = (0.98, 0.78, 0.10)
 #: The poles' colour.
 POLE_COLOR = (0.9, 0.9, 0.9)
+#: The marble's sphere: rings and segments.  Its outline is a polygon of 32 sides: off the circle by at most
+#: ``r (1 - cos(pi / 32)) = 0.005 r``, under a pixel while the marble is under 200 pixels across.
+MARBLE_RINGS_SEGMENTS = (16, 32)
+#: Sides of a pole: 5 cm thin, a few pixels across from the game's camera, whose outline 8 sides keep round.
+POLE_SEGMENTS = 8
 #: a level's streams: translucent water blue
 WATER_COLOR = (0.15, 0.45, 0.90)
 
@@ -208,13 +213,13 @@ class Renderer:
         for c in level.colliders:
             pos, nrm = collider_triangles(c, center)
             self.items.append(self._mesh(pos, nrm, c.material.color))
-        self.marble = self._mesh(*uv_sphere(1.0), (0.85, 0.15, 0.12))
+        self.marble = self._mesh(*uv_sphere(1.0, *MARBLE_RINGS_SEGMENTS), (0.85, 0.15, 0.12))
         center, half = np.asarray(level.goal_center), np.asarray(level.goal_half_extents)
-        self.poles = [self._mesh(*collider_triangles(_Pole(center - [0.0, half[1], 0.0],
-                                                           center + [0.0, half[1] + 1.2, 0.0], 0.05)), POLE_COLOR)]
+        self.poles = [self._mesh(*_pole_triangles(center - [0.0, half[1], 0.0], center + [0.0, half[1] + 1.2, 0.0],
+                                                  0.05), POLE_COLOR)]
         self.flag = flag
         if flag is not None:
-            self.poles.append(self._mesh(*collider_triangles(_Pole(flag.foot, flag.top, flag.radius)), POLE_COLOR))
+            self.poles.append(self._mesh(*_pole_triangles(flag.foot, flag.top, flag.radius), POLE_COLOR))
             self.flag_item, self.flag_vertices = self._moving_mesh(len(flag.cloth.positions), flag.cloth.triangles,
                                                                    FLAG_COLOR)
         # each soft block: (body, its surface triangles, its draw item, its vertex buffer)
@@ -252,10 +257,14 @@ class Renderer:
         self.antialiasing = f"{samples}x MSAA" if samples > 1 else "none"
 
     def _mesh(self, pos, nrm, color):
-        data = np.hstack([pos, nrm]).astype(np.float32)
-        vbo = self.ctx.buffer(data.tobytes())
-        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")]),
-                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")]), tuple(color))
+        """The draw item (scene and depth vertex arrays, colour) of the unindexed triangles ``pos``, ``nrm``
+        (3 T, 3), drawn indexed (:func:`indexed`)."""
+        vertices, indices = indexed(pos, nrm)
+        vbo, ibo = self.ctx.buffer(vertices.tobytes()), self.ctx.buffer(indices.tobytes())
+        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo,
+                                      index_element_size=4),
+                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
+                                      index_element_size=4), tuple(color))
 
     def _moving_mesh(self, n_vertices, triangles, color):
         """``(draw item, vertex buffer)`` of a mesh of ``n_vertices`` vertices whose places change every frame
@@ -423,17 +432,12 @@ class Renderer:
         return draw, resolve
 
 
-class _Pole:
-    """An upright flag pole from ``foot`` to ``top`` (m, straight above it) of ``radius`` (m), as a capsule
-    collider look-alike, for triangulation only."""
-
-    kind = "capsule"
-
-    def __init__(self, foot, top, radius):
-        foot, top = np.asarray(foot, np.float64), np.asarray(top, np.float64)
-        self.params = {"radius": float(radius), "half_height": 0.5 * float(top[1] - foot[1])}
-        self.position = 0.5 * (foot + top)
-        self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
+def _pole_triangles(foot, top, radius):
+    """``(positions, normals)`` of an upright pole from ``foot`` to ``top`` (m, straight above it) of ``radius``
+    (m): a capsule of :data:`POLE_SEGMENTS` sides."""
+    foot, top = np.asarray(foot, np.float64), np.asarray(top, np.float64)
+    pos, nrm = capsule_triangles(float(radius), 0.5 * float(top[1] - foot[1]), POLE_SEGMENTS)
+    return (pos + 0.5 * (foot + top)).astype(np.float32), nrm
 
 
 def _goal_box_triangles(center, half_extents):
