@@ -26,6 +26,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
 from bench.machine import describe  # noqa: E402
+from marbellous.render.renderer import ANTIALIASING  # noqa: E402
 
 #: the demo's video frame rate (frames per second)
 FPS = 30
@@ -74,20 +75,20 @@ def time_frames(renderer, views, warmup):
     return {part: 1e3 * float(np.median(column)) for part, column in zip(PARTS, np.array(times).T)}
 
 
-def run(sizes, frames, warmup, seconds, samples=None, shadow_size=None):
+def run(sizes, frames, warmup, seconds, antialiasing=None, shadow_size=None):
     """``{"settings": {...}, "results": {"WxH": {part: median ms}}}`` of the course at each (width, height) in
-    ``sizes``; ``samples`` and ``shadow_size`` (None: the renderer's defaults) are passed to ``Renderer``."""
+    ``sizes``; ``antialiasing`` and ``shadow_size`` (None: the renderer's defaults) are passed to ``Renderer``."""
     from marbellous.render.context import headless_context
     from marbellous.render.renderer import Renderer
 
     lvl, game, views = course_views(frames, seconds)
-    options = {k: v for k, v in (("samples", samples), ("shadow_size", shadow_size)) if v is not None}
+    options = {k: v for k, v in (("antialiasing", antialiasing), ("shadow_size", shadow_size)) if v is not None}
     ctx = headless_context()
     results, settings = {}, {}
     try:
         for size in sizes:
             r = Renderer(ctx, lvl, game.spec.radius, size, flag=game.flag, soft_bodies=game.soft_blocks, **options)
-            settings = {"samples": r.samples, "shadow_size": r.shadow_size, "antialiasing": r.antialiasing}
+            settings = {"antialiasing": r.antialiasing, "shadow_size": r.shadow_size}
             results[f"{size[0]}x{size[1]}"] = time_frames(r, views, warmup)
     finally:
         ctx.release()
@@ -105,13 +106,13 @@ def main(argv=None):
     parser.add_argument("--frames", type=int, default=60, help="timed frames per size")
     parser.add_argument("--warmup", type=int, default=5, help="untimed frames first")
     parser.add_argument("--seconds", type=float, default=20.0, help="the frames are spread over this much play (s)")
-    parser.add_argument("--samples", type=int, help="MSAA samples (default: the renderer's)")
+    parser.add_argument("--antialiasing", choices=ANTIALIASING, help="(default: the renderer's)")
     parser.add_argument("--shadow-size", type=int, help="shadow map side in texels (default: the renderer's)")
     parser.add_argument("--json", nargs="?", const="", metavar="FILE",
                         help="write the results to FILE (no FILE: bench/results/<date>-<host>-render.json)")
     args = parser.parse_args(argv)
     sizes = [tuple(int(x) for x in s.split("x")) for s in args.sizes.split(",")]
-    out = run(sizes, args.frames, args.warmup, args.seconds, args.samples, args.shadow_size)
+    out = run(sizes, args.frames, args.warmup, args.seconds, args.antialiasing, args.shadow_size)
     print(f"course, {args.frames} frames after {args.warmup} untimed; {out['settings']}; median ms per frame")
     print(f"{'size':>10s} " + " ".join(f"{p:>7s}" for p in PARTS))
     for size, r in out["results"].items():

@@ -14,6 +14,7 @@ from .billboard import billboard_y_matrix
 from .context import in_own_context
 from .cloth_drawing import vertex_normals
 from .geometry import capsule_triangles, collider_triangles, flat, grid_cells, indexed, uv_sphere
+from .fxaa import Fxaa
 from .hud import HudText
 from .sun import SUN
 from .transforms import look_at, model_matrix, orthographic, perspective
@@ -49,23 +50,27 @@ uniform float u_alpha;
 uniform int u_pattern;          // 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit, 3 a thin sheet
 uniform vec3 u_sun;             // unit vector towards the sun
 uniform vec3 u_eye;
-uniform sampler2D u_shadow;
+uniform sampler2DShadow u_shadow;
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
 in vec4 v_light;
 out vec4 f_color;
 
+// The sun's share reaching this fragment (0 in shadow, 1 lit).  The shadow map compares in hardware: with linear
+// filtering one fetch blends the 0-or-1 tests of the 2 x 2 texels around the point (bilinear PCF).  Four such
+// fetches half a texel diagonally off the point cover its 3 x 3 texels with weights 1 2 1 / 2 4 2 / 1 2 1 (a
+// tent), as smooth as 16 plain taps.
 float shadow_factor(vec3 n) {
     vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
     if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
     float bias = max(0.004 * (1.0 - dot(n, u_sun)), 0.0008);
-    vec2 texel = 1.0 / vec2(textureSize(u_shadow, 0));
-    float lit = 0.0;
-    for (int i = -1; i <= 1; i++)
-        for (int j = -1; j <= 1; j++)
-            lit += (p.z - bias > texture(u_shadow, p.xy + vec2(i, j) * texel).r) ? 0.0 : 1.0;
-    return lit / 9.0;
+    vec2 half_texel = 0.5 / vec2(textureSize(u_shadow, 0));
+    float z = p.z - bias;
+    return 0.25 * (texture(u_shadow, vec3(p.xy + vec2(-half_texel.x, -half_texel.y), z))
+                   + texture(u_shadow, vec3(p.xy + vec2(half_texel.x, -half_texel.y), z))
+                   + texture(u_shadow, vec3(p.xy + vec2(-half_texel.x, half_texel.y), z))
+                   + texture(u_shadow, vec3(p.xy + vec2(half_texel.x, half_texel.y), z)));
 }
 
 void main() {
@@ -151,6 +156,11 @@ SKY = (0.70, 0.80, 0.92)
 FLAG_COLOR = (0.98, 0.78, 0.10)
 #: The poles' colour.
 POLE_COLOR = (0.9, 0.9, 0.9)
+#: How :class:`Renderer` smooths edges: ``"fxaa"`` a post-process pass (:class:`~marbellous.render.fxaa.Fxaa`),
+#: ``"msaa"`` :data:`MSAA_SAMPLES` samples per pixel offscreen (about twice the frame's cost on llvmpipe), ``"none"``.
+ANTIALIASING = ("fxaa", "msaa", "none")
+#: Samples per pixel of ``"msaa"``: llvmpipe's only multisampling (it draws 2 samples as 4).
+MSAA_SAMPLES = 4
 #: The marble's sphere: rings and segments.  Its outline is a polygon of 32 sides: off the circle by at most
 #: ``r (1 - cos(pi / 32)) = 0.005 r``, under a pixel while the marble is under 200 pixels across.
 MARBLE_RINGS_SEGMENTS = (16, 32)
@@ -180,7 +190,10 @@ def _checker_texture(ctx, n=64, squares=8):
     black = ((i * squares // n + j * squares // n) % 2).astype(bool)
     img = np.where(black[..., None], [20, 20, 20, 255], [250, 250, 250, 255]).astype(np.uint8)
     tex = ctx.texture((n, n), 4, img.tobytes())
-    tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+    # mipmapped: a few pixels high far away, the squares blend to grey instead of flickering (which an edge
+    # smoothing pass would then smear)
+    tex.build_mipmaps()
+    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.NEAREST)
     return tex
 
 
@@ -195,11 +208,12 @@ class Renderer:
     ``radius`` (the pole's, m), such as the game's ``GoalFlag``.  ``soft_bodies`` are the level's soft blocks
     as ``SoftBody`` handles (``Game.soft_blocks``, in the order of ``level.soft_blocks``), drawn in their
     materials' colours as their surfaces are at each frame.  The level's streams are drawn as translucent
-    water (or air) up to their surfaces.
+    water (or air) up to their surfaces.  ``antialiasing`` is one of :data:`ANTIALIASING` and ``shadow_size`` the
+    side of the sun's shadow map (texels, over 60 m around the camera's focus).
     """
 
     @in_own_context
-    def __init__(self, ctx, level, marble_radius, size=(640, 360), *, samples=4, shadow_size=1024,
+    def __init__(self, ctx, level, marble_radius, size=(640, 360), *, antialiasing="fxaa", shadow_size=1024,
                  grid_cell=2.0, flag=None, soft_bodies=()):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
@@ -244,8 +258,8 @@ class Renderer:
         self.flag_tex = _checker_texture(ctx)
         self.flag_top = np.array(level.goal_center) + [0.0, level.goal_half_extents[1] + 1.2, 0.0]
         self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
-        self.shadow_tex.compare_func = ""
-        self.shadow_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.shadow_tex.compare_func = "<="     # lit where the fragment's depth <= the map's
+        self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
         self.hud = HudText(ctx)
         self.grid_cell = grid_cell
@@ -253,8 +267,10 @@ class Renderer:
         self.line_vbo = ctx.buffer(reserve=6 * 4 * 2 * 1024)
         self.line_vao = ctx.vertex_array(self.lines, [(self.line_vbo, "3f 3f", "in_pos", "in_color")])
         self._offscreen = None
-        self.samples, self.shadow_size = samples, shadow_size
-        self.antialiasing = f"{samples}x MSAA" if samples > 1 else "none"
+        if antialiasing not in ANTIALIASING:
+            raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {antialiasing!r}")
+        self.antialiasing, self.shadow_size = antialiasing, shadow_size
+        self.fxaa = Fxaa(ctx) if antialiasing == "fxaa" else None
 
     def _mesh(self, pos, nrm, color):
         """The draw item (scene and depth vertex arrays, colour) of the unindexed triangles ``pos``, ``nrm``
@@ -287,10 +303,31 @@ class Renderer:
 
         ``view`` is a :class:`CameraView`; ``marble_position`` (m) and ``marble_rotation`` (3, 3) place
         the marble; ``hud_lines`` are text lines for the top-left corner; ``debug`` an optional
-        :class:`DebugOverlay`.
+        :class:`DebugOverlay`.  With :attr:`antialiasing` ``"fxaa"`` the world is drawn into a texture first and
+        anti-aliased into ``fbo`` (:class:`~marbellous.render.fxaa.Fxaa`); the HUD is drawn last, sharp.
         """
         ctx = self.ctx
         w, h = viewport[2:] if viewport else fbo.size
+        if self.fxaa is None:
+            self._draw_world(fbo, viewport, (w, h), view, marble_position, marble_rotation, debug)
+        else:
+            self._draw_world(self.fxaa.frame((w, h)), None, (w, h), view, marble_position, marble_rotation, debug)
+            fbo.use()
+            if viewport:
+                ctx.viewport = viewport
+            self.fxaa.draw()
+        if hud_lines:
+            ctx.disable(moderngl.DEPTH_TEST)
+            ctx.enable(moderngl.BLEND)
+            ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+            self.hud.draw(list(hud_lines), (w, h))
+        ctx.disable(moderngl.BLEND)
+
+    def _draw_world(self, fbo, viewport, size, view, marble_position, marble_rotation, debug):
+        """Everything but the HUD into ``fbo`` (in ``viewport``, None: all of it) of ``size`` (width, height)
+        pixels; leaves blending on."""
+        ctx = self.ctx
+        w, h = size
         focus = np.asarray(view.target, np.float64)
         marble_model = model_matrix(marble_position, marble_rotation, self.marble_radius)
         statics = self.items + self.poles
@@ -357,10 +394,6 @@ class Renderer:
 
         if debug is not None:
             self._draw_debug(vp, debug)
-        if hud_lines:
-            ctx.disable(moderngl.DEPTH_TEST)
-            self.hud.draw(list(hud_lines), (w, h))
-        ctx.disable(moderngl.BLEND)
 
     def _draw(self, items, model, pattern):
         s = self.scene
@@ -424,7 +457,7 @@ class Renderer:
         ctx = self.ctx
         resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
                                   depth_attachment=ctx.depth_renderbuffer(self.size))
-        samples = min(self.samples, ctx.max_samples)
+        samples = min(MSAA_SAMPLES, ctx.max_samples) if self.antialiasing == "msaa" else 1
         if samples <= 1:
             return resolve, resolve
         draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],
