@@ -16,6 +16,7 @@ from .cloth_drawing import vertex_normals
 from .geometry import capsule_triangles, collider_triangles, flat, grid_cells, indexed, uv_sphere
 from .fxaa import Fxaa
 from .hud import HudText
+from .offscreen import Offscreen
 from .sun import SUN
 from .transforms import look_at, model_matrix, orthographic, perspective
 from .world_shaders import SHEET_THROUGH_GLSL
@@ -41,13 +42,14 @@ void main() {
 }
 """
 
+# compiled once per pattern (``#define PATTERN``): llvmpipe runs every side of a branch for every fragment, so a
+# uniform choosing the pattern cost each fragment all patterns' code (0.8 ms of a 640 x 360 frame)
 _SCENE_FS = """
-#version 330
 """ + SHEET_THROUGH_GLSL + """
 uniform vec3 u_color;
 uniform vec3 u_color2;
 uniform float u_alpha;
-uniform int u_pattern;          // 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit, 3 a thin sheet
+// PATTERN: 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit, 3 a thin sheet
 uniform vec3 u_sun;             // unit vector towards the sun
 uniform vec3 u_eye;
 uniform sampler2DShadow u_shadow;
@@ -77,29 +79,32 @@ void main() {
     vec3 n = normalize(v_normal);
     if (!gl_FrontFacing) n = -n;
     vec3 base = u_color;
-    if (u_pattern == 1) {
-        vec3 d = normalize(v_local);
-        float octant = sign(d.x) * sign(d.y) * sign(d.z);
-        base = octant > 0.0 ? u_color : u_color2;
-        if (abs(d.y) < 0.12) base = vec3(0.97, 0.97, 0.92);
-    } else if (u_pattern == 0) {
-        vec2 g = abs(fract(v_world.xz + 0.5) - 0.5);
-        float line = 1.0 - smoothstep(0.0, 0.03, min(g.x, g.y));
-        base *= 1.0 - 0.18 * line;
-    }
-    if (u_pattern == 2) { f_color = vec4(base, u_alpha); return; }
+#if PATTERN == 1
+    vec3 d = normalize(v_local);
+    float octant = sign(d.x) * sign(d.y) * sign(d.z);
+    base = octant > 0.0 ? u_color : u_color2;
+    if (abs(d.y) < 0.12) base = vec3(0.97, 0.97, 0.92);
+#elif PATTERN == 0
+    vec2 g = abs(fract(v_world.xz + 0.5) - 0.5);
+    float line = 1.0 - smoothstep(0.0, 0.03, min(g.x, g.y));
+    base *= 1.0 - 0.18 * line;
+#endif
+#if PATTERN == 2
+    f_color = vec4(base, u_alpha);
+#else
     float sun = shadow_factor(n);
     float lit = max(dot(n, u_sun), 0.0) * sun;
     // a thin sheet (the cloth flag) lets part of the sun on its other face through
-    float diffuse = lit + (u_pattern == 3 ? SHEET_THROUGH * max(-dot(n, u_sun), 0.0) * sun : 0.0);
+    float diffuse = lit + (PATTERN == 3 ? SHEET_THROUGH * max(-dot(n, u_sun), 0.0) * sun : 0.0);
     float sky = 0.5 + 0.5 * n.y;
     vec3 v = normalize(u_eye - v_world);
-    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), u_pattern == 1 ? 60.0 : 16.0)
-                 * (u_pattern == 1 ? 0.9 : 0.12) * lit;
+    float spec = pow(max(dot(reflect(-u_sun, n), v), 0.0), PATTERN == 1 ? 60.0 : 16.0)
+                 * (PATTERN == 1 ? 0.9 : 0.12) * lit;
     vec3 c = base * (0.32 * sky + 0.12 + 0.78 * diffuse) + vec3(spec);
     float fog = clamp((length(u_eye - v_world) - 40.0) / 120.0, 0.0, 0.7);
     c = mix(c, vec3(0.70, 0.80, 0.92), fog);
     f_color = vec4(pow(c, vec3(1.0 / 1.1)), u_alpha);
+#endif
 }
 """
 
@@ -161,6 +166,10 @@ POLE_COLOR = (0.9, 0.9, 0.9)
 ANTIALIASING = ("fxaa", "msaa", "none")
 #: Samples per pixel of ``"msaa"``: llvmpipe's only multisampling (it draws 2 samples as 4).
 MSAA_SAMPLES = 4
+#: The scene programs' patterns: the ``PATTERN`` each is compiled with.
+PATTERNS = {"plain": 0, "marble": 1, "unlit": 2, "sheet": 3}
+#: The marble's second colour (its first is its draw item's).
+MARBLE_COLOR2 = (0.12, 0.28, 0.85)
 #: The marble's sphere: rings and segments.  Its outline is a polygon of 32 sides: off the circle by at most
 #: ``r (1 - cos(pi / 32)) = 0.005 r``, under a pixel while the marble is under 200 pixels across.
 MARBLE_RINGS_SEGMENTS = (16, 32)
@@ -181,7 +190,12 @@ class DebugOverlay:
 
 
 def _f32(m):
+    """The bytes of a (4, 4) matrix ``m`` (column vectors) as a GLSL ``mat4`` uniform: float32, column-major."""
     return np.ascontiguousarray(np.asarray(m, np.float64).T, dtype=np.float32).tobytes()
+
+
+#: the identity model matrix of meshes already in world space, as uniform bytes
+_IDENTITY = _f32(np.eye(4))
 
 
 def _checker_texture(ctx, n=64, squares=8):
@@ -217,7 +231,9 @@ class Renderer:
                  grid_cell=2.0, flag=None, soft_bodies=()):
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
-        self.scene = ctx.program(vertex_shader=_SCENE_VS, fragment_shader=_SCENE_FS)
+        self.scenes = {pattern: ctx.program(vertex_shader=_SCENE_VS,
+                                            fragment_shader=f"#version 330\n#define PATTERN {pattern}\n{_SCENE_FS}")
+                       for pattern in PATTERNS.values()}
         self.depth = ctx.program(vertex_shader=_DEPTH_VS, fragment_shader=_DEPTH_FS)
         self.lines = ctx.program(vertex_shader=_LINES_VS, fragment_shader=_LINES_FS)
         self.textured = ctx.program(vertex_shader=_TEXTURED_VS, fragment_shader=_TEXTURED_FS)
@@ -227,7 +243,7 @@ class Renderer:
         for c in level.colliders:
             pos, nrm = collider_triangles(c, center)
             self.items.append(self._mesh(pos, nrm, c.material.color))
-        self.marble = self._mesh(*uv_sphere(1.0, *MARBLE_RINGS_SEGMENTS), (0.85, 0.15, 0.12))
+        self.marble = self._mesh(*uv_sphere(1.0, *MARBLE_RINGS_SEGMENTS), (0.85, 0.15, 0.12), "marble")
         center, half = np.asarray(level.goal_center), np.asarray(level.goal_half_extents)
         self.poles = [self._mesh(*_pole_triangles(center - [0.0, half[1], 0.0], center + [0.0, half[1] + 1.2, 0.0],
                                                   0.05), POLE_COLOR)]
@@ -235,14 +251,14 @@ class Renderer:
         if flag is not None:
             self.poles.append(self._mesh(*_pole_triangles(flag.foot, flag.top, flag.radius), POLE_COLOR))
             self.flag_item, self.flag_vertices = self._moving_mesh(len(flag.cloth.positions), flag.cloth.triangles,
-                                                                   FLAG_COLOR)
+                                                                   FLAG_COLOR, "sheet")
         # each soft block: (body, its surface triangles, its draw item, its vertex buffer)
         self.soft = []
         for body, block in zip(soft_bodies, level.soft_blocks):
             triangles = body.surface_triangles
             self.soft.append((body, triangles, *self._moving_mesh(len(body), triangles, block.material.color)))
         box = _goal_box_triangles(level.goal_center, level.goal_half_extents)
-        self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4))
+        self.goal_box = self._mesh(*flat(*box), (0.3, 0.95, 0.4), "unlit")
         self.water = []
         for stream in level.streams:
             lower, upper = np.array(stream.lower), np.array(stream.upper)
@@ -272,25 +288,29 @@ class Renderer:
         self.antialiasing, self.shadow_size = antialiasing, shadow_size
         self.fxaa = Fxaa(ctx) if antialiasing == "fxaa" else None
 
-    def _mesh(self, pos, nrm, color):
-        """The draw item (scene and depth vertex arrays, colour) of the unindexed triangles ``pos``, ``nrm``
-        (3 T, 3), drawn indexed (:func:`indexed`)."""
+    def _mesh(self, pos, nrm, color, pattern="plain"):
+        """The draw item of the unindexed triangles ``pos``, ``nrm`` (3 T, 3) in ``color`` and ``pattern`` (a
+        key of :data:`PATTERNS`), drawn indexed (:func:`indexed`)."""
         vertices, indices = indexed(pos, nrm)
-        vbo, ibo = self.ctx.buffer(vertices.tobytes()), self.ctx.buffer(indices.tobytes())
-        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo,
-                                      index_element_size=4),
-                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
-                                      index_element_size=4), tuple(color))
+        return self._item(self.ctx.buffer(vertices.tobytes()), self.ctx.buffer(indices.tobytes()), color, pattern)
 
-    def _moving_mesh(self, n_vertices, triangles, color):
+    def _item(self, vbo, ibo, color, pattern):
+        """A draw item: ``(scene vertex array, depth vertex array, colour, scene program)`` of the vertices in
+        ``vbo`` (rows [position, normal], float32) indexed by ``ibo`` (uint32)."""
+        program = self.scenes[PATTERNS[pattern]]
+        # (the unlit pattern's program has no normals)
+        layout = [(vbo, "3f 3f", "in_pos", "in_normal") if program.get("in_normal", None) is not None
+                  else (vbo, "3f 12x", "in_pos")]
+        return (self.ctx.vertex_array(program, layout, index_buffer=ibo, index_element_size=4),
+                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
+                                      index_element_size=4), tuple(color), program)
+
+    def _moving_mesh(self, n_vertices, triangles, color, pattern="plain"):
         """``(draw item, vertex buffer)`` of a mesh of ``n_vertices`` vertices whose places change every frame
         (the flag, a soft block): indexed by ``triangles``, its vertices written by :meth:`_write_vertices`."""
         vbo = self.ctx.buffer(reserve=n_vertices * 6 * 4, dynamic=True)
         ibo = self.ctx.buffer(np.asarray(triangles).astype(np.uint32).tobytes())
-        return (self.ctx.vertex_array(self.scene, [(vbo, "3f 3f", "in_pos", "in_normal")], index_buffer=ibo,
-                                      index_element_size=4),
-                self.ctx.vertex_array(self.depth, [(vbo, "3f 12x", "in_pos")], index_buffer=ibo,
-                                      index_element_size=4), tuple(color)), vbo
+        return self._item(vbo, ibo, color, pattern), vbo
 
     @staticmethod
     def _write_vertices(vbo, positions, triangles):
@@ -329,7 +349,7 @@ class Renderer:
         ctx = self.ctx
         w, h = size
         focus = np.asarray(view.target, np.float64)
-        marble_model = model_matrix(marble_position, marble_rotation, self.marble_radius)
+        marble_model = _f32(model_matrix(marble_position, marble_rotation, self.marble_radius))
         statics = self.items + self.poles
         if self.flag is not None:
             self._write_vertices(self.flag_vertices, self.flag.cloth.positions, self.flag.cloth.triangles)
@@ -346,10 +366,10 @@ class Renderer:
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         self.depth["u_light_view_proj"].write(_f32(light_vp))
-        for _vao, dvao, _c in statics:
-            self.depth["u_model"].write(_f32(np.eye(4)))
+        self.depth["u_model"].write(_IDENTITY)
+        for _vao, dvao, _c, _p in statics:
             dvao.render()
-        self.depth["u_model"].write(_f32(marble_model))
+        self.depth["u_model"].write(marble_model)
         self.marble[1].render()
 
         # main pass
@@ -360,19 +380,21 @@ class Renderer:
         proj = perspective(view.fov, w / h, 0.05, 400.0)
         view_m = look_at(view.eye, view.target)
         vp = proj @ view_m
-        s = self.scene
-        s["u_view_proj"].write(_f32(vp))
-        s["u_light_view_proj"].write(_f32(light_vp))
-        s["u_sun"].value = tuple(SUN)
-        s["u_eye"].value = tuple(float(x) for x in view.eye)
-        s["u_alpha"].value = 1.0
+        frame_uniforms = {"u_view_proj": _f32(vp), "u_light_view_proj": _f32(light_vp),
+                          "u_sun": np.asarray(SUN, np.float32).tobytes(),
+                          "u_eye": np.asarray(view.eye, np.float32).tobytes(),
+                          "u_color2": np.asarray(MARBLE_COLOR2, np.float32).tobytes(),
+                          "u_shadow": np.int32(0).tobytes()}
+        for program in self.scenes.values():
+            for name, value in frame_uniforms.items():
+                uniform = program.get(name, None)   # (a pattern's program may not use it)
+                if uniform is not None:
+                    uniform.write(value)
         self.shadow_tex.use(0)
-        s["u_shadow"].value = 0
-        self._draw(self.items + self.poles + [item for _, _, item, _ in self.soft], np.eye(4), pattern=0)
+        self._draw(self.items + self.poles + [item for _, _, item, _ in self.soft], _IDENTITY)
         if self.flag is not None:
-            self._draw([self.flag_item], np.eye(4), pattern=3)
-        s["u_color2"].value = (0.12, 0.28, 0.85)
-        self._draw([self.marble], marble_model, pattern=1)
+            self._draw([self.flag_item], _IDENTITY)
+        self._draw([self.marble], marble_model)
 
         # the flag: an upright billboard above the goal
         rot = billboard_y_matrix(self.flag_top, view.eye)
@@ -386,21 +408,18 @@ class Renderer:
         # translucent goal box
         ctx.enable(moderngl.BLEND)
         ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        s["u_alpha"].value = 0.25
-        self._draw([self.goal_box], np.eye(4), pattern=2)
-        s["u_alpha"].value = 0.35
-        self._draw(self.water, np.eye(4), pattern=0)
-        s["u_alpha"].value = 1.0
+        self._draw([self.goal_box], _IDENTITY, alpha=0.25)
+        self._draw(self.water, _IDENTITY, alpha=0.35)
 
         if debug is not None:
             self._draw_debug(vp, debug)
 
-    def _draw(self, items, model, pattern):
-        s = self.scene
-        s["u_model"].write(_f32(model))
-        s["u_pattern"].value = pattern
-        for vao, _d, color in items:
-            s["u_color"].value = color
+    def _draw(self, items, model, alpha=1.0):
+        """Draw ``items`` (draw items) placed by ``model`` (uniform bytes, :func:`_f32`) with opacity ``alpha``."""
+        for vao, _d, color, program in items:
+            program["u_model"].write(model)
+            program["u_alpha"].value = alpha
+            program["u_color"].value = color
             vao.render()
 
     def _draw_debug(self, vp, debug):
@@ -440,29 +459,14 @@ class Renderer:
         """Submit one frame (as :meth:`render`) to the offscreen target of :attr:`size`; the GPU may still be
         drawing it when this returns.  :meth:`read_offscreen` reads it."""
         if self._offscreen is None:
-            self._offscreen = self._make_offscreen()
-        self.render(self._offscreen[0], view, marble_position, marble_rotation, hud_lines, debug)
+            samples = MSAA_SAMPLES if self.antialiasing == "msaa" else 1
+            self._offscreen = Offscreen(self.ctx, self.size, samples)
+        self.render(self._offscreen.draw, view, marble_position, marble_rotation, hud_lines, debug)
 
     @in_own_context
     def read_offscreen(self):
         """The frame last drawn by :meth:`draw_offscreen` as a (height, width, 3) uint8 array (top row first)."""
-        draw, resolve = self._offscreen
-        if resolve is not draw:
-            self.ctx.copy_framebuffer(resolve, draw)
-        raw = resolve.read(components=3, alignment=1)
-        img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
-        return img[::-1].copy()
-
-    def _make_offscreen(self):
-        ctx = self.ctx
-        resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
-                                  depth_attachment=ctx.depth_renderbuffer(self.size))
-        samples = min(MSAA_SAMPLES, ctx.max_samples) if self.antialiasing == "msaa" else 1
-        if samples <= 1:
-            return resolve, resolve
-        draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],
-                               depth_attachment=ctx.depth_renderbuffer(self.size, samples=samples))
-        return draw, resolve
+        return self._offscreen.read()
 
 
 def _pole_triangles(foot, top, radius):

@@ -20,6 +20,7 @@ from .context import in_own_context
 from .draw_lists import Lines, Points, Solids, Spheres, Surface, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
 from .hud import HudText
+from .offscreen import Offscreen
 from .mesh_cache import MeshCache
 from .transforms import look_at, orthographic, perspective
 
@@ -293,21 +294,6 @@ class WorldRenderer:
         """Render offscreen at :attr:`size` (see :meth:`render`) and return the image as a
         (height, width, 3) uint8 array, top row first."""
         if self._offscreen is None:
-            self._offscreen = self._make_offscreen()
-        draw, resolve = self._offscreen
-        self.render(draw, world, view, layers=layers, hud_lines=hud_lines)
-        if resolve is not draw:
-            self.ctx.copy_framebuffer(resolve, draw)
-        raw = resolve.read(components=3, alignment=1)
-        return np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)[::-1].copy()
-
-    def _make_offscreen(self):
-        ctx = self.ctx
-        resolve = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size)],
-                                  depth_attachment=ctx.depth_renderbuffer(self.size))
-        samples = min(self._samples, ctx.max_samples)
-        if samples <= 1:
-            return resolve, resolve
-        draw = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, samples=samples)],
-                               depth_attachment=ctx.depth_renderbuffer(self.size, samples=samples))
-        return draw, resolve
+            self._offscreen = Offscreen(self.ctx, self.size, self._samples)
+        self.render(self._offscreen.draw, world, view, layers=layers, hud_lines=hud_lines)
+        return self._offscreen.read()
