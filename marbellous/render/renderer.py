@@ -324,18 +324,21 @@ class Renderer:
         ``view`` is a :class:`CameraView`; ``marble_position`` (m) and ``marble_rotation`` (3, 3) place
         the marble; ``hud_lines`` are text lines for the top-left corner; ``debug`` an optional
         :class:`DebugOverlay`.  With :attr:`antialiasing` ``"fxaa"`` the world is drawn into a texture first and
-        anti-aliased into ``fbo`` (:class:`~marbellous.render.fxaa.Fxaa`); the HUD is drawn last, sharp.
+        anti-aliased into ``fbo`` (:class:`~marbellous.render.fxaa.Fxaa`); the debug overlay and the HUD are
+        drawn last, sharp.
         """
         ctx = self.ctx
         w, h = viewport[2:] if viewport else fbo.size
         if self.fxaa is None:
-            self._draw_world(fbo, viewport, (w, h), view, marble_position, marble_rotation, debug)
+            vp = self._draw_world(fbo, viewport, (w, h), view, marble_position, marble_rotation)
         else:
-            self._draw_world(self.fxaa.frame((w, h)), None, (w, h), view, marble_position, marble_rotation, debug)
+            vp = self._draw_world(self.fxaa.frame((w, h)), None, (w, h), view, marble_position, marble_rotation)
             fbo.use()
             if viewport:
                 ctx.viewport = viewport
             self.fxaa.draw()
+        if debug is not None:
+            self._draw_debug(vp, debug)
         if hud_lines:
             ctx.disable(moderngl.DEPTH_TEST)
             ctx.enable(moderngl.BLEND)
@@ -343,9 +346,9 @@ class Renderer:
             self.hud.draw(list(hud_lines), (w, h))
         ctx.disable(moderngl.BLEND)
 
-    def _draw_world(self, fbo, viewport, size, view, marble_position, marble_rotation, debug):
-        """Everything but the HUD into ``fbo`` (in ``viewport``, None: all of it) of ``size`` (width, height)
-        pixels; leaves blending on."""
+    def _draw_world(self, fbo, viewport, size, view, marble_position, marble_rotation):
+        """Everything but the overlays into ``fbo`` (in ``viewport``, None: all of it) of ``size`` (width, height)
+        pixels; leaves blending on.  Returns the camera's view-projection matrix."""
         ctx = self.ctx
         w, h = size
         focus = np.asarray(view.target, np.float64)
@@ -410,9 +413,7 @@ class Renderer:
         ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
         self._draw([self.goal_box], _IDENTITY, alpha=0.25)
         self._draw(self.water, _IDENTITY, alpha=0.35)
-
-        if debug is not None:
-            self._draw_debug(vp, debug)
+        return vp
 
     def _draw(self, items, model, alpha=1.0):
         """Draw ``items`` (draw items) placed by ``model`` (uniform bytes, :func:`_f32`) with opacity ``alpha``."""

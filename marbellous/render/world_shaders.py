@@ -2,9 +2,10 @@
 spheres (particles) lit and shadowed alike, and lines and dots of constant pixel size.  Surfaces (cloth) are
 drawn by the solids' programs too, as one instance of the identity with a colour per vertex.
 
-The solids' lighting follows the game renderer's (``renderer.py``): a sun with a 3 x 3 PCF shadow
-map, a sky term from the normal's height, a small specular highlight; distances (grid cell, fog) are
-uniforms so any scale of world reads well.  A face seen from behind is lit with its normal turned to the
+The solids' lighting follows the game renderer's (``renderer.py``): a sun with a shadow map filtered over
+3 x 3 texels (nine nearest taps here; the game's renderer takes four hardware-compared bilinear ones), a sky
+term from the normal's height, a small specular highlight; distances (grid cell, fog) are uniforms so any
+scale of world reads well.  A face seen from behind is lit with its normal turned to the
 eye, and a thin sheet (pattern 3, cloth) lets part of the sun that falls on one face through to the other.
 """
 
