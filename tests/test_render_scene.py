@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from marbellous.game.level import load_level
-from marbellous.render.renderer import DebugOverlay, Renderer
+from marbellous.render.renderer import ANTIALIASING, DebugOverlay, Renderer
 from marbellous.render.transforms import look_at, perspective
 from marbellous.render.video import VideoWriter, read_frames
 from marbellous.render.view import CameraView
@@ -84,6 +84,28 @@ def test_goal_flag_billboard_faces_the_camera_from_any_side(ctx):
         dark = (patch.max(axis=-1) < 60).sum()
         bright = (patch.min(axis=-1) > 200).sum()
         assert dark > 20 and bright > 20, ang
+
+
+def test_every_antialiasing_draws_the_marble_and_fxaa_changes_only_edges(ctx):
+    level = load_level("course")
+    view = behind(level)
+    imgs = {aa: Renderer(ctx, level, 0.3, SIZE, antialiasing=aa).render_to_array(view, level.start_position, np.eye(3))
+            for aa in ANTIALIASING}
+    for img in imgs.values():
+        red, blue = marble_mask(img)
+        assert red.sum() > 30 and blue.sum() > 30
+    # FXAA leaves a pixel alone where it and its four diagonal neighbours span less than 1/16 of the luma range
+    # (16 of 255); 10 keeps clear of rounding
+    none, fxaa = imgs["none"].astype(float), imgs["fxaa"].astype(float)
+    luma = none @ [0.299, 0.587, 0.114]
+    pad = np.pad(luma, 1, mode="edge")
+    around = np.stack([pad[1:-1, 1:-1], pad[:-2, :-2], pad[:-2, 2:], pad[2:, :-2], pad[2:, 2:]])
+    flat = around.max(axis=0) - around.min(axis=0) < 10.0
+    changed = np.any(none != fxaa, axis=-1)
+    assert flat.mean() > 0.5 and not changed[flat].any()
+    assert changed.sum() > 100                 # the edges are smoothed
+    with pytest.raises(ValueError, match="antialiasing"):
+        Renderer(ctx, level, 0.3, SIZE, antialiasing="ssaa")
 
 
 def test_hud_and_debug_overlay(ctx):

@@ -24,13 +24,16 @@ const float EDGE_MIN = 1.0 / 16.0;      // luma range (0-1) below which a pixel 
 const float EDGE_RELATIVE = 1.0 / 8.0;  // ... or below this share of its brightest neighbour's luma
 const float REDUCE_MUL = 1.0 / 8.0, REDUCE_MIN = 1.0 / 128.0, SPAN_MAX = 8.0;  // texels along the edge
 
+// the frame's texel at p, clamped to the frame (a fetch outside it is undefined)
+vec3 at(ivec2 p) { return texelFetch(u_frame, clamp(p, ivec2(0), textureSize(u_frame, 0) - 1), 0).rgb; }
+
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec3 m = texelFetch(u_frame, px, 0).rgb;
-    float nw = dot(texelFetch(u_frame, px + ivec2(-1, 1), 0).rgb, LUMA);
-    float ne = dot(texelFetch(u_frame, px + ivec2(1, 1), 0).rgb, LUMA);
-    float sw = dot(texelFetch(u_frame, px + ivec2(-1, -1), 0).rgb, LUMA);
-    float se = dot(texelFetch(u_frame, px + ivec2(1, -1), 0).rgb, LUMA);
+    float nw = dot(at(px + ivec2(-1, 1)), LUMA);
+    float ne = dot(at(px + ivec2(1, 1)), LUMA);
+    float sw = dot(at(px + ivec2(-1, -1)), LUMA);
+    float se = dot(at(px + ivec2(1, -1)), LUMA);
     float lm = dot(m, LUMA);
     float lo = min(lm, min(min(nw, ne), min(sw, se)));
     float hi = max(lm, max(max(nw, ne), max(sw, se)));

@@ -3,7 +3,8 @@
 
 The renderer draws into any framebuffer: an offscreen one for headless video (``render_to_array``) or
 a window's screen.  One directional light (the sun) casts shadows through a shadow map rendered from
-its orthographic view around the camera's focus.
+its orthographic view around the camera's focus.  Edges are smoothed by an FXAA pass (``render/fxaa.py``) before
+the debug overlay and the HUD are drawn, or by 4x multisampling offscreen.
 """
 from dataclasses import dataclass, field
 
@@ -62,7 +63,7 @@ out vec4 f_color;
 // The sun's share reaching this fragment (0 in shadow, 1 lit).  The shadow map compares in hardware: with linear
 // filtering one fetch blends the 0-or-1 tests of the 2 x 2 texels around the point (bilinear PCF).  Four such
 // fetches half a texel diagonally off the point cover its 3 x 3 texels with weights 1 2 1 / 2 4 2 / 1 2 1 (a
-// tent), as smooth as 16 plain taps.
+// tent): 16 depth comparisons in four fetches, where nine nearest taps took nine.
 float shadow_factor(vec3 n) {
     vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
     if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
@@ -164,7 +165,7 @@ POLE_COLOR = (0.9, 0.9, 0.9)
 #: How :class:`Renderer` smooths edges: ``"fxaa"`` a post-process pass (:class:`~marbellous.render.fxaa.Fxaa`),
 #: ``"msaa"`` :data:`MSAA_SAMPLES` samples per pixel offscreen (about twice the frame's cost on llvmpipe), ``"none"``.
 ANTIALIASING = ("fxaa", "msaa", "none")
-#: Samples per pixel of ``"msaa"``: llvmpipe's only multisampling (it draws 2 samples as 4).
+#: Samples per pixel of ``"msaa"`` (llvmpipe takes as long over 2 as over 4).
 MSAA_SAMPLES = 4
 #: The scene programs' patterns: the ``PATTERN`` each is compiled with.
 PATTERNS = {"plain": 0, "marble": 1, "unlit": 2, "sheet": 3}
@@ -229,6 +230,8 @@ class Renderer:
     @in_own_context
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, antialiasing="fxaa", shadow_size=1024,
                  grid_cell=2.0, flag=None, soft_bodies=()):
+        if antialiasing not in ANTIALIASING:
+            raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {antialiasing!r}")
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
         self.scenes = {pattern: ctx.program(vertex_shader=_SCENE_VS,
@@ -239,7 +242,7 @@ class Renderer:
         self.textured = ctx.program(vertex_shader=_TEXTURED_VS, fragment_shader=_TEXTURED_FS)
         lo, hi = level.bounds()
         center = 0.5 * (lo + hi)
-        self.items = []  # (vao_scene, vao_depth, color, model)
+        self.items = []  # draw items (:meth:`_item`)
         for c in level.colliders:
             pos, nrm = collider_triangles(c, center)
             self.items.append(self._mesh(pos, nrm, c.material.color))
@@ -283,8 +286,6 @@ class Renderer:
         self.line_vbo = ctx.buffer(reserve=6 * 4 * 2 * 1024)
         self.line_vao = ctx.vertex_array(self.lines, [(self.line_vbo, "3f 3f", "in_pos", "in_color")])
         self._offscreen = None
-        if antialiasing not in ANTIALIASING:
-            raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {antialiasing!r}")
         self.antialiasing, self.shadow_size = antialiasing, shadow_size
         self.fxaa = Fxaa(ctx) if antialiasing == "fxaa" else None
 
