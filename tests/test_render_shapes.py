@@ -9,7 +9,7 @@ import marbellous as mb
 from marbellous.render.body_solids import PLANE_SCALE, body_solids
 from marbellous.render.bounds import shape_points, world_points
 from marbellous.render.draw_lists import GRID, OCTANTS, PLAIN, WorldFrame
-from marbellous.render.geometry import box_triangles, capsule_triangles, heightfield_triangles, uv_sphere
+from marbellous.render.geometry import box_triangles, capsule_triangles, heightfield_triangles, indexed, uv_sphere
 from marbellous.render.orbit_camera import OrbitCamera
 from marbellous.render.shape_meshes import plane_frame, shape_mesh
 from marbellous.render.transforms import look_at, perspective, quat_to_matrix, quats_to_matrices
@@ -26,6 +26,17 @@ def test_drawing_meshes_need_no_optional_package_and_log_nothing(caplog):
     axis[:, 1] = np.clip(pos[:, 1], -0.5, 0.5)
     assert np.allclose(np.linalg.norm(pos - axis, axis=1), 0.3, atol=1e-5)     # on the surface
     assert np.all(np.sum((pos - axis) * nrm, axis=1) > 0.299)                  # normals point out
+
+
+def test_indexed_meshes_give_back_every_corner_and_share_equal_ones():
+    for (pos, nrm), shared in ((uv_sphere(1.0, 16, 32), 898), (box_triangles((1.0, 2.0, 3.0)), 24)):
+        vertices, indices = indexed(pos, nrm)
+        assert vertices.dtype == np.float32 and indices.dtype == np.uint32 and len(indices) == len(pos)
+        assert np.array_equal(vertices[indices, :3], pos) and np.array_equal(vertices[indices, 3:], nrm)
+        # a box's faces keep their own normals: 4 corners each; the sphere's seam and poles stay split as
+        # trimesh made them
+        assert len(vertices) == shared
+        assert np.all(np.diff(np.unique(indices, return_index=True)[1]) > 0)   # in the order of first use
 
 
 def test_heightfield_triangles_lie_on_the_physics_surface():
