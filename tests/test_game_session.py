@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from marbellous.game.goal import BestTimes, GoalArea
-from marbellous.game.level import load_level
+from marbellous.game.level import LevelError, load_level
 from marbellous.game.session import Game
 
 
@@ -137,3 +137,10 @@ def test_the_brook_carries_the_marble_downstream_and_restart_calms_it():
     brook.dye = np.ones(brook.resolution)
     game.restart()
     assert not brook.dye.any() and np.allclose(brook.velocity, stream.velocity)
+
+
+def test_a_level_whose_marble_starts_in_the_goal_is_refused():
+    level = load_level("course")
+    level.start_position = level.goal_center + (0.0, level.goal_half_extents[1] + 0.1, 0.0)   # on the goal's top
+    with pytest.raises(LevelError, match="starts in the goal"):
+        Game(level, best_times=BestTimes(persistent=False), flag=False)
