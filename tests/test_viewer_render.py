@@ -269,3 +269,28 @@ def test_a_renderer_draws_the_world_as_it_is_after_another_context_came_and_went
     after = renderer.render_to_array(w, VIEW)
     assert np.any(after != before)
     assert np.array_equal(after, expected)
+
+
+def test_every_antialiasing_draws_the_scene_and_fxaa_leaves_the_overlays_sharp(renderer, scene):
+    """Each mode draws the same scene (bar its edges); FXAA changes edges only, and the contacts drawn after it
+    are the very pixels they are without it; an unknown mode is refused."""
+    from marbellous.render.context import headless_context
+    from marbellous.render.renderer import ANTIALIASING
+
+    w, _ = scene
+    layers = ("bodies", "constraints", "contacts")
+    imgs = {}
+    for aa in ANTIALIASING:
+        r = WorldRenderer(headless_context(), SIZE, antialiasing=aa)
+        imgs[aa] = (r.render_to_array(w, VIEW, layers=("bodies", "constraints")),
+                    r.render_to_array(w, VIEW, layers=layers))
+        r.ctx.release()
+    for plain, _ in imgs.values():
+        assert np.any(plain != imgs["none"][0], axis=-1).mean() < 0.1
+    changed = np.any(imgs["fxaa"][0] != imgs["none"][0], axis=-1)
+    assert changed.sum() > 100                 # the edges are smoothed
+    marked = np.any(imgs["none"][1] != imgs["none"][0], axis=-1)       # the contacts' lines and dots
+    assert marked.sum() > 50
+    assert np.array_equal(imgs["fxaa"][1][marked], imgs["none"][1][marked])
+    with pytest.raises(ValueError, match="antialiasing"):
+        WorldRenderer(renderer.ctx, SIZE, antialiasing="ssaa")

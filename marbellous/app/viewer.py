@@ -136,16 +136,20 @@ def show(world, *, dt=1.0 / 60.0, paused=False, size=(1280, 720), contacts=False
 
 
 def _open_window(pyglet, size):
-    """A resizable pyglet window with an OpenGL 3.3 context, multisampled if the display offers it."""
-    for samples in (4, 0):
-        config = pyglet.gl.Config(double_buffer=True, depth_size=24, major_version=3, minor_version=3,
-                                  sample_buffers=int(samples > 0), samples=samples)
+    """A resizable pyglet window with an OpenGL 3.3 context.
+
+    It needs no multisampling (the renderer's FXAA pass smooths the edges) and no depth buffer of its own (the
+    scene is drawn into the pass's frame, which has one; the overlays drawn on the window test no depth), but asks
+    for one first, as most displays offer it, then takes any 3.3 window.
+    """
+    for depth_size in (24, 0):
+        config = pyglet.gl.Config(double_buffer=True, depth_size=depth_size, major_version=3, minor_version=3)
         try:
             return pyglet.window.Window(size[0], size[1], caption="Marbellous viewer", resizable=True,
                                         config=config)
         except pyglet.window.NoSuchConfigException:
             continue
-    raise OSError("the display offers no OpenGL 3.3 window with a depth buffer")
+    raise OSError("the display offers no OpenGL 3.3 window")
 
 
 def _reframe(orbit, world, window):

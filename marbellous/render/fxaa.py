@@ -62,8 +62,8 @@ class Fxaa:
         self._frame = None
 
     def frame(self, size):
-        """The framebuffer to draw a frame of ``size`` (width, height) pixels into; made again when the size
-        changes."""
+        """The framebuffer to draw a frame of ``size`` (width, height) pixels into (its depth attachment a texture);
+        made again when the size changes."""
         if self._frame is None or self._frame.size != tuple(size):
             if self._frame is not None:
                 for attachment in (*self._frame.color_attachments, self._frame.depth_attachment):
@@ -72,8 +72,10 @@ class Fxaa:
             color = self.ctx.texture(size, 4)
             color.filter = (moderngl.LINEAR, moderngl.LINEAR)
             color.repeat_x = color.repeat_y = False
-            self._frame = self.ctx.framebuffer(color_attachments=[color],
-                                               depth_attachment=self.ctx.depth_renderbuffer(size))
+            # (depth as a texture, read as plain values: lines drawn after the pass test it in their shader)
+            depth = self.ctx.depth_texture(size)
+            depth.compare_func = ""
+            self._frame = self.ctx.framebuffer(color_attachments=[color], depth_attachment=depth)
         return self._frame
 
     def draw(self):

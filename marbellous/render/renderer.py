@@ -18,6 +18,7 @@ from .geometry import capsule_triangles, collider_triangles, flat, grid_cells, i
 from .fxaa import Fxaa
 from .hud import HudText
 from .offscreen import Offscreen
+from .shadow_map import SHADOW_GLSL, shadow_map
 from .sun import SUN
 from .transforms import look_at, model_matrix, orthographic, perspective
 from .world_shaders import SHEET_THROUGH_GLSL
@@ -53,28 +54,12 @@ uniform float u_alpha;
 // PATTERN: 0 plain with a 1 m grid, 1 marble octants and stripes, 2 unlit, 3 a thin sheet
 uniform vec3 u_sun;             // unit vector towards the sun
 uniform vec3 u_eye;
-uniform sampler2DShadow u_shadow;
+""" + SHADOW_GLSL + """
 in vec3 v_world;
 in vec3 v_local;
 in vec3 v_normal;
 in vec4 v_light;
 out vec4 f_color;
-
-// The sun's share reaching this fragment (0 in shadow, 1 lit).  The shadow map compares in hardware: with linear
-// filtering one fetch blends the 0-or-1 tests of the 2 x 2 texels around the point (bilinear PCF).  Four such
-// fetches half a texel diagonally off the point cover its 3 x 3 texels with weights 1 2 1 / 2 4 2 / 1 2 1 (a
-// tent): 16 depth comparisons in four fetches, where nine nearest taps took nine.
-float shadow_factor(vec3 n) {
-    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
-    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
-    float bias = max(0.004 * (1.0 - dot(n, u_sun)), 0.0008);
-    vec2 half_texel = 0.5 / vec2(textureSize(u_shadow, 0));
-    float z = p.z - bias;
-    return 0.25 * (texture(u_shadow, vec3(p.xy + vec2(-half_texel.x, -half_texel.y), z))
-                   + texture(u_shadow, vec3(p.xy + vec2(half_texel.x, -half_texel.y), z))
-                   + texture(u_shadow, vec3(p.xy + vec2(-half_texel.x, half_texel.y), z))
-                   + texture(u_shadow, vec3(p.xy + vec2(half_texel.x, half_texel.y), z)));
-}
 
 void main() {
     vec3 n = normalize(v_normal);
@@ -93,7 +78,8 @@ void main() {
 #if PATTERN == 2
     f_color = vec4(base, u_alpha);
 #else
-    float sun = shadow_factor(n);
+    // the map's depth runs over 159 m: a bias of 0.6 m (edge-on) to 0.13 m (facing the sun)
+    float sun = shadow_factor(v_light, n, 0.004, 0.0);
     float lit = max(dot(n, u_sun), 0.0) * sun;
     // a thin sheet (the cloth flag) lets part of the sun on its other face through
     float diffuse = lit + (PATTERN == 3 ? SHEET_THROUGH * max(-dot(n, u_sun), 0.0) * sun : 0.0);
@@ -190,6 +176,12 @@ class DebugOverlay:
     grid: bool = True
 
 
+def check_antialiasing(mode):
+    """``ValueError`` unless ``mode`` is one of :data:`ANTIALIASING`."""
+    if mode not in ANTIALIASING:
+        raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {mode!r}")
+
+
 def _f32(m):
     """The bytes of a (4, 4) matrix ``m`` (column vectors) as a GLSL ``mat4`` uniform: float32, column-major."""
     return np.ascontiguousarray(np.asarray(m, np.float64).T, dtype=np.float32).tobytes()
@@ -230,8 +222,7 @@ class Renderer:
     @in_own_context
     def __init__(self, ctx, level, marble_radius, size=(640, 360), *, antialiasing="fxaa", shadow_size=1024,
                  grid_cell=2.0, flag=None, soft_bodies=()):
-        if antialiasing not in ANTIALIASING:
-            raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {antialiasing!r}")
+        check_antialiasing(antialiasing)
         self.ctx, self.level, self.marble_radius = ctx, level, float(marble_radius)
         self.size = tuple(int(s) for s in size)
         self.scenes = {pattern: ctx.program(vertex_shader=_SCENE_VS,
@@ -276,10 +267,7 @@ class Renderer:
         self.flag_vao = ctx.vertex_array(self.textured, [(self.flag_vbo, "3f 2f", "in_pos", "in_uv")])
         self.flag_tex = _checker_texture(ctx)
         self.flag_top = np.array(level.goal_center) + [0.0, level.goal_half_extents[1] + 1.2, 0.0]
-        self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
-        self.shadow_tex.compare_func = "<="     # lit where the fragment's depth <= the map's
-        self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
+        self.shadow_tex, self.shadow_fbo = shadow_map(ctx, shadow_size)
         self.hud = HudText(ctx)
         self.grid_cell = grid_cell
         self._grid_lines = None

@@ -4,9 +4,11 @@ or offscreen.
 A frame asks each layer of the drawable registry (``drawables.py``) for its draw lists, then draws:
 a shadow map from the sun over the region the camera looks at; the opaque solids, the surfaces (cloth) and
 the spheres (particles), lit and shadowed; lines in the scene (particle networks); translucent solids
-(sensors); lines and dots over everything; the HUD text.  Distances that depend on the scale of the world (the
-drawn extent of planes, fog, the grid cell, the clip planes, the shadow region) follow the camera's
-distance to its target, so a 5 cm marble and a 500 m terrain both read.
+(sensors); lines and dots over everything; the HUD text.  By default an FXAA pass (``fxaa.py``) smooths the edges
+before the lines, the dots and the text are drawn, which stay sharp (the lines in the scene still hidden by what
+is in front of them).  Distances that depend on the scale of the world (the drawn extent of planes, fog, the grid
+cell, the clip planes, the shadow region) follow the camera's distance to its target, so a 5 cm marble and a
+500 m terrain both read.
 """
 import math
 from collections import defaultdict
@@ -19,9 +21,12 @@ from . import world_shaders as glsl
 from .context import in_own_context
 from .draw_lists import Lines, Points, Solids, Spheres, Surface, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
+from .fxaa import Fxaa
 from .hud import HudText
 from .offscreen import Offscreen
 from .mesh_cache import MeshCache
+from .renderer import MSAA_SAMPLES, check_antialiasing
+from .shadow_map import shadow_map
 from .transforms import look_at, orthographic, perspective
 
 #: Unit vector towards the sun.
@@ -61,12 +66,14 @@ class WorldRenderer:
     """Draws worlds with moderngl into any framebuffer.
 
     ``ctx`` is a moderngl context (headless EGL or a window's); ``size`` (width, height) in pixels of
-    the offscreen target of :meth:`render_to_array`; ``samples`` of multisampling there;
-    ``shadow_size`` the side of the shadow map in texels.
+    the offscreen target of :meth:`render_to_array`; ``antialiasing`` one of
+    :data:`~marbellous.render.renderer.ANTIALIASING` (``"fxaa"`` a pass over each frame, ``"msaa"`` multisampling,
+    offscreen only, ``"none"``); ``shadow_size`` the side of the shadow map in texels.
     """
 
     @in_own_context
-    def __init__(self, ctx, size=(640, 360), *, samples=4, shadow_size=1024):
+    def __init__(self, ctx, size=(640, 360), *, antialiasing="fxaa", shadow_size=1024):
+        check_antialiasing(antialiasing)
         self.ctx = ctx
         self.size = tuple(int(s) for s in size)
         self.solid = ctx.program(vertex_shader=glsl.SOLID_VS, fragment_shader=glsl.SOLID_FS)
@@ -80,10 +87,7 @@ class WorldRenderer:
         self.spheres_depth = ctx.program(vertex_shader=glsl.SPHERES_DEPTH_VS, geometry_shader=glsl.SPHERES_DEPTH_GS,
                                          fragment_shader=glsl.SPHERES_DEPTH_FS)
         self.meshes = MeshCache(ctx, self.solid, self.depth)
-        self.shadow_tex = ctx.depth_texture((shadow_size, shadow_size))
-        self.shadow_tex.compare_func = ""
-        self.shadow_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
+        self.shadow_tex, self.shadow_fbo = shadow_map(ctx, shadow_size)
         self.overlay_vbo = ctx.buffer(reserve=1024 * _OVERLAY_FLOATS * 4, dynamic=True)
         layout = (self.overlay_vbo, "3f 3f 1f", "in_pos", "in_color")
         self.lines_vao = ctx.vertex_array(self.lines, [layout + ("in_width",)])
@@ -96,7 +100,8 @@ class WorldRenderer:
         self.surface_vao, self.surface_depth_vao = self._surface_arrays()
         self.surface_count = 0
         self.hud = HudText(ctx)
-        self._samples = samples
+        self.antialiasing, self.shadow_size = antialiasing, shadow_size
+        self.fxaa = Fxaa(ctx) if antialiasing == "fxaa" else None
         self._offscreen = None
 
     # ------------------------------------------------------------------ drawing
@@ -106,7 +111,9 @@ class WorldRenderer:
         None: all of ``fbo``).
 
         ``layers`` names the drawables to draw (None: those shown by default, see ``drawables.py``);
-        ``hud_lines`` are text lines for the top-left corner.
+        ``hud_lines`` are text lines for the top-left corner.  With :attr:`antialiasing` ``"fxaa"`` the scene is
+        drawn into the FXAA pass's frame first and anti-aliased into ``fbo``; the lines (in the scene and over
+        everything: contacts, normals, boxes), the dots and the HUD are drawn after it, sharp.
         """
         layers = default_layers() if layers is None else check_layers(layers)
         ctx = self.ctx
@@ -147,10 +154,11 @@ class WorldRenderer:
             d["u_light_up"].value = tuple(light_view[1, :3])
             self.spheres_depth_vao.render(moderngl.POINTS, vertices=self.sphere_count)
 
-        fbo.use()
-        if viewport:
-            ctx.viewport = viewport
-        fbo.clear(*palette.BACKGROUND, 1.0, depth=1.0)
+        scene, scene_viewport = (fbo, viewport) if self.fxaa is None else (self.fxaa.frame((w, h)), None)
+        scene.use()
+        if scene_viewport:
+            ctx.viewport = scene_viewport
+        scene.clear(*palette.BACKGROUND, 1.0, depth=1.0)
         s = self.solid
         s["u_view_proj"].write(_f32(vp))
         s["u_light_view_proj"].write(_f32(light_vp))
@@ -178,21 +186,36 @@ class WorldRenderer:
             p["u_shadow"].value = 0
             p["u_alpha"].value = 1.0
             self.spheres_vao.render(moderngl.POINTS, vertices=self.sphere_count)
-        self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h),
-                      [(x.segments.reshape(-1, 3), np.repeat(x.colors, 2, axis=0), x.width) for x in scene_lines])
+        line_parts = [[(x.segments.reshape(-1, 3), np.repeat(x.colors, 2, axis=0), x.width) for x in group]
+                      for group in (scene_lines, lines)]
+        self.lines["u_behind"].value = False
+        if self.fxaa is None:
+            self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h), line_parts[0])
         if translucent:
             ctx.enable(moderngl.BLEND)
             ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-            fbo.depth_mask = False
+            scene.depth_mask = False
             for alpha, m in translucent:
                 s["u_alpha"].value = alpha
                 m.solid.render(instances=m.count)
-            fbo.depth_mask = True
+            scene.depth_mask = True
             ctx.disable(moderngl.BLEND)
+        if self.fxaa is not None:
+            fbo.use()
+            if viewport:
+                ctx.viewport = viewport
+            self.fxaa.draw()
+            # the lines in the scene (a net's edges) are a pixel or two wide: FXAA would smear them into what they
+            # cross (a net's particles, as thin) and both would lose their colour, so they come after it, hidden
+            # where the scene's depth is nearer (over translucent solids, then, not blended under them)
+            scene.depth_attachment.use(4)
+            self.lines["u_depth"].value = 4
+            self.lines["u_behind"].value = True
+            self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h), line_parts[0])
+            self.lines["u_behind"].value = False
 
         ctx.disable(moderngl.DEPTH_TEST)
-        self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h),
-                      [(x.segments.reshape(-1, 3), np.repeat(x.colors, 2, axis=0), x.width) for x in lines])
+        self._overlay(self.lines, self.lines_vao, moderngl.LINES, vp, (w, h), line_parts[1])
         self._overlay(self.points, self.points_vao, moderngl.POINTS, vp, (w, h),
                       [(x.positions, x.colors, x.size) for x in points])
         if hud_lines:
@@ -293,7 +316,18 @@ class WorldRenderer:
     def render_to_array(self, world, view, *, layers=None, hud_lines=()):
         """Render offscreen at :attr:`size` (see :meth:`render`) and return the image as a
         (height, width, 3) uint8 array, top row first."""
+        self.draw_offscreen(world, view, layers=layers, hud_lines=hud_lines)
+        return self.read_offscreen()
+
+    @in_own_context
+    def draw_offscreen(self, world, view, *, layers=None, hud_lines=()):
+        """Submit one frame (as :meth:`render`) to the offscreen target of :attr:`size`; the GPU may still be
+        drawing it when this returns.  :meth:`read_offscreen` reads it."""
         if self._offscreen is None:
-            self._offscreen = Offscreen(self.ctx, self.size, self._samples)
+            self._offscreen = Offscreen(self.ctx, self.size, MSAA_SAMPLES if self.antialiasing == "msaa" else 1)
         self.render(self._offscreen.draw, world, view, layers=layers, hud_lines=hud_lines)
+
+    @in_own_context
+    def read_offscreen(self):
+        """The frame last drawn by :meth:`draw_offscreen` as a (height, width, 3) uint8 array, top row first."""
         return self._offscreen.read()

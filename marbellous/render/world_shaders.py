@@ -3,11 +3,12 @@ spheres (particles) lit and shadowed alike, and lines and dots of constant pixel
 drawn by the solids' programs too, as one instance of the identity with a colour per vertex.
 
 The solids' lighting follows the game renderer's (``renderer.py``): a sun with a shadow map filtered over
-3 x 3 texels (nine nearest taps here; the game's renderer takes four hardware-compared bilinear ones), a sky
+3 x 3 texels in four hardware-compared bilinear fetches (the same GLSL, ``shadow_map.py``), a sky
 term from the normal's height, a small specular highlight; distances (grid cell, fog) are uniforms so any
 scale of world reads well.  A face seen from behind is lit with its normal turned to the
 eye, and a thin sheet (pattern 3, cloth) lets part of the sun that falls on one face through to the other.
 """
+from .shadow_map import SHADOW_GLSL
 
 #: The fraction of the sunlight on one face of a thin sheet (cloth) that shows on the other (GLSL
 #: ``SHEET_THROUGH``; the game's renderer lights its cloth flag alike).
@@ -15,6 +16,11 @@ SHEET_THROUGH = 0.45
 #: The GLSL declaration of :data:`SHEET_THROUGH`.
 SHEET_THROUGH_GLSL = f"""
 const float SHEET_THROUGH = {SHEET_THROUGH!r};
+"""
+# The shadow lookup's depth bias (``shadow_map.py``), in the map's 0..1 depth: the map's depth spans 8 times the
+# half-width of the region it covers, so 0.002 is 1.6 % of that half-width where a surface faces the sun edge-on.
+_SHADOW_BIAS = """
+const float SHADOW_BIAS = 0.002;
 """
 
 SOLID_VS = """
@@ -43,28 +49,10 @@ void main() {
 }
 """
 
-# The lighting of every lit surface (solids and spheres): the sun, shadowed through a 3 x 3 PCF lookup of
-# the shadow map, a sky term, a small highlight and fog.  _SHADOW and _SHADE both need _SUN before them.
+# The lighting of every lit surface (solids and spheres): the sun, shadowed through the shadow map's tent lookup
+# (``shadow_map.py``), a sky term, a small highlight and fog.  SHADOW_GLSL and _SHADE both need _SUN before them.
 _SUN = """
 uniform vec3 u_sun;             // unit vector towards the sun
-"""
-
-_SHADOW = """
-uniform sampler2D u_shadow;
-
-// how much of the sun reaches a point (light: the point in the light's clip space; n: the surface normal),
-// from 3 x 3 lookups of the shadow map at least a texel apart, or spread (in the map's coordinates)
-float shadow_factor(vec4 light, vec3 n, float spread) {
-    vec3 p = light.xyz / light.w * 0.5 + 0.5;
-    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
-    vec2 step = max(1.0 / vec2(textureSize(u_shadow, 0)), vec2(spread));
-    float bias = max(0.002 * (1.0 - dot(n, u_sun)), 0.0004);
-    float lit = 0.0;
-    for (int i = -1; i <= 1; i++)
-        for (int j = -1; j <= 1; j++)
-            lit += (p.z - bias > textureLod(u_shadow, p.xy + vec2(i, j) * step, 0.0).r) ? 0.0 : 1.0;
-    return lit / 9.0;
-}
 """
 
 _SHADE = """
@@ -90,7 +78,7 @@ vec4 shade(vec3 base, vec3 n, vec3 p, float sun, float through) {
 
 SOLID_FS = """
 #version 330
-""" + _SUN + _SHADOW + _SHADE + """
+""" + _SUN + _SHADOW_BIAS + SHADOW_GLSL + _SHADE + """
 uniform float u_grid;           // grid cell (m)
 """ + SHEET_THROUGH_GLSL + """
 in vec3 v_world;
@@ -117,7 +105,8 @@ void main() {
         vec3 d = v_local;
         base = d.x * d.y * d.z > 0.0 ? v_color : v_color * 0.55;
     }
-    f_color = shade(base, n, v_world, shadow_factor(v_light, n, 0.0), v_pattern == 3 ? SHEET_THROUGH : 0.0);
+    float sun = shadow_factor(v_light, n, SHADOW_BIAS, 0.0);
+    f_color = shade(base, n, v_world, sun, v_pattern == 3 ? SHEET_THROUGH : 0.0);
 }
 """
 
@@ -181,11 +170,18 @@ void main() {
 }
 """
 
+# (u_behind: lines in the scene drawn after the FXAA pass, with no depth buffer of the scene's to test, are hidden
+# where the scene's depth, read from its texture, is nearer)
 LINES_FS = """
 #version 330
+uniform bool u_behind;          // discard fragments behind u_depth's
+uniform sampler2D u_depth;      // the scene's depth, pixel for pixel
 in vec3 v_color;
 out vec4 f_color;
-void main() { f_color = vec4(v_color, 1.0); }
+void main() {
+    if (u_behind && gl_FragCoord.z > texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r) discard;
+    f_color = vec4(v_color, 1.0);
+}
 """
 
 # Dots: each point becomes a disc of in_size pixels with a dark rim.
@@ -239,7 +235,7 @@ void main() {
 # that touches the sphere's nearest point (the cone of sight lines touching the sphere, cut by that
 # plane); each fragment casts its sight line at the sphere, discards a miss and is lit at the hit point.
 # The shadow map is read once per sphere, around its sunlit pole: a particle is in the shade or in the sun
-# as a whole, and the fragments (many per sphere in a heap, drawn over one another) skip the nine lookups.
+# as a whole, and the fragments (many per sphere in a heap, drawn over one another) skip the four fetches.
 # Distances are taken from the centre, so a 1 cm particle seen from 100 m keeps its precision in float32.
 # The fragment keeps the quad's depth, its nearest point's, rather than writing the hit point's: a
 # written depth turns off the early depth test, and a heap of particles (sent near to far) would then be
@@ -264,7 +260,7 @@ layout(points) in;
 layout(triangle_strip, max_vertices = 4) out;
 uniform mat4 u_view_proj;
 uniform mat4 u_light_view_proj;
-uniform vec3 u_eye;""" + _SUN + _SHADOW + """
+uniform vec3 u_eye;""" + _SUN + _SHADOW_BIAS + SHADOW_GLSL + """
 uniform float u_pixel;          // the side of a pixel, per metre from the eye
 in vec3 g_center[];
 in float g_radius[];
@@ -289,7 +285,7 @@ void main() {
     // (the lookups spread over the sphere's sunlit cap, half a radius apart: the map's coordinates run over
     // 2 / |the light matrix's first row| metres)
     float per_metre = 0.5 * length(vec3(u_light_view_proj[0][0], u_light_view_proj[1][0], u_light_view_proj[2][0]));
-    float sun = shadow_factor(u_light_view_proj * vec4(c + g_radius[0] * u_sun, 1.0), u_sun,
+    float sun = shadow_factor(u_light_view_proj * vec4(c + g_radius[0] * u_sun, 1.0), u_sun, SHADOW_BIAS,
                               0.5 * g_radius[0] * per_metre);
     for (int k = 0; k < 4; k++) {
         vec3 p = c - r * w + h * ((k % 2 == 0 ? -1.0 : 1.0) * u + (k < 2 ? -1.0 : 1.0) * v);
