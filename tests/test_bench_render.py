@@ -1,5 +1,6 @@
 """The renderer's benchmark (bench/bench_render.py) runs a few small frames and reports every part of a frame's
-time for every size, in its table and its results file (no timing is checked)."""
+time for every size, in its table and its results file, for the game's renderer and the viewer's (no timing is
+checked)."""
 import json
 
 from bench.bench_render import PARTS, main
@@ -18,3 +19,10 @@ def test_a_few_frames_report_every_part_for_every_size(tmp_path, capsys):
     assert saved["benchmark"] == "render" and saved["results"] == out["results"] and "machine" in saved
     table = capsys.readouterr().out
     assert "160x90" in table and "200x100" in table and "submit" in table
+
+
+def test_the_viewers_frames_are_timed_alike(capsys):
+    out = main(["--viewer", "--sizes", "160x90", "--frames", "3", "--warmup", "1", "--seconds", "0.1"])
+    assert out["viewer"] and set(out["results"]) == {"160x90"}
+    assert set(out["results"]["160x90"]) == set(PARTS) and out["settings"]["antialiasing"] == "fxaa"
+    assert capsys.readouterr().out.startswith("viewer, 3 frames")
