@@ -282,7 +282,7 @@ void main() {
     vec3 u = normalize(cross(w, abs(w.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
     vec3 v = cross(u, w);
     float h = r * (d - r) / sqrt(d * d - r * r);   // the outline's radius in the plane touching the sphere
-    // (the lookups spread over the sphere's sunlit cap, half a radius apart: the map's coordinates run over
+    // (the four fetches spread over the sphere's sunlit cap, half a radius off its pole: the map's coordinates run over
     // 2 / |the light matrix's first row| metres)
     float per_metre = 0.5 * length(vec3(u_light_view_proj[0][0], u_light_view_proj[1][0], u_light_view_proj[2][0]));
     float sun = shadow_factor(u_light_view_proj * vec4(c + g_radius[0] * u_sun, 1.0), u_sun, SHADOW_BIAS,
