@@ -32,7 +32,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
 from bench.machine import describe  # noqa: E402
-from marbellous.render.renderer import ANTIALIASING  # noqa: E402
+from marbellous.render.antialiasing import ANTIALIASING  # noqa: E402
 
 #: the demo's video frame rate (frames per second)
 FPS = 30

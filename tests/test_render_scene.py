@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from marbellous.game.level import load_level
-from marbellous.render.renderer import ANTIALIASING, DebugOverlay, Renderer
+from marbellous.render.antialiasing import ANTIALIASING
+from marbellous.render.renderer import DebugOverlay, Renderer
 from marbellous.render.transforms import look_at, perspective
 from marbellous.render.video import VideoWriter, read_frames
 from marbellous.render.view import CameraView

@@ -275,7 +275,7 @@ def test_every_antialiasing_draws_the_scene_and_fxaa_leaves_the_overlays_sharp(r
     """Each mode draws the same scene (bar its edges); FXAA changes edges only, and the contacts drawn after it
     are the very pixels they are without it; an unknown mode is refused."""
     from marbellous.render.context import headless_context
-    from marbellous.render.renderer import ANTIALIASING
+    from marbellous.render.antialiasing import ANTIALIASING
 
     w, _ = scene
     layers = ("bodies", "constraints", "contacts")

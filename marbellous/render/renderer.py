@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import moderngl
 import numpy as np
 
+from .antialiasing import check_antialiasing, offscreen_samples
 from .billboard import billboard_y_matrix
 from .context import in_own_context
 from .cloth_drawing import vertex_normals
@@ -148,11 +149,6 @@ SKY = (0.70, 0.80, 0.92)
 FLAG_COLOR = (0.98, 0.78, 0.10)
 #: The poles' colour.
 POLE_COLOR = (0.9, 0.9, 0.9)
-#: How :class:`Renderer` smooths edges: ``"fxaa"`` a post-process pass (:class:`~marbellous.render.fxaa.Fxaa`),
-#: ``"msaa"`` :data:`MSAA_SAMPLES` samples per pixel offscreen (about twice the frame's cost on llvmpipe), ``"none"``.
-ANTIALIASING = ("fxaa", "msaa", "none")
-#: Samples per pixel of ``"msaa"`` (llvmpipe takes as long over 2 as over 4).
-MSAA_SAMPLES = 4
 #: The scene programs' patterns: the ``PATTERN`` each is compiled with.
 PATTERNS = {"plain": 0, "marble": 1, "unlit": 2, "sheet": 3}
 #: The marble's second colour (its first is its draw item's).
@@ -174,12 +170,6 @@ class DebugOverlay:
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     normals: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     grid: bool = True
-
-
-def check_antialiasing(mode):
-    """``ValueError`` unless ``mode`` is one of :data:`ANTIALIASING`."""
-    if mode not in ANTIALIASING:
-        raise ValueError(f"antialiasing must be one of {', '.join(ANTIALIASING)}, got {mode!r}")
 
 
 def _f32(m):
@@ -215,8 +205,8 @@ class Renderer:
     ``radius`` (the pole's, m), such as the game's ``GoalFlag``.  ``soft_bodies`` are the level's soft blocks
     as ``SoftBody`` handles (``Game.soft_blocks``, in the order of ``level.soft_blocks``), drawn in their
     materials' colours as their surfaces are at each frame.  The level's streams are drawn as translucent
-    water (or air) up to their surfaces.  ``antialiasing`` is one of :data:`ANTIALIASING` and ``shadow_size`` the
-    side of the sun's shadow map (texels, over 60 m around the camera's focus).
+    water (or air) up to their surfaces.  ``antialiasing`` is one of ``antialiasing.ANTIALIASING`` and
+    ``shadow_size`` the side of the sun's shadow map (texels, over 60 m around the camera's focus).
     """
 
     @in_own_context
@@ -449,8 +439,7 @@ class Renderer:
         """Submit one frame (as :meth:`render`) to the offscreen target of :attr:`size`; the GPU may still be
         drawing it when this returns.  :meth:`read_offscreen` reads it."""
         if self._offscreen is None:
-            samples = MSAA_SAMPLES if self.antialiasing == "msaa" else 1
-            self._offscreen = Offscreen(self.ctx, self.size, samples)
+            self._offscreen = Offscreen(self.ctx, self.size, offscreen_samples(self.antialiasing))
         self.render(self._offscreen.draw, view, marble_position, marble_rotation, hud_lines, debug)
 
     @in_own_context

@@ -18,6 +18,7 @@ import numpy as np
 
 from . import palette
 from . import world_shaders as glsl
+from .antialiasing import check_antialiasing, offscreen_samples
 from .context import in_own_context
 from .draw_lists import Lines, Points, Solids, Spheres, Surface, WorldFrame
 from .drawables import DRAWABLES, check_layers, default_layers
@@ -25,7 +26,6 @@ from .fxaa import Fxaa
 from .hud import HudText
 from .offscreen import Offscreen
 from .mesh_cache import MeshCache
-from .renderer import MSAA_SAMPLES, check_antialiasing
 from .shadow_map import shadow_map
 from .transforms import look_at, orthographic, perspective
 
@@ -67,7 +67,7 @@ class WorldRenderer:
 
     ``ctx`` is a moderngl context (headless EGL or a window's); ``size`` (width, height) in pixels of
     the offscreen target of :meth:`render_to_array`; ``antialiasing`` one of
-    :data:`~marbellous.render.renderer.ANTIALIASING` (``"fxaa"`` a pass over each frame, ``"msaa"`` multisampling,
+    :data:`~marbellous.render.antialiasing.ANTIALIASING` (``"fxaa"`` a pass over each frame, ``"msaa"`` multisampling,
     offscreen only, ``"none"``); ``shadow_size`` the side of the shadow map in texels.
     """
 
@@ -324,7 +324,7 @@ class WorldRenderer:
         """Submit one frame (as :meth:`render`) to the offscreen target of :attr:`size`; the GPU may still be
         drawing it when this returns.  :meth:`read_offscreen` reads it."""
         if self._offscreen is None:
-            self._offscreen = Offscreen(self.ctx, self.size, MSAA_SAMPLES if self.antialiasing == "msaa" else 1)
+            self._offscreen = Offscreen(self.ctx, self.size, offscreen_samples(self.antialiasing))
         self.render(self._offscreen.draw, world, view, layers=layers, hud_lines=hud_lines)
 
     @in_own_context
