@@ -34,6 +34,7 @@ from .math3d import quat_conj, quat_product, quat_to_matrix_np
 from .pipeline.contact_events import approach_table, contact_events
 from .pipeline.context import MAX_THREADS
 from .pipeline.profile import StepProfile, step_profile
+from .pipeline.precompile import await_kernel
 from .pipeline.raycast import query_box_world, raycast_world, raycast_world_grid
 from .pipeline.shape_cast import shape_cast_world
 from .pipeline.time_stepping import StepLoop
@@ -979,11 +980,12 @@ class World:
         return dt
 
     def _compile_ahead(self, dt):
-        """Start compiling the step of ``dt`` seconds as the world is now in a helper process, when it is not in
-        the kernel cache (``pipeline/precompile.ahead``): a program that compiles something else before its first
-        step (a ray cast) overlaps the two.  The first step finishes it."""
+        """Start compiling the step of ``dt`` seconds as the world is now in helper processes, when it is not in
+        the kernel cache (``pipeline/precompile.ahead``), after the ray cast (:meth:`raycast`, which waits for
+        it): a program that casts rays before its first step (the game) finds both compiled on two cores.  The
+        first step finishes it."""
         self._parameters_for(dt)
-        self._state.compile_ahead()
+        self._state.compile_ahead([self._ray_kernel(np.zeros(3), np.array([0.0, -1.0, 0.0]), 1.0, -1)])
         self._params_dt = None          # (no step has been taken with them: the first writes them again)
 
     def _begin_step(self, dt):
@@ -1106,6 +1108,18 @@ class World:
         return [ContactEvent(kind, at[a], at[b], point, normal, speed)
                 for kind, a, b, point, normal, speed in contact_events(before, after, approach, self._gone)]
 
+    def _ray_kernel(self, o, d, max_distance, mask):
+        """``(kernel, arguments)``: the bodies' ray cast of :meth:`raycast` for its checked arguments, the grid's
+        own kernel when the broad phase is the grid; ``arguments[-1]`` receives the hit."""
+        st = self._state
+        nb = st.bodies.end
+        candidates = np.zeros(max(nb, 1), dtype=np.int64)
+        if st.broadphase_code == GRID:
+            return raycast_world_grid, (st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f,
+                                        st.bp_i, nb, o, d, max_distance, mask, candidates, np.zeros(8))
+        return raycast_world, (st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
+                               st.broadphase_code, nb, o, d, max_distance, mask, candidates, np.zeros(8))
+
     def raycast(self, origin: ArrayLike, direction: ArrayLike, max_distance: float = math.inf, *,
                 mask: int = -1) -> RayHit | None:
         """The nearest body surface along the ray ``origin + t direction``, ``0 <= t <= max_distance`` (m).
@@ -1119,17 +1133,11 @@ class World:
         d = as_direction("direction", direction)
         max_distance = as_float("max_distance", max_distance, nonnegative=True, allow_inf=True, unit="m")
         mask = as_filter_bits("mask", mask)
-        st = self._state
-        hit = np.zeros(8)
-        nb = st.bodies.end
-        candidates = np.zeros(max(nb, 1), dtype=np.int64)
-        if st.broadphase_code == GRID:
-            found = raycast_world_grid(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f,
-                                       st.bp_i, nb, o, d, max_distance, mask, candidates, hit)
-        else:
-            found = raycast_world(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, st.aabbs, st.bp_f, st.bp_i,
-                                  st.broadphase_code, nb, o, d, max_distance, mask, candidates, hit)
-        ps = st.particles
+        kernel, arguments = self._ray_kernel(o, d, max_distance, mask)
+        await_kernel(kernel)
+        found = kernel(*arguments)
+        hit = arguments[-1]
+        ps = self._state.particles
         if ps.n:
             nearest = hit[0] if found else max_distance
             row = raycast_particles(ps.pf, ps.pi, ps.n, o, d, nearest, hit)

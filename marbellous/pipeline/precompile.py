@@ -1,20 +1,25 @@
-"""A cold lean step compiled on two cores: this process and a helper process share out its stages.
+"""A cold lean step compiled in helper processes, which keep the memory of compiling out of this one.
 
 Numba compiles one kernel at a time, holding the interpreter, so a first world's step (about a minute of
-compiling) would use one core however many the machine has.  The lean step's stages (``pipeline/step.py``)
-each take only the step context's view, so another process can compile them for the same type without
-the world, and whatever either process compiles goes to the kernel cache (``_numba/cache.py``).  When
-the step's context packing or the step begins to compile (they were not in the cache), this process starts a
-helper (which starts up while this process compiles the packing); both go down one list of the stages, the
-dearest first, and each compiles the stages it is the first to claim (a file
-created in a shared directory, which only one process can create).  When the list is done and the helper
-has finished, the step compiles on, loading from the cache the stages the helper compiled.
+compiling) would use one core however many the machine has; and a process keeps every kernel it compiled
+with the LLVM modules behind it (a lean step for spheres over a mesh, with its particle kernels, grew one
+process past 800 MB).  The lean step's stages (``pipeline/step.py``) each take only the step context's view,
+so another process can compile them for the same type without the world, and whatever it compiles goes to the
+kernel cache (``_numba/cache.py``).  When the step's context packing or the step begins to compile (they were
+not in the cache), this process starts helpers, one per core up to :data:`HELPERS` (which start up while this
+process compiles the packing); they go down one list of kernels (the stages, the dearest first, the world's
+particle kernels typed from the arguments they will get, and last the step's entry), and each compiles the
+kernels it is the first to claim (a file created in a shared directory, which only one process can create)
+once the kernels they call are done.  A helper ends after the kernel that takes it past :data:`HELPER_MEMORY`
+and a fresh one takes the rest of the list, loading from the cache what the others compiled.  This process
+waits, reporting the helpers' kernels on its progress line (``_numba/progress.py``), then loads the step
+from the cache: a few hundred megabytes less than compiling it.
 
-The world's particle step kernels, which its step calls next, join the list (typed from the arguments
-they will get).  Only the lean step is shared out: the full step's solve and relax stages are compiled
-with the step (``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads
-from the cache, when the cache is off, or on one core.  ``python -m marbellous.pipeline.precompile CLAIMS``
-is the helper (the list is pickled in the directory ``CLAIMS``).
+Only the lean step is shared out: the full step's solve and relax stages are compiled with the step
+(``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads from the cache or
+when the cache is off; a helper that cannot start or fails leaves its kernels to this process, which compiles
+them when it calls them.  ``python -m marbellous.pipeline.precompile CLAIMS MEMORY`` is a helper (the list is
+pickled in the directory ``CLAIMS``; it ends past ``MEMORY`` bytes).
 """
 import contextlib
 import importlib
@@ -24,30 +29,49 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import weakref
 
 import numba
 from numba.core import event
 
 from .._numba import cache
+from .._numba.progress import PROGRESS, kernel_name
 from .._numba.record import RecordView
 from .context import STEP_CONTEXT
-from .step import (FIND_CONTACTS, NARROW_PHASE, TIME_OF_IMPACT, finish_step, stage_aabbs, stage_broad_phase_lean,
-                   stage_integrate_positions_lean, stage_integrate_velocities_lean, stage_islands_and_sleep,
-                   stage_match_and_wake, stage_prepare_lean, stage_relax_lean, stage_restitution_lean, stage_solve_lean,
-                   stage_store_impulses_lean, stage_sum_impulses_lean, stage_warm_start_lean)
+from .step import (FIND_CONTACTS, LEAN, NARROW_PHASE, STEPS, TIME_OF_IMPACT, finish_step, stage_aabbs,
+                   stage_broad_phase_lean, stage_integrate_positions_lean, stage_integrate_velocities_lean,
+                   stage_islands_and_sleep, stage_match_and_wake, stage_prepare_lean, stage_relax_lean,
+                   stage_restitution_lean, stage_solve_lean, stage_store_impulses_lean, stage_sum_impulses_lean,
+                   stage_warm_start_lean)
 
 
-#: the longest wait (s) for the helper once this process has compiled its share: the helper's last stage
-#: takes seconds, so a helper still busy then is stuck (a machine swapping, a stopped process)
-HELPER_TIMEOUT = 300.0
+#: the longest wait (s) for the helpers to go down their list: a cold step takes them about a minute on two
+#: cores, so helpers still busy after this are stuck (a machine swapping, a stopped process); they are stopped
+#: and this process compiles what is left
+HELPER_TIMEOUT = 600.0
+
+#: the most helpers at once (one per core up to this: the list's kernels that wait for others leave more idle)
+HELPERS = 3
+
+#: a helper ends after the kernel that takes its resident memory past this (bytes), and a fresh helper takes
+#: the rest of the list: a helper starts at about 170 MB and the dearest stage adds about 200 MB
+HELPER_MEMORY = 330 * 2**20
+
+#: seconds between looks at the claims directory (a helper waiting for a kernel it calls; this process
+#: waiting for the helpers)
+POLL = 0.1
+
+#: the step's entry, after every stage (``pipeline/step.py``: ``STEPS[SEQUENTIAL_IMPULSE][coverage][LEAN]``)
+#: takes the addresses of two int64 arrays and a count
+ENTRY_ARGUMENTS = (0, 0, 1)
 
 
 def lean_stages(coverage):
     """The lean step's stage kernels for ``coverage``, the dearest to compile first (measured on a cold
     cache for spheres over a mesh: the time-of-impact stage ~35 s, the narrow phase ~19 s, relax ~12 s, the broad
-    phase ~11 s, prepare ~7 s, the rest 0.1 to 5 s), so that the two processes end at about the same time; the
-    contact stages, which call the narrow phase and time-of-impact stages, last, to find them in the cache."""
+    phase ~11 s, prepare ~7 s, the rest 0.1 to 5 s), so that the helpers end at about the same time; the
+    contact stages, which call the narrow phase and time-of-impact stages, last (:func:`work_list`)."""
     return (TIME_OF_IMPACT[coverage], NARROW_PHASE[coverage], stage_relax_lean, stage_broad_phase_lean,
             stage_prepare_lean, stage_integrate_velocities_lean, stage_integrate_positions_lean, stage_solve_lean,
             stage_aabbs, stage_store_impulses_lean, stage_match_and_wake, stage_warm_start_lean,
@@ -87,25 +111,113 @@ def _kernel(module, name, path):
     return kernel
 
 
-def work_list(coverage, extra):
-    """The kernels to share out: ``[(module, name, path, argument types or None for the context's view)]``, the
-    dearest first: the lean step's stages for ``coverage`` after the kernels of ``extra``
-    (``[(kernel, arguments)]``: the particles' step, ~25 s, whose arguments are typed here)."""
-    typed = [(*_name(kernel), tuple(numba.typeof(a) for a in arguments)) for kernel, arguments in extra]
-    return typed[:1] + [(*_name(stage), None) for stage in lean_stages(coverage)] + typed[1:]
+def _claim(module, name, path):
+    """The claim's file name of the kernel that :func:`_name` names."""
+    return ".".join([module, name] + [str(k) for k in path])
 
 
-def compile_claimed(work, claims):
-    """Compile (or load) each kernel of ``work`` (:func:`work_list`) that this process is the first to claim in
-    directory ``claims``."""
+def _typed(kernel, arguments):
+    """A work item (:func:`work_list`) of ``kernel`` for the types of ``arguments``."""
+    return (*_name(kernel), tuple(numba.typeof(a) for a in arguments))
+
+
+def work_list(coverage, first, extra):
+    """The kernels to share out, ``[(module, name, path, argument types or None for the context's view, claims
+    of the kernels it calls)]``: the kernels of ``first`` (``[(kernel, arguments)]``, which the program calls
+    before its step, :func:`ahead`), then those of ``extra`` (as ``first``: the particles' step, ~25 s) and
+    the lean step's stages for ``coverage``, the dearest first; then the step's entry, which calls every stage
+    (compiled once they are in the cache, it loads them)."""
+    typed = [_typed(kernel, arguments) for kernel, arguments in extra]
+    stages = [(*_name(stage), None) for stage in lean_stages(coverage)]
+    items = ([_typed(kernel, arguments) for kernel, arguments in first] + typed[:1] + stages + typed[1:]
+             + [_typed(STEPS[0][coverage][LEAN], ENTRY_ARGUMENTS)])
+    stage_claims = tuple(_claim(*stage[:3]) for stage in stages)
+    calls = {stage_claims[-1]: stage_claims[:2],        # (the contact stages: the narrow phase, time of impact)
+             _claim(*items[-1][:3]): stage_claims}
+    return [item + (calls.get(_claim(*item[:3]), ()),) for item in items]
+
+
+def _resident():
+    """This process's resident memory (bytes); 0 where it cannot be told (not Linux)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return 0
+
+
+def _alive(pid):
+    """Whether process ``pid`` runs."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _done(claims, claim):
+    """Whether the kernel of ``claim`` is done: compiled into the cache, or its claimer ended without it (a
+    process that calls it then compiles it itself)."""
+    path = os.path.join(claims, claim)
+    if os.path.exists(path + ".done"):
+        return True
+    try:
+        with open(path) as f:
+            pid = f.read()
+    except FileNotFoundError:
+        return False           # (not claimed yet)
+    return bool(pid) and not _alive(int(pid))
+
+
+def _load(claims, loaded):
+    """The work list pickled in ``claims`` (:func:`work_list`), read again only when it has been replaced
+    (``loaded``: ``(its modification time, the list)`` or None)."""
+    path = os.path.join(claims, "work")
+    stamp = os.stat(path).st_mtime_ns
+    if loaded is not None and loaded[0] == stamp:
+        return loaded
+    with open(path, "rb") as f:
+        return stamp, pickle.load(f)
+
+
+def compile_claimed(claims, memory=None):
+    """Compile (or load) each kernel of the work list in directory ``claims`` that this process is the first to
+    claim, once the kernels it calls are done (waiting for them while nothing else is left to claim); return
+    when no kernel is left to claim, or once this process holds more than ``memory`` bytes."""
     view = (RecordView(STEP_CONTEXT),)
-    for module, name, path, signature in work:
-        try:     # (claimed by name: a list that grows, :meth:`Sharing.start`, keeps its claims)
-            claim = ".".join([module, name] + [str(k) for k in path])
-            os.close(os.open(os.path.join(claims, claim), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
-        except FileExistsError:
-            continue
-        _kernel(module, name, path).compile(view if signature is None else signature)
+    loaded = None
+    while True:
+        loaded = _load(claims, loaded)
+        waiting = False
+        for module, name, path, signature, calls in loaded[1]:
+            claim = _claim(module, name, path)
+            if os.path.exists(os.path.join(claims, claim)):
+                continue
+            if not all(_done(claims, c) for c in calls):
+                waiting = True
+                continue
+            try:
+                fd = os.open(os.path.join(claims, claim), os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                continue
+            os.write(fd, str(os.getpid()).encode())
+            os.close(fd)
+            _kernel(module, name, path).compile(view if signature is None else signature)
+            os.close(os.open(os.path.join(claims, claim + ".done"), os.O_CREAT | os.O_WRONLY))
+            if memory is not None and _resident() > memory:
+                return
+            break                  # (the list may have grown meanwhile: from its top again)
+        else:
+            if not waiting:
+                return
+            time.sleep(POLL)
+
+
+def _unclaimed(claims):
+    """Whether a kernel of the work list in ``claims`` is still to be claimed."""
+    return any(not os.path.exists(os.path.join(claims, _claim(*item[:3]))) for item in _load(claims, None)[1])
 
 
 def _cores():
@@ -116,72 +228,145 @@ def _cores():
         return os.cpu_count() or 1
 
 
-def _start_helper(work):
-    """``(helper, claims)``: the helper process and its claims directory, where the work list is pickled; or
-    ``(None, None)`` where none can start (no writable temporary directory, no interpreter to run): the step
-    then compiles its kernels in this process as it meets them."""
-    claims = None
+def _write_work(claims, work):
+    """Pickle ``work`` into directory ``claims``, replacing the list there at once (helpers may be reading)."""
+    with open(os.path.join(claims, "work.new"), "wb") as f:
+        pickle.dump(work, f)
+    os.replace(os.path.join(claims, "work.new"), os.path.join(claims, "work"))
+
+
+def _start_helper(claims):
+    """A helper process on the work list in ``claims``, or None where none can start (no interpreter to run)."""
+    package_parent = os.path.dirname(cache.PACKAGE_DIR)
+    env = dict(os.environ, MARBELLOUS_PROGRESS="0",
+               PYTHONPATH=os.pathsep.join([package_parent] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
     try:
-        claims = tempfile.mkdtemp(prefix="marbellous-claims-")
-        with open(os.path.join(claims, "work"), "wb") as f:
-            pickle.dump(work, f)
-        package_parent = os.path.dirname(cache.PACKAGE_DIR)
-        env = dict(os.environ, MARBELLOUS_PROGRESS="0",
-                   PYTHONPATH=os.pathsep.join([package_parent] + [p for p in [os.environ.get("PYTHONPATH")] if p]))
-        helper = subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims], env=env,
-                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        return helper, claims
-    except (OSError, pickle.PicklingError):
-        if claims is not None:
-            shutil.rmtree(claims, ignore_errors=True)
-        return None, None
+        return subprocess.Popen([sys.executable, "-m", "marbellous.pipeline.precompile", claims,
+                                 str(HELPER_MEMORY)], env=env,
+                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        return None
+
+
+class _Compiled:
+    """The kernels the helpers have compiled, read from their logs in the claims directory (a name a line,
+    ``compiled-PID``), for this process's progress line."""
+
+    def __init__(self, claims):
+        self.claims = claims
+        self.read = {}           # log -> characters read
+
+    def report(self):
+        """Count the kernels logged since the last call on this process's progress line."""
+        for log in sorted(os.listdir(self.claims)):
+            if not log.startswith("compiled-"):
+                continue
+            with open(os.path.join(self.claims, log)) as f:
+                f.seek(self.read.get(log, 0))
+                text = f.read()
+            whole = text[:text.rfind("\n") + 1]
+            self.read[log] = self.read.get(log, 0) + len(whole)
+            for name in whole.split():
+                PROGRESS.compiled_elsewhere(name)
 
 
 class Sharing:
-    """One sharing out of a world's lean step of ``coverage``: the helper and its claims directory, started by
-    :meth:`start`, finished (this process's claims compiled, the helper waited for) by :meth:`finish`."""
+    """One sharing out of a world's lean step of ``coverage``: the helpers and their claims directory, started
+    by :meth:`start`, finished (the helpers waited for) by :meth:`finish`."""
 
     def __init__(self, coverage):
         self.coverage = coverage
-        self.work = self.helper = self.claims = None
+        self.helpers = []
+        self.claims = None
+        self.first = []          # [(kernel, arguments)] the program calls before its step (:func:`ahead`)
+        self.work = []
 
     def start(self, extra):
-        """Start the helper on :func:`work_list` of ``extra`` (nothing without a cache or a second core, or when
-        none starts).  Started already (:func:`ahead`), the helper goes on with its list while this process
-        will compile the new list's kernels that no one has claimed."""
-        if self.helper is not None:
-            self.work = work_list(self.coverage, extra)
+        """Start the helpers on :func:`work_list` of ``extra`` (nothing without a cache, or when none starts).
+        Started already (:func:`ahead`), the helpers go on with the longer list."""
+        self.work = work_list(self.coverage, self.first, extra)
+        if self.claims is not None:
+            _write_work(self.claims, self.work)
             return
-        if cache.CACHE_DIR is None or _cores() < 2:
+        if cache.CACHE_DIR is None:
             return
-        self.work = work_list(self.coverage, extra)
-        self.helper, self.claims = _start_helper(self.work)
-        if self.helper is not None:      # (a program that ends before its first step stops the helper)
-            weakref.finalize(self, _stop, self.helper, self.claims)
+        try:
+            self.claims = tempfile.mkdtemp(prefix="marbellous-claims-")
+            _write_work(self.claims, self.work)
+        except (OSError, pickle.PicklingError):
+            self._remove()
+            return
+        for _ in range(max(1, min(_cores(), HELPERS))):
+            helper = _start_helper(self.claims)
+            if helper is None:
+                break
+            self.helpers.append(helper)
+        if not self.helpers:
+            self._remove()
+            return
+        self.compiled = _Compiled(self.claims)
+        _UNDER_WAY.add(self)
+        # (a program that ends before its first step stops the helpers)
+        weakref.finalize(self, _stop, self.helpers, self.claims)
+
+    def _remove(self):
+        if self.claims is not None:
+            shutil.rmtree(self.claims, ignore_errors=True)
+        self.claims = None
+
+    def _tend(self, ready):
+        """Wait until ``ready()`` or until no helper runs, starting a fresh helper for each that ends for its
+        memory while kernels are left to claim, and counting the helpers' kernels on the progress line."""
+        deadline = time.monotonic() + HELPER_TIMEOUT
+        while self.helpers and not ready() and time.monotonic() < deadline:
+            self.compiled.report()
+            for helper in [h for h in self.helpers if h.poll() is not None]:
+                self.helpers.remove(helper)
+                if helper.returncode == 0 and _unclaimed(self.claims):
+                    fresh = _start_helper(self.claims)
+                    if fresh is not None:
+                        self.helpers.append(fresh)
+            time.sleep(POLL)
+        self.compiled.report()
+
+    def wait(self, kernel):
+        """Wait until the helpers have compiled ``kernel``, if it is on their list."""
+        if self.claims is None:
+            return
+        claim = _claim(*_name(kernel))
+        if any(_claim(*item[:3]) == claim for item in self.work):
+            self._tend(lambda: _done(self.claims, claim))
 
     def finish(self):
-        """Compile the kernels this process claims, and wait for the helper."""
-        if self.helper is None:
+        """Wait for the helpers to go down their list."""
+        if self.claims is None:
             return
-        helper, self.helper = self.helper, None
         try:
-            compile_claimed(self.work, self.claims)
+            self._tend(lambda: False)
         finally:
-            # (a helper that failed, or is stopped here, leaves its kernels to this process, which compiles them
-            # when it calls them)
-            try:
-                helper.wait(timeout=HELPER_TIMEOUT)
-            except subprocess.TimeoutExpired:
-                helper.kill()
-                helper.wait()
-            shutil.rmtree(self.claims, ignore_errors=True)
+            _UNDER_WAY.discard(self)
+            _stop(self.helpers, self.claims)
+            self.helpers = []
+            self.claims = None
 
 
-def _stop(helper, claims):
-    """Stop ``helper`` if it still runs, and remove its claims directory."""
-    if helper.poll() is None:
-        helper.kill()
-        helper.wait()
+#: the sharings under way (:func:`await_kernel` looks through them)
+_UNDER_WAY = weakref.WeakSet()
+
+
+def await_kernel(kernel):
+    """Before a call of ``kernel`` (a dispatcher): wait until helpers have compiled it, if a sharing under way
+    lists it (:func:`ahead`), so that it loads from the cache rather than compiles here as well."""
+    for sharing in list(_UNDER_WAY):
+        sharing.wait(kernel)
+
+
+def _stop(helpers, claims):
+    """Stop the ``helpers`` that still run, and remove their claims directory."""
+    for helper in helpers:
+        if helper.poll() is None:
+            helper.kill()
+            helper.wait()
     shutil.rmtree(claims, ignore_errors=True)
 
 
@@ -194,22 +379,25 @@ def _cached(kernel):
         return True
 
 
-def ahead(coverage):
+def ahead(coverage, first=()):
     """A :class:`Sharing` of the lean step of ``coverage`` started now, before the step is first taken, when its
-    stages are not in the cache (for a program that compiles something else first, such as a ray cast: the
-    helper compiles the step's stages meanwhile); None when they are.  The step's first packing
+    stages are not in the cache (for a program that calls something else first, such as a ray cast: the
+    helpers compile ``first``, ``[(kernel, arguments)]`` such calls, then the step's stages, and the program
+    waits for ``first`` at its call, :func:`await_kernel`); None when they are.  The step's first packing
     (:func:`shared`) finishes it."""
     if _cached(TIME_OF_IMPACT[coverage]):
         return None
     sharing = Sharing(coverage)
+    sharing.first = list(first)
     sharing.start([])
     return sharing
 
 
 class _ShareOnCompile(event.Listener):
     """Starts the sharing out when the first of ``early`` (the context's packing, which compiles before the
-    step) or ``entry`` begins to compile (it was not in the cache), and finishes it before ``entry`` compiles:
-    the helper starts up while this process compiles the packing."""
+    step) or ``entry`` begins to compile (it was not in the cache), so that the helpers start up while this
+    process compiles the packing; and finishes it before ``entry`` compiles here (helpers started only then,
+    by the entry's compile, leave this process to compile the entry, loading the stages they compiled)."""
 
     def __init__(self, early, entry, sharing, extra):
         self.early = early
@@ -233,29 +421,47 @@ class _ShareOnCompile(event.Listener):
 @contextlib.contextmanager
 def shared(early, entry, coverage, lean, extra, sharing=None):
     """Around the packing of a step's context (``early``, the packing kernel, a dispatcher) and the first call
-    of step ``entry`` (a dispatcher) of ``coverage``: if either compiles and the step is ``lean``, its stages
-    and the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) are
-    shared out: a helper starts when the first of them begins to compile (or was started by :func:`ahead`:
-    ``sharing``), and the entry compiles once the list is done (the entry loads the stages from the cache)."""
+    of step ``entry`` (a dispatcher) of ``coverage``: if either compiles and the step is ``lean``, its stages,
+    the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) and the entry
+    are shared out: helpers start when the first of them begins to compile (or were started by :func:`ahead`:
+    ``sharing``).  Yields the :class:`Sharing`, whose :meth:`Sharing.wait` for the entry before its call
+    lets the entry load from the cache; on leaving, the helpers have gone down their list."""
     if sharing is None or sharing.coverage != coverage or not lean:
         if sharing is not None:
-            sharing.finish()          # (a helper started for another step: its kernels are in the cache)
+            sharing.finish()          # (helpers started for another step: their kernels are in the cache)
         sharing = Sharing(coverage)
     try:
         if lean:
             with event.install_listener("numba:compile", _ShareOnCompile(early, entry, sharing, extra)):
-                yield
+                yield sharing
         else:
-            yield
+            yield sharing
     finally:
         sharing.finish()
 
 
-def main(claims):
-    """The helper."""
-    with open(os.path.join(claims, "work"), "rb") as f:
-        compile_claimed(pickle.load(f), claims)
+class _Log(event.Listener):
+    """A helper's log of the package kernels it compiles (for the progress line of the process that waits)."""
+
+    def __init__(self, stream):
+        self.stream = stream
+
+    def on_start(self, ev):
+        pass
+
+    def on_end(self, ev):
+        name = kernel_name(ev.data.get("dispatcher"))
+        if name is not None:
+            self.stream.write(name + "\n")
+            self.stream.flush()
+
+
+def main(claims, memory):
+    """A helper on the list in directory ``claims`` that ends past ``memory`` bytes."""
+    with open(os.path.join(claims, f"compiled-{os.getpid()}"), "w") as log:
+        event.register("numba:compile", _Log(log))
+        compile_claimed(claims, memory)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], int(sys.argv[2]))

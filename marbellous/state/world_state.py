@@ -165,12 +165,13 @@ class WorldState:
             return shape_coverage(self.bi, self.si, self.bodies.end)
         return self.packed_coverage
 
-    def compile_ahead(self):
-        """Start compiling the step as it would be taken now in a helper process, when it is lean and not in the
-        kernel cache (``pipeline/precompile.ahead``); the first :meth:`pack` finishes it."""
+    def compile_ahead(self, first):
+        """Start compiling the step as it would be taken now in helper processes, when it is lean and not in the
+        kernel cache, after ``first`` (``[(kernel, arguments)]`` that the program calls before its step;
+        ``pipeline/precompile.ahead``); the first :meth:`pack` finishes it."""
         coverage, tier, _ = self.step_variant()
         if tier == LEAN and self.sharing is None:
-            self.sharing = ahead(coverage)
+            self.sharing = ahead(coverage, first)
 
     def pack(self):
         """The step context of the current tables and the compiled entry of the scheme's step for the pair
@@ -180,7 +181,7 @@ class WorldState:
         self.packed_coverage = shape_coverage(self.bi, self.si, self.bodies.end)
         sharing, self.sharing = self.sharing, None
         with compiling(), shared(pack_kernel, step, coverage, self.tier == LEAN,
-                                 lambda: self.particles.kernel_work(self), sharing):
+                                 lambda: self.particles.kernel_work(self), sharing) as sharing:
             self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
                                         self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
                                         self.raw_i, self.contact_table_f(False), self.contact_table_i(False),
@@ -190,6 +191,7 @@ class WorldState:
             self.addresses = np.array([record_address(self.context)],
                                       dtype=object if numba.config.DISABLE_JIT else np.int64)
             self.arguments = (array_address(self.addresses), array_address(self.statuses), 1)
+            sharing.wait(step)
             self.entry = compiled_entry(step, *self.arguments)
 
     def step(self):
