@@ -979,13 +979,15 @@ class World:
                 self._params_dt = dt
         return dt
 
-    def _compile_ahead(self, dt):
+    def _compile_ahead(self, dt, first=()):
         """Start compiling the step of ``dt`` seconds as the world is now in helper processes, when it is not in
         the kernel cache (``pipeline/precompile.ahead``), after the ray cast (:meth:`raycast`, which waits for
-        it): a program that casts rays before its first step (the game) finds both compiled on two cores.  The
-        first step finishes it."""
+        it) and ``first`` (``[(kernel, arguments)]`` the program calls, such as ``query.pair_test_call``'s): a
+        program that casts rays before its first step (the game) finds all compiled on two cores.  The first
+        step finishes it."""
         self._parameters_for(dt)
-        self._state.compile_ahead([self._ray_kernel(np.zeros(3), np.array([0.0, -1.0, 0.0]), 1.0, -1)])
+        self._state.compile_ahead([self._ray_kernel(np.zeros(3), np.array([0.0, -1.0, 0.0]), 1.0, -1),
+                                   *first])
         self._params_dt = None          # (no step has been taken with them: the first writes them again)
 
     def _begin_step(self, dt):

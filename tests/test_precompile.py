@@ -13,6 +13,7 @@ import pytest
 
 import marbellous as mb
 from marbellous._numba import progress
+from marbellous.game.goal import GoalArea
 from marbellous.pipeline import precompile
 
 
@@ -245,3 +246,10 @@ def test_a_kernel_compiled_elsewhere_counts_and_reports_like_one_compiled_here()
     assert lines[0].startswith("marbellous: compiling kernels (first run only) 2/~")
     assert "pipeline.step.stage_1" in lines[0]
     assert lines[-1].startswith("marbellous: compiled 5 kernels in 1 min 20 s")
+
+
+def test_the_goal_test_compiled_ahead_is_the_one_the_goal_then_calls():
+    goal = GoalArea((0.0, 0.0, 0.0), (1.0, 0.5, 1.0))
+    kernel, arguments = goal.test_call((0.0, 0.6, 0.0), 0.2)
+    assert goal.reached(np.array([0.0, 0.6, 0.0]), 0.2)
+    assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures

@@ -12,7 +12,7 @@ import pathlib
 
 import numpy as np
 
-from ..query import collide
+from ..query import collide, pair_test_call
 from ..shapes import Box, Sphere
 
 
@@ -30,6 +30,12 @@ class GoalArea:
         box (the first test of :meth:`reached`, for many spheres at once), else True."""
         d = positions - self.center
         return d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2] <= (self._reach + radius) ** 2
+
+    def test_call(self, position, radius):
+        """``(kernel, arguments)``: the box-sphere test of :meth:`reached` for a sphere of ``radius`` (m) at
+        ``position`` (m), for compiling it ahead (``World._compile_ahead``)."""
+        return pair_test_call(self._box, Sphere(radius), self.center, np.eye(3), np.asarray(position, np.float64),
+                              np.eye(3), 16)
 
     def reached(self, position, radius):
         """True when a sphere of ``radius`` (m) at ``position`` (m) touches or overlaps the box (a sphere

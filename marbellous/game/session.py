@@ -95,13 +95,13 @@ class Game:
         #: the level's streams (``Fluid`` handles, in the order of the level file)
         self.streams = [add_stream(self.world, stream) for stream in level.streams]
         self._stream_rest = [fluid._state() for fluid in self.streams]
-        # the step's kernels compile in a helper process (on a first run) while the flag's ray casts compile here
-        self.world._compile_ahead(self.dt)
+        self.goal = GoalArea(level.goal_center, level.goal_half_extents)
+        start = np.asarray(level.start_position, np.float64)
+        # on a first run, helper processes compile the flag's ray cast, the goal's test and the step's kernels
+        self.world._compile_ahead(self.dt, [self.goal.test_call(start, self.spec.radius)])
         self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
                               self._approach()) if flag else None)
-        self.goal = GoalArea(level.goal_center, level.goal_half_extents)
-        if self.goal.reached(np.asarray(level.start_position, np.float64), self.spec.radius):
-            # (the test's kernel compiles here on a first run, while the helper compiles the step)
+        if self.goal.reached(start, self.spec.radius):
             raise LevelError(f"level {level.name!r}: the marble starts in the goal")
         self.course = CoursePath(level.path, level.speeds) if level.path is not None else None
         self.camera = FollowCamera(heading=level.start_heading)
