@@ -7,8 +7,10 @@ process past 800 MB).  The lean step's stages (``pipeline/step.py``) each take o
 so another process can compile them for the same type without the world, and whatever it compiles goes to the
 kernel cache (``_numba/cache.py``).  When the step's context packing or the step begins to compile (they were
 not in the cache), this process starts helpers, one per core up to :data:`HELPERS` (which start up while this
-process compiles the packing); they go down one list of kernels (the stages, the dearest first, the world's
-particle kernels typed from the arguments they will get, and last the step's entry), and each compiles the
+process compiles the packing); they go down one list of kernels (those a program calls before its step, such
+as the game's ray cast and goal test, which it waits for at the call, :func:`ahead` and :func:`await_kernel`;
+the stages, the dearest first, with the world's particle kernels typed from the arguments they will get; last
+the step's entry), and each compiles the
 kernels it is the first to claim (a file created in a shared directory, which only one process can create)
 once the kernels they call are done.  A helper ends after the kernel that takes it past :data:`HELPER_MEMORY`
 and a fresh one takes the rest of the list, loading from the cache what the others compiled.  This process
@@ -147,7 +149,9 @@ def _resident():
 
 
 def _alive(pid):
-    """Whether process ``pid`` runs."""
+    """Whether process ``pid`` runs (True where that cannot be told without harm: on Windows a signal kills)."""
+    if os.name == "nt":
+        return True
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
