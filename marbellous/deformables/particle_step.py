@@ -26,7 +26,8 @@ may meet in the step.  Each sub-step, in order:
     pins            again, where the edges have moved the bodies
     contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
                     removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
-                    particle_contacts.py); with cloth, the triangles and shapes twice
+                    particle_contacts.py); with cloth, the triangles and shapes twice; a body holding a
+                    vertex of the whole-cloth solve gets the contact's whole force (stretch_solve.py)
     velocities      v = (x - x_prev) / h
     velocity pass   dynamic friction and restitution of the sub-step's contacts; the soft bodies' nodes
                     note their contacts' normals for the next sub-step's implicit step
@@ -54,7 +55,7 @@ from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
 from .soft_step import record_contact_normals, step_soft_bodies
-from .stretch_solve import solve_stretch
+from .stretch_solve import hold_bodies, solve_stretch
 from .tethers import solve_tethers
 from .triangle_contacts import triangle_candidates, triangle_contacts
 
@@ -246,6 +247,8 @@ def _kernels(meeting, coverage):
                 shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             most = max(most, nk)
+            if passes > 0:
+                hold_bodies(pf, ef, ei, stretch_edges, slot, mass_h2, y, x, kf, ki, nk, bf, bi, bx, back, h)
             _velocities(pf, n_particles, h)
             velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
             if meeting and n_soft > 0:
