@@ -274,8 +274,11 @@ def hold_bodies(pf, ef, ei, edges, slot, mass_h2, y, force, kf, ki, nk, bf, bi, 
     vertex's move out of it, ``m d / h^2``, a small part of the springs' pull where ``k h^2 / m`` is large: a box
     landing on a stiff sheet then pushed its vertices down at no cost to itself, and the sheet gave the stretch
     energy back (a 1 kg box dropped from 0.5 m on a 0.2 kg, 21 x 21 trampoline rose to 3.8 m)."""
-    if edges.shape[0] == 0:
-        return
+    held = False
+    for c in range(min(nk, kf.shape[0])):
+        held = held or (ki[c, K_KIND] == KK_BODY and slot[ki[c, K_PARTICLE]] >= 0)
+    if not held:
+        return          # (the springs' pulls are summed only when a body holds a vertex)
     for i in range(force.shape[0]):
         for k in range(3):
             force[i, k] = 0.0
