@@ -41,7 +41,7 @@ import math
 
 import numpy as np
 
-from .._numba.jit import njit
+from .._numba.jit import njit, njit_inline
 from .body_motion import body_pose, push_body
 from .particle_layout import (BN_ANGLE, BN_COMPLIANCE, E_A, E_B, E_COMPLIANCE, E_FLAGS, E_FORCE, E_KIND, E_REST,
                               EB_BROKEN, EK_SPRING, K_KIND, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, KK_BODY, P_CLOTH,
@@ -189,6 +189,16 @@ def _solve_factored(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_v
             b[i, k] = x[perm_c[i], k]
 
 
+@njit_inline
+def _separation(pf, pa, pb):
+    """``(x_a - x_b, |x_a - x_b|)`` of particle rows ``pa`` and ``pb`` (m): the vector's three components, then
+    its length."""
+    d0 = pf[pa, P_POS] - pf[pb, P_POS]
+    d1 = pf[pa, P_POS + 1] - pf[pb, P_POS + 1]
+    d2 = pf[pa, P_POS + 2] - pf[pb, P_POS + 2]
+    return d0, d1, d2, math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
 @njit
 def solve_stretch(pf, ef, ei, solved, edges, flat, hinges, weights, slot, rows, mass_h2, perm_r, perm_c, l_start,
                   l_row, l_value, u_start, u_row, u_value, u_diagonal, y, b, x, passes, h, gravity, share):
@@ -214,10 +224,7 @@ def solve_stretch(pf, ef, ei, solved, edges, flat, hinges, weights, slot, rows, 
         for j in range(edges.shape[0]):
             e = edges[j]
             pa, pb = ei[e, E_A], ei[e, E_B]
-            d0 = pf[pa, P_POS] - pf[pb, P_POS]
-            d1 = pf[pa, P_POS + 1] - pf[pb, P_POS + 1]
-            d2 = pf[pa, P_POS + 2] - pf[pb, P_POS + 2]
-            length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            d0, d1, d2, length = _separation(pf, pa, pb)
             scale = ef[e, E_REST] / length if length > 1e-12 else 0.0
             k_e = 1.0 / ef[e, E_COMPLIANCE]
             p = (k_e * scale * d0, k_e * scale * d1, k_e * scale * d2)
@@ -285,10 +292,7 @@ def hold_bodies(pf, ef, ei, edges, slot, mass_h2, y, force, kf, ki, nk, bf, bi, 
     for j in range(edges.shape[0]):
         e = edges[j]
         pa, pb = ei[e, E_A], ei[e, E_B]
-        d0 = pf[pa, P_POS] - pf[pb, P_POS]
-        d1 = pf[pa, P_POS + 1] - pf[pb, P_POS + 1]
-        d2 = pf[pa, P_POS + 2] - pf[pb, P_POS + 2]
-        length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        d0, d1, d2, length = _separation(pf, pa, pb)
         if length <= 1e-12:
             continue
         # tension T = k_e (|x_a - x_b| - L_e) pulls a towards b
