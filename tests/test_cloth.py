@@ -199,7 +199,8 @@ def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy():
     c.pin([0, n - 1, n * (n - 1), n * n - 1])
     half = (0.15, 0.05, 0.15)
     box = w.add_body(mb.Box(half), position=(0.0, 1.5, 0.0), mass=1.0)
-    inertia = np.array([half[1] ** 2 + half[2] ** 2, half[0] ** 2 + half[2] ** 2, half[0] ** 2 + half[1] ** 2]) / 3.0
+    inertia = box.mass * np.array([half[1] ** 2 + half[2] ** 2, half[0] ** 2 + half[2] ** 2,
+                                   half[0] ** 2 + half[1] ** 2]) / 3.0
     e, rest, k = _springs(v, t, 1.0e4)
     m = c.mass
 
@@ -207,7 +208,8 @@ def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy():
         p, u = c.positions, c.velocities
         stretch = np.linalg.norm(p[e[:, 0]] - p[e[:, 1]], axis=1) - rest
         omega = box.angular_velocity     # (a box turning about its principal axes, as it lands level)
-        return (0.5 * (box.velocity @ box.velocity) + 0.5 * (inertia * omega * omega).sum() + 9.81 * box.position[1]
+        return (box.mass * (0.5 * (box.velocity @ box.velocity) + 9.81 * box.position[1])
+                + 0.5 * (inertia * omega * omega).sum()
                 + 0.5 * (k * stretch ** 2).sum() + 0.5 * (m[:, None] * u * u).sum() + 9.81 * (m * p[:, 1]).sum())
     brought = energy()
     most, lowest = brought, np.inf
