@@ -283,7 +283,9 @@ def hold_bodies(pf, ef, ei, edges, slot, mass_h2, y, force, kf, ki, nk, bf, bi, 
     energy back (a 1 kg box dropped from 0.5 m on a 0.2 kg, 21 x 21 trampoline rose to 3.8 m)."""
     held = False
     for c in range(min(nk, kf.shape[0])):
-        held = held or (ki[c, K_KIND] == KK_BODY and slot[ki[c, K_PARTICLE]] >= 0)
+        if ki[c, K_KIND] == KK_BODY and slot[ki[c, K_PARTICLE]] >= 0:
+            held = True
+            break
     if not held:
         return          # (the springs' pulls are summed only when a body holds a vertex)
     for i in range(force.shape[0]):

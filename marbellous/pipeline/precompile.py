@@ -284,6 +284,7 @@ class Sharing:
         self.claims = None
         self.first = []          # [(kernel, arguments)] the program calls before its step (:func:`ahead`)
         self.work = []
+        self.compiled = None     # the helpers' logs read so far (:class:`_Compiled`), once they have started
 
     def start(self, extra):
         """Start the helpers on :func:`work_list` of ``extra`` (nothing without a cache, or when none starts).
