@@ -5,7 +5,9 @@ Every scene steps at 60 Hz.  ``--quick`` sizes are for a fast check of the harne
 Sanity measures, per scene (from positions sampled during the run, in Marbellous axes):
 
 - stacks (tower, pyramid): how far the top box moved (m), and the largest move of any box; standing
-  means the top box moved less than 0.1 m (a tenth of a box);
+  means the top box moved less than 0.1 m (a tenth of a box); each once as the engines leave it (resting
+  bodies fall asleep) and once ``_awake``, with sleeping off in every engine (the cost of a stack that is kept
+  busy);
 - sphere piles (rolling and torsional friction of 1 cm, ``PILE_ROLLING``): height of the pile's top and
   the mean centre height (m), fastest sphere at the end (m/s), spheres that left the walled box; settled and
   contained means none left and all slower than 0.5 m/s;
@@ -113,12 +115,12 @@ def _pile(count, quick_count):
     return build
 
 
-def _pyramid(quick):
-    return box_pyramid(base=10 if quick else 20)[0], {}
-
-
-def _tower(quick):
-    return box_tower(height=10 if quick else 20)[0], {}
+def _stack(build, size, quick_size, sleeping):
+    def stack(quick):
+        world = build(size if not quick else quick_size)[0]
+        world.sleeping = sleeping
+        return world, {}
+    return stack
 
 
 @functools.lru_cache(maxsize=2)
@@ -149,8 +151,13 @@ def _queries(quick):
 SCENES = {
     "pile_1k": Scene("sphere pile 1k", _pile(1000, 200), 600, 60, 1, pile_sanity, judged_when_quick=False),
     "pile_8k": Scene("sphere pile 8k", _pile(8000, 500), 600, 30, 1, pile_sanity, judged_when_quick=False),
-    "pyramid_20": Scene("box pyramid base 20", _pyramid, 600, 60, 3, stack_sanity),
-    "tower_20": Scene("box tower 20", _tower, 600, 60, 5, stack_sanity),
+    "pyramid_20": Scene("box pyramid base 20", _stack(lambda n: box_pyramid(base=n), 20, 10, True), 600, 60, 3,
+                        stack_sanity),
+    "pyramid_20_awake": Scene("box pyramid base 20, awake", _stack(lambda n: box_pyramid(base=n), 20, 10, False), 600,
+                              60, 3, stack_sanity),
+    "tower_20": Scene("box tower 20", _stack(lambda n: box_tower(height=n), 20, 10, True), 600, 60, 5, stack_sanity),
+    "tower_20_awake": Scene("box tower 20, awake", _stack(lambda n: box_tower(height=n), 20, 10, False), 600, 60, 5,
+                            stack_sanity),
     "marble_terrain": Scene("marble on 131k-tri mesh", _marble, 600, 60, 7, marble_sanity),
     "mesh_queries": Scene("sphere-mesh queries", _queries, 0, 0, 1, query_sanity, world=False),
     "free_10k": Scene("10k free bodies", _free(10000, 1000), 100, 20, 1, free_sanity),

@@ -12,10 +12,10 @@ Jolt is compiled and threaded, not in what it computes:
   ``PlaneShape``), static triangle meshes and convex hulls; each body's mass (the inertia from its shape),
   friction (combined by geometric mean) and restitution (by maximum); no damping, no cap on linear speed; no
   rolling or torsional friction, which Jolt does not have.
-- Jolt's defaults otherwise (10 velocity and 2 position iterations, sleeping, speculative contacts), two object
-  layers, static and moving, and jolt-physics' sizes: room for 10,240 bodies (or the scene's), 65,536 body pairs
-  and 10,240 contact constraints, a 10 MB temporary allocator.  A step past them fails, where Jolt would drop
-  contacts (the 8,000-sphere pile, as in ``jolt-wasm``).
+- Jolt's defaults otherwise (10 velocity and 2 position iterations, sleeping unless the world's is off,
+  speculative contacts), two object layers, static and moving, and jolt-physics' sizes: room for 10,240 bodies
+  (or the scene's), 65,536 body pairs and 10,240 contact constraints, a 10 MB temporary allocator.  A step past
+  them fails, where Jolt would drop contacts (the 8,000-sphere pile, as in ``jolt-wasm``).
 - One ``PhysicsSystem::Update`` with one collision step per ``dt``, timed inside the program
   (``std::chrono::steady_clock`` around ``Update`` alone).  ``jolt-native`` runs Jolt's jobs on the stepping
   thread (``JobSystemSingleThreaded``), as the single-threaded WebAssembly build does; ``jolt-native-2t`` gives

@@ -7,7 +7,8 @@ its ``hfield``, neither of which is the same surface), so a world with a ``Trian
 Newton solver factors a Hessian over all degrees of freedom, seconds per step for a 1,000-sphere
 pile), MuJoCo's defaults otherwise (Euler integrator, soft contacts, ``condim`` 3: sliding friction
 only; ``condim`` 6, with torsional and rolling friction, for bodies that have them: MuJoCo's are lever arms,
-as Marbellous' are).  MuJoCo combines two geoms' friction by ``max`` where Marbellous takes the geometric
+as Marbellous' are).  MuJoCo's sleeping (``mjENBL_SLEEP``) is off by default and stays off: its
+bodies are awake in every scene.  MuJoCo combines two geoms' friction by ``max`` where Marbellous takes the geometric
 mean for sliding friction; the scenes give all bodies one coefficient, for which the two agree.  Free bodies
 move on free joints.
 """

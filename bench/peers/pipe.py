@@ -51,9 +51,10 @@ def _shape(shape):
 
 
 def build_request(world, dt):
-    """The ``build`` request for ``world`` stepped ``dt`` s at a time: gravity (m/s^2), the distinct shapes,
-    and per body its shape's index, ``static``, position (m), orientation (w, x, y, z), velocity (m/s),
-    angular velocity (rad/s), mass (kg), friction and restitution.  Raises ``Unsupported``."""
+    """The ``build`` request for ``world`` stepped ``dt`` s at a time: gravity (m/s^2), whether resting bodies
+    may sleep (``world.sleeping``), the distinct shapes, and per body its shape's index, ``static``, position (m),
+    orientation (w, x, y, z), velocity (m/s), angular velocity (rad/s), mass (kg), friction and restitution.
+    Raises ``Unsupported``."""
     shapes, index, bodies = [], {}, []
     for rec in bodies_of(world):
         key, spec = _shape(single_shape(rec))
@@ -68,7 +69,7 @@ def build_request(world, dt):
                        "mass": 0.0 if static else float(rec["mass"]), "friction": rec["friction"],
                        "restitution": rec["restitution"]})
     return {"op": "build", "dt": float(dt), "gravity": np.asarray(world.gravity, dtype=float).tolist(),
-            "shapes": shapes, "bodies": bodies}
+            "sleeping": bool(world.sleeping), "shapes": shapes, "bodies": bodies}
 
 
 class PipeRun:

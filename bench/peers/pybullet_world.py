@@ -11,7 +11,8 @@ Settings, chosen to be PyBullet at its documented defaults and its fastest equiv
   Marbellous' are: the torque impulse is at most the coefficient times the normal impulse);
 - a ``TriangleMesh`` becomes a static concave ``GEOM_MESH`` (Bullet's BVH triangle mesh);
 - shapes keep their local (body-frame) geometry; each body's orientation gets the quarter turn;
-- sleeping (deactivation) left at Bullet's default, like Marbellous' own.
+- sleeping (deactivation) left at Bullet's default, like Marbellous' own; off for every body
+  (``ACTIVATION_STATE_DISABLE_SLEEPING``) when the world's ``sleeping`` is off.
 """
 import math
 import os
@@ -120,6 +121,8 @@ class PyBulletRun:
                 p.changeDynamics(bid, -1, lateralFriction=math.sqrt(mu), restitution=math.sqrt(e),
                                  rollingFriction=math.sqrt(roll), spinningFriction=math.sqrt(spin), linearDamping=0.0,
                                  angularDamping=0.0, **kw)
+                if mass > 0.0 and not world.sleeping:
+                    p.changeDynamics(bid, -1, activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)
                 if mass > 0.0:
                     p.resetBaseVelocity(bid, list(to_peer(rec["velocity"])), list(to_peer(rec["angular_velocity"])),
                                         **kw)

@@ -6,7 +6,7 @@
 //                                  thread running jobs too while it waits for them (N threads in all)
 //
 // It speaks the protocol of bench/peers/wasm/driver.mjs, one answer line per request line:
-//     {"op": "build", "dt": s, "gravity": [x, y, z], "shapes": [...], "bodies": [...]}  ->  {"version": "..."}
+//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...]}  ->  {"version": "..."}
 //     {"op": "step", "n": k, "budget": s or null}  ->  {"seconds": [...]}  the time of each step (s), measured
 //         here (std::chrono::steady_clock) around PhysicsSystem::Update alone; stops early once they add up to
 //         more than the budget
@@ -21,7 +21,8 @@
 // is compiled and threaded, not in what it computes: the sizes of jolt-physics' JoltInterface (room for 10,240
 // bodies, or the scene's, 65,536 body pairs, 10,240 contact constraints, a 10 MB temporary allocator); two object
 // layers, static and moving, each in a broad-phase layer of its own, moving bodies colliding with both; Jolt's
-// defaults otherwise (10 velocity and 2 position iterations, sleeping, speculative contacts); no damping, no cap
+// defaults otherwise (10 velocity and 2 position iterations, sleeping unless the build says not, speculative
+// contacts); no damping, no cap
 // on linear speed; the mass given, the inertia computed from the shape; each body's own friction and restitution
 // (Jolt combines them by geometric mean and maximum, as Marbellous does).  One Update with one collision step
 // per step.  One difference: a step whose Update reports a full contact, manifold or body-pair buffer (Jolt then
@@ -476,6 +477,9 @@ std::unique_ptr<Scene> build(const json::Value &spec) {
         shapes.push_back(shape(s));
     }
     BodyInterface &bi = scene->system.GetBodyInterface();
+    // (a build without "sleeping" lets bodies sleep, Jolt's default)
+    const json::Value *sleeping_spec = spec.find("sleeping");
+    bool sleeping = sleeping_spec == nullptr || sleeping_spec->number != 0.0;
     for (const json::Value &b : specs) {
         size_t index = size_t(b["shape"].num());
         if (index >= shapes.size()) {
@@ -500,6 +504,7 @@ std::unique_ptr<Scene> build(const json::Value &spec) {
             settings.mMaxLinearVelocity = NO_SPEED_CAP;
             settings.mOverrideMassProperties = EOverrideMassProperties::CalculateInertia;
             settings.mMassPropertiesOverride.mMass = float(b["mass"].num());
+            settings.mAllowSleeping = sleeping;
         }
         Body *body = bi.CreateBody(settings);
         if (body == nullptr) {

@@ -4,7 +4,7 @@
 //                                        holds the engine's package
 //
 // Each line read from stdin is one request, answered by one line on stdout:
-//     {"op": "build", "dt": s, "gravity": [x, y, z], "shapes": [...], "bodies": [...]}  ->  {"version": "x.y.z"}
+//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...]}  ->  {"version": "x.y.z"}
 //     {"op": "step", "n": k, "budget": s or null}  ->  {"seconds": [...]}  the time of each step (s), measured
 //         here around the engine's step call alone; stops early once they add up to more than the budget
 //     {"op": "positions"}  ->  {"positions": [x0, y0, z0, x1, ...]}  dynamic bodies in build order (m)

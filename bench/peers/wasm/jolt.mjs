@@ -2,7 +2,7 @@
 //
 // Two object layers, static and moving, each in a broad-phase layer of its own; moving bodies collide with
 // both, static ones only with moving ones.  Jolt's defaults otherwise (10 velocity and 2 position iterations,
-// sleeping, body pairs and contact constraints as jolt-physics sizes them), except: room for every body of
+// sleeping unless the build says not, body pairs and contact constraints as jolt-physics sizes them), except: room for every body of
 // the scene when it has more than Jolt's default 10,240; no linear or angular damping (Jolt's default is
 // 0.05); no cap on linear speed (Jolt's default is 500 m/s); the mass given, the inertia Jolt computes for it
 // from the shape.  Jolt combines friction by geometric mean and restitution by maximum, as Marbellous does,
@@ -77,6 +77,7 @@ class JoltWorld {
                 mass.mMass = b.mass;
                 settings.mMassPropertiesOverride = mass;
                 J.destroy(mass);
+                settings.mAllowSleeping = spec.sleeping !== false;
             }
             const body = bodies.CreateBody(settings);
             J.destroy(settings);

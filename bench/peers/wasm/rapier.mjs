@@ -1,7 +1,7 @@
 // Rapier (npm @dimforge/rapier3d-compat, WebAssembly) as a backend of driver.mjs.
 //
 // Each body is a rigid body (fixed or dynamic) with one collider.  Rapier's defaults otherwise (4 solver
-// iterations, sleeping, no damping, no continuous collision, linear speed held to 400 m/s), except: the mass
+// iterations, sleeping unless the build says not, no damping, no continuous collision, linear speed held to 400 m/s), except: the mass
 // given, which sets the collider's density and so the inertia Rapier computes from the shape (its default
 // density is 1 kg/m^3).
 // Marbellous combines friction by geometric mean and restitution by maximum: each collider gets the square
@@ -36,7 +36,7 @@ class RapierWorld {
             if (!b.static) {
                 const [vx, vy, vz] = b.velocity;
                 const [ax, ay, az] = b.angular_velocity;
-                desc.setLinvel(vx, vy, vz).setAngvel({ x: ax, y: ay, z: az });
+                desc.setLinvel(vx, vy, vz).setAngvel({ x: ax, y: ay, z: az }).setCanSleep(spec.sleeping !== false);
             }
             const body = this.world.createRigidBody(desc);
             const collider = this.collider(spec.shapes[b.shape])
