@@ -329,6 +329,7 @@ for _arg, _kind in (("gravity", "accel3"), ("solver", "choice"), ("integrator", 
     _add("World setter", _arg, _kind, _setter("w", _arg))
 _add("World setter", "profiling", "flag", _setter("w", "profiling"))
 _add("World setter", "adaptive_iterations", "flag", _setter("w", "adaptive_iterations"))
+_add("World setter", "pair_cache", "flag", _setter("w", "pair_cache"))
 _add("World setter", "solve_order", "choice", _setter("w", "solve_order"))
 _add("World setter", "max_halvings", "max_halvings", _setter("w", "max_halvings"))
 for _arg, _kind in (("speculative_distance", "nonneg"), ("contact_hertz", "hertz"), ("contact_damping_ratio", "ratio"),

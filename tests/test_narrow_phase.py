@@ -172,8 +172,9 @@ def run_narrow_phase(w, pairs, sweep, capacity, narrow_phase=narrow_phase_all):
     raw_i = np.zeros(capacity, np.int64)
     ci = np.zeros((capacity, L.CI_COLS), np.int64)
     st = w._state
+    cf = np.zeros((capacity, L.CF_COLS))
     n = narrow_phase(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, pairs, len(pairs), sweep, SPECULATIVE,
-                     raw_f, raw_i, ci, *pose_tables(w._state.sf.shape[0]))
+                     raw_f, raw_i, ci, cf, cf[:0], ci[:0], 0, *pose_tables(w._state.sf.shape[0]))
     return n, raw_f, raw_i, ci
 
 

@@ -22,11 +22,19 @@ def _pair_key_less(ci_x, x, ci_y, y):
 
 
 @njit_inline
+def solved_rows(pci, npc):
+    """How many of the cache's ``npc`` rows were solved last step: those before the resting contacts kept at
+    its end."""
+    while npc > 0 and (pci[npc - 1, C_FLAGS] & CP_RESTING) != 0:
+        npc -= 1
+    return npc
+
+
+@njit_inline
 def match_contacts(cf, ci, nc, pcf, pci, npc):
     """Stage "match": copy last step's impulses into this step's contacts with the same features (the
     cache's resting contacts, at its end, are not matched: they were not solved)."""
-    while npc > 0 and (pci[npc - 1, C_FLAGS] & CP_RESTING) != 0:
-        npc -= 1
+    npc = solved_rows(pci, npc)
     start = 0
     for c in range(nc):
         ci[c, C_FLAGS] &= ~(CP_MATCHED | CP_SLIDING)

@@ -28,6 +28,7 @@ from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
+from ..collision.pair_cache import cacheable, cached_rows, relative_pose, remember_rows, reuse_rows, still_holds
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_driven, is_dynamic, is_moving
@@ -190,15 +191,18 @@ def limit_pairs_per_body(pairs, n_pairs, bi, nb, limit):
 
 @njit_inline
 def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                  pos_t, rot_t, state, q):
+                  cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
-    (bodies, shapes, sensor flag), with the pair tests of ``coverage`` (``shape_types.COVER_*``).  Returns
-    the number of points (it may exceed the capacity).  ``pos_t, rot_t, state, q`` are the scratch of
+    (bodies, shapes, sensor flag), with the pair tests of ``coverage`` (``shape_types.COVER_*``), and their
+    body-pair cache columns into ``cf``; a pair whose rows in last step's table ``pcf``/``pci`` (its first
+    ``npc`` rows) still hold is not tested again (collision/pair_cache.py; ``npc`` 0: every pair is tested).
+    Returns the number of points (it may exceed the capacity).  ``pos_t, rot_t, state, q`` are the scratch of
     :func:`pose_tables` for at least ``sf``'s rows."""
     if n_pairs == 0:
         return 0
     n = 0
     cap = raw_f.shape[0]
+    cached = 0                               # the pairs' walk through last step's table
     for s in range(sf.shape[0]):             # world poses, each shape's computed once, when first needed
         state[s] = POSE_NONE
     for p in range(n_pairs):
@@ -215,6 +219,14 @@ def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, swee
                 continue
         # Sensors report overlaps only; solid pairs also report gaps they may close within the step.
         prediction = 0.0 if sensor else speculative + sweep[a] + sweep[b]
+        keep = not sensor and cacheable(bi, si, a, b)
+        if keep:
+            r_ab, q_ab = relative_pose(bf, a, b)
+            cached, end = cached_rows(pci, cached, npc, a, b)
+            if end > cached and still_holds(pcf, cached, r_ab, q_ab, prediction):
+                n = reuse_rows(bf, pcf, pci, cached, end, raw_f, raw_i, cf, ci, n)
+                continue
+        first = n
         for sa in range(bi[a, SHAPE_START], bi[a, SHAPE_START] + bi[a, SHAPE_COUNT]):
             for sb in range(bi[b, SHAPE_START], bi[b, SHAPE_START] + bi[b, SHAPE_COUNT]):
                 ta = si[sa, S_TYPE]
@@ -280,60 +292,63 @@ def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, swee
                     ci[c, C_FEATURE] = raw_i[c]
                     ci[c, C_FLAGS] = CP_SENSOR if sensor else 0
                 n = m
+        if keep:
+            remember_rows(bf, a, b, r_ab, q_ab, prediction, raw_f, cf, first, n)
     return n
 
 
 # --- the narrow phase of each coverage: a world compiles the one of its own -------------------------------------
 @njit
 def narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                         pos_t, rot_t, state, q):
+                         cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """:func:`narrow_phase` of a world whose moving shapes are all spheres, with no mesh or height field."""
     return _narrow_phase(COVER_SPHERES, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                         raw_i, ci, pos_t, rot_t, state, q)
+                         raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
 
 
 @njit
 def narrow_phase_meshes(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                        pos_t, rot_t, state, q):
+                        cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes but no height field or
     hull."""
     return _narrow_phase(COVER_MESHES, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                         raw_i, ci, pos_t, rot_t, state, q)
+                         raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
 
 
 @njit
 def narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                        pos_t, rot_t, state, q):
+                        cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """:func:`narrow_phase` of a world whose moving shapes are all spheres, over meshes, height fields or static
     hulls."""
     return _narrow_phase(COVER_GROUND, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                         raw_i, ci, pos_t, rot_t, state, q)
+                         raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
 
 
 @njit
 def narrow_phase_all(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                     pos_t, rot_t, state, q):
+                     cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """:func:`narrow_phase` with every pair test."""
     return _narrow_phase(COVER_ALL, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                         raw_i, ci, pos_t, rot_t, state, q)
+                         raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
 
 
 @njit_inline
 def narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                 pos_t, rot_t, state, q):
+                 cf, pcf, pci, npc, pos_t, rot_t, state, q):
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
-    (bodies, shapes, sensor flag); returns the number of points (it may exceed the capacity).
+    (bodies, shapes, sensor flag), reusing last step's rows in ``pcf``/``pci`` (its first ``npc``) that still
+    hold (:func:`_narrow_phase`); returns the number of points (it may exceed the capacity).
     ``coverage`` (``shape_types.COVER_*``, a constant where this is inlined) picks the compiled narrow phase
     with the pair tests the world can meet.  ``pos_t, rot_t, state, q`` are the scratch of
     :func:`pose_tables` for at least ``sf``'s rows."""
     if coverage == COVER_SPHERES:
         return narrow_phase_spheres(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                                    raw_i, ci, pos_t, rot_t, state, q)
+                                    raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
     if coverage == COVER_MESHES:
         return narrow_phase_meshes(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                                   raw_i, ci, pos_t, rot_t, state, q)
+                                   raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
     if coverage == COVER_GROUND:
         return narrow_phase_ground(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
-                                   raw_i, ci, pos_t, rot_t, state, q)
+                                   raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
     return narrow_phase_all(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                            pos_t, rot_t, state, q)
+                            cf, pcf, pci, npc, pos_t, rot_t, state, q)

@@ -42,8 +42,8 @@ from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
 from ..dynamics.integrators import VERLET, restart_at_end, velocity_at_end
-from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_NORMAL, C_SHAPE_A,
-                            FLAGS, F_JOINTED, F_KINEMATIC, SHAPE_COUNT, SHAPE_START,
+from ..state.layout import (CI_COLS, CP_SENSOR, C_BODY_A, C_BODY_B, C_DEPTH, C_FEATURE, C_FLAGS, C_KEEP_POSE,
+                            C_KEEP_REACH, C_NORMAL, C_SHAPE_A, FLAGS, F_JOINTED, F_KINEMATIC, SHAPE_COUNT, SHAPE_START,
                             C_SHAPE_B, IMPACT_COLS, OMEGA, PF_DT, PF_GRAVITY, PF_MIN_INTERVAL, PF_RESTITUTION_SPEED,
                             PF_SPECULATIVE, PF_STEP_DT, PF_TOLERANCE, PI_DETECT, PI_INTEGRATOR, PI_SUBSTEPS,
                             PI_TOI_MODE, PI_TOI_SPLIT, POS, STAT_CONTACTS, S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I,
@@ -318,8 +318,11 @@ def unseen_bound(bf, bi, sf, si, sweep, nb, speculative, gravity_mag, horizon):
 
 @njit_inline
 def _keep_row(cf, ci, impact_f, c, kept):
-    """Move contact row ``c`` (the narrow phase's columns, its ids, its impact impulses) to row ``kept``."""
+    """Move contact row ``c`` (the narrow phase's columns and its body-pair cache's, its ids, its impact
+    impulses) to row ``kept``."""
     for k in range(7):
+        cf[kept, k] = cf[c, k]
+    for k in range(C_KEEP_POSE, C_KEEP_REACH + 1):
         cf[kept, k] = cf[c, k]
     for k in range(CI_COLS):
         ci[kept, k] = ci[c, k]

@@ -11,7 +11,8 @@ reports the time of each by these names.
 STAGES = (
     ("aabbs", "bounding boxes of the bodies, grown by the speculative distance and their motion over the step"),
     ("broad_phase", "candidate pairs of overlapping boxes, in one canonical order whatever the method"),
-    ("narrow_phase", "contact points of each pair at the poses the step began with (speculative ones too)"),
+    ("narrow_phase", "contact points of each pair at the poses the step began with (speculative ones too); a pair "
+                     "that has hardly moved since last step keeps its points (the body-pair cache)"),
     ("time_of_impact", "impacts of an interval that began at a time of impact resolved; speculative contacts "
                        "that no motion reaches dropped; the earliest time of impact may end the interval"),
     ("match_and_wake", "warm start from last step's contacts by (bodies, shapes, feature); awake bodies "

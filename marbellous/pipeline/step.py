@@ -31,7 +31,7 @@ from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER
 from ..dynamics.breaking import break_overloaded
 from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
-from ..dynamics.contact_cache import keep_resting_contacts, mark_resting, match_contacts
+from ..dynamics.contact_cache import keep_resting_contacts, mark_resting, match_contacts, solved_rows
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
 from ..dynamics.contact_solver import (accumulate_applied, accumulate_listed, apply_push, apply_restitution,
                                        clear_push, has_turning_contacts, heavy_on_light, list_static_contacts,
@@ -59,10 +59,10 @@ from ..state.layout import (BOTTOM_UP, BUNDLE_ROWS, C_POINT, DTHETA, FLAGS, FORC
                             PF_JOINT_HERTZ, PF_JOINT_ZETA, PF_LCP_SOR, PF_MAX_PUSH, PF_PENALTY_HERTZ,
                             PF_RESTITUTION_SPEED, PF_SLEEP_ANGULAR, PF_SLEEP_LINEAR, PF_SLIDE_SPEED, PF_SPECULATIVE,
                             PF_STEP_DT, PF_SWEEP, PF_TIME_TO_SLEEP, PF_TOLERANCE, PI_BROADPHASE, PI_INTEGRATOR,
-                            PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PROFILE, PI_SOLVE_ORDER, PI_SOLVER,
-                            PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE, SHAPE_COUNT,
-                            SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS, STAT_CYCLES,
-                            STAT_ITERATIONS, STAT_KEPT, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
+                            PI_ADAPTIVE, PI_ITERATIONS, PI_LCP_SWEEPS, PI_PAIR_CACHE, PI_PROFILE, PI_SOLVE_ORDER,
+                            PI_SOLVER, PI_SUBSTEPS, PI_THREADS, PI_TURN_SUBSTEPS, POS, POS0, SEQUENTIAL_IMPULSE,
+                            SHAPE_COUNT, SHAPE_START, STAT_CACHED, STAT_CACHE_SIDE, STAT_CONTACTS, STAT_PREVIOUS,
+                            STAT_CYCLES, STAT_ITERATIONS, STAT_KEPT, STAT_PAIRS, STAT_PROFILED_STEPS, STAT_SUM_CONTACTS,
                             STAT_SUM_ITERATIONS, STAT_SUM_PAIRS, TORQUE, W_PREV_DT, W_TIME)
 from .collide import MAX_PAIRS_PER_BODY, limit_pairs_per_body, narrow_phase, update_aabbs
 from .context import context_at, view
@@ -181,14 +181,15 @@ def stage_broad_phase_lean(ctx):
 def stage_narrow_phase(ctx, coverage):
     """Stage "narrow phase": the contact points of the candidate pairs into the contact table (their
     number in ``ctx.nc``, which may exceed its capacity: the caller then grows it), by the pair tests of
-    ``coverage``."""
+    ``coverage``, or from last step's table where a pair has hardly moved (collision/pair_cache.py)."""
     raw_f, cf = ctx.raw_f, ctx.cf
     nc = 0
-    if ctx.n_pairs > 0:     # (the call passes 17 arrays: ~50 ns, more than a lone body's whole narrow phase)
+    if ctx.n_pairs > 0:     # (the call passes 21 arrays: ~50 ns, more than a lone body's whole narrow phase)
         nc = narrow_phase(coverage, ctx.bf, ctx.bi, ctx.sf, ctx.si, ctx.geom_f,
                           ctx.geom_i, ctx.pairs, ctx.n_pairs, ctx.sweep,
-                          ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, ctx.pose_pos,
-                          ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
+                          ctx.params_f[PF_SPECULATIVE], raw_f, ctx.raw_i, ctx.ci, cf, ctx.pcf, ctx.pci,
+                          solved_rows(ctx.pci, ctx.stats[STAT_CACHED]) if ctx.params_i[PI_PAIR_CACHE] else 0,
+                          ctx.pose_pos, ctx.pose_rot, ctx.pose_state, ctx.pose_quat)
     ctx.nc = nc
     ctx.stats[STAT_CONTACTS] = nc
     if nc <= cf.shape[0]:

@@ -155,7 +155,13 @@ C_SUM_T = 36       # friction impulse applied over the whole step, world vector 
 C_TORSION = 39     # combined torsional friction (m)
 C_PAIR_SLIP = 40   # how fast the pair's bodies slid past each other at the last step's end (m/s; a new contact:
 #                    as this step began): their centres' relative velocity across the contact normal
-CF_COLS = 41
+# the body-pair cache (collision/pair_cache.py), as the narrow phase found the point:
+C_KEEP_POSE = 41   # body b's centre of mass (m, 3) and orientation (4) in body a's frame
+C_KEEP_A = 48      # the point on a's surface in a's frame (m), 3
+C_KEEP_B = 51      # the point on b's surface in b's frame (m), 3
+C_KEEP_N = 54      # the normal in a's frame, 3
+C_KEEP_REACH = 57  # how far apart (m) the pair test reported points: its prediction
+CF_COLS = 58
 
 C_BODY_A = 0
 C_BODY_B = 1
@@ -207,7 +213,8 @@ PI_DETECT = 10          # 1: the step only detects contacts (no prediction) and 
 PI_TURN_SUBSTEPS = 11   # most sub-steps a fast-turning body may ask for (automatic sub-steps); 0: PI_SUBSTEPS exactly
 PI_ADAPTIVE = 12        # 1: deep stacks may take more than PI_ITERATIONS passes (World.adaptive_iterations)
 PI_SOLVE_ORDER = 13     # index into state.params.SOLVE_ORDERS: the contacts' order in the passes (World.solve_order)
-PI_LEN = 14
+PI_PAIR_CACHE = 14      # 1: a pair that has hardly moved keeps last step's contact points (World.pair_cache)
+PI_LEN = 15
 
 # solve orders (PI_SOLVE_ORDER), as listed in state.params.SOLVE_ORDERS
 COLOURED = 0            # colour bundles (dynamics/contact_bundles.py) when there are enough contacts

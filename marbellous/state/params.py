@@ -109,6 +109,7 @@ def write_params(world, dt, params_f, params_i, step_dt=None):
     pi[L.PI_TURN_SUBSTEPS] = MAX_TURN_SUBSTEPS if world._substeps_auto else 0
     pi[L.PI_ITERATIONS] = world.iterations
     pi[L.PI_ADAPTIVE] = int(world.adaptive_iterations)
+    pi[L.PI_PAIR_CACHE] = int(world.pair_cache)
     pi[L.PI_SOLVE_ORDER] = SOLVE_ORDERS.index(world.solve_order)
     pi[L.PI_BROADPHASE] = BROADPHASE_CODES[world.broadphase]
     pi[L.PI_SOLVER] = SOLVERS.index(world.solver)
