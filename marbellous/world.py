@@ -273,10 +273,11 @@ class World:
     def pair_cache(self) -> bool:
         """Whether a pair of bodies that has hardly moved relative to each other since the last step keeps that
         step's contact points instead of being tested again (on by default; Jolt's body pair cache): while body
-        b has moved less than 1 mm and turned less than 2 degrees in body a's frame since its points were found,
-        they are carried along with the two bodies and their depths measured again.  An awake stack of boxes then
-        spends a third of the narrow phase's time, and its solver, meeting the same points step after step,
-        settles in fewer passes.  Pairs with a lone sphere are always tested (collision/pair_cache.py)."""
+        b has moved less than 0.2 mm and turned less than 0.5 degrees in body a's frame since its points were
+        found, and the two move no faster towards each other, they are carried along with the two bodies and
+        their depths measured again.  An awake stack of boxes then spends a third of the narrow phase's time,
+        and its solver, meeting the same points step after step, settles in fewer passes.  Pairs with a lone
+        sphere are always tested (pipeline/pair_cache.py)."""
         return self._pair_cache
 
     @pair_cache.setter

@@ -28,7 +28,7 @@ from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
-from ..collision.pair_cache import cacheable, cached_rows, relative_pose, remember_rows, reuse_rows, still_holds
+from .pair_cache import cacheable, cached_rows, relative_pose, remember_rows, reuse_rows, still_holds
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_driven, is_dynamic, is_moving
@@ -195,7 +195,7 @@ def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, swee
     """Contact points of every candidate pair into ``raw_f``/``raw_i`` (pair-test format) and ``ci``
     (bodies, shapes, sensor flag), with the pair tests of ``coverage`` (``shape_types.COVER_*``), and their
     body-pair cache columns into ``cf``; a pair whose rows in last step's table ``pcf``/``pci`` (its first
-    ``npc`` rows) still hold is not tested again (collision/pair_cache.py; ``npc`` 0: every pair is tested).
+    ``npc`` rows) still hold is not tested again (pipeline/pair_cache.py; ``npc`` 0: every pair is tested).
     Returns the number of points (it may exceed the capacity).  ``pos_t, rot_t, state, q`` are the scratch of
     :func:`pose_tables` for at least ``sf``'s rows."""
     if n_pairs == 0:
@@ -223,7 +223,7 @@ def _narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, swee
         if keep:
             r_ab, q_ab = relative_pose(bf, a, b)
             cached, end = cached_rows(pci, cached, npc, a, b)
-            if end > cached and still_holds(pcf, cached, r_ab, q_ab, prediction):
+            if end > cached and still_holds(pcf, pci, cached, end, r_ab, q_ab, prediction):
                 n = reuse_rows(bf, pcf, pci, cached, end, raw_f, raw_i, cf, ci, n)
                 continue
         first = n

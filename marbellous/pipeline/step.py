@@ -181,7 +181,7 @@ def stage_broad_phase_lean(ctx):
 def stage_narrow_phase(ctx, coverage):
     """Stage "narrow phase": the contact points of the candidate pairs into the contact table (their
     number in ``ctx.nc``, which may exceed its capacity: the caller then grows it), by the pair tests of
-    ``coverage``, or from last step's table where a pair has hardly moved (collision/pair_cache.py)."""
+    ``coverage``, or from last step's table where a pair has hardly moved (pipeline/pair_cache.py)."""
     raw_f, cf = ctx.raw_f, ctx.cf
     nc = 0
     if ctx.n_pairs > 0:     # (the call passes 21 arrays: ~50 ns, more than a lone body's whole narrow phase)

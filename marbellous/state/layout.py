@@ -155,7 +155,7 @@ C_SUM_T = 36       # friction impulse applied over the whole step, world vector 
 C_TORSION = 39     # combined torsional friction (m)
 C_PAIR_SLIP = 40   # how fast the pair's bodies slid past each other at the last step's end (m/s; a new contact:
 #                    as this step began): their centres' relative velocity across the contact normal
-# the body-pair cache (collision/pair_cache.py), as the narrow phase found the point:
+# the body-pair cache (pipeline/pair_cache.py), as the narrow phase found the point:
 C_KEEP_POSE = 41   # body b's centre of mass (m, 3) and orientation (4) in body a's frame
 C_KEEP_A = 48      # the point on a's surface in a's frame (m), 3
 C_KEEP_B = 51      # the point on b's surface in b's frame (m), 3
