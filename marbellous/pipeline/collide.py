@@ -28,7 +28,6 @@ from ..collision import shape_types as st
 from ..collision.aabb import shape_bounds, sphere_aabb
 from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
-from .pair_cache import cacheable, cached_rows, relative_pose, remember_rows, reuse_rows, still_holds
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_driven, is_dynamic, is_moving
@@ -36,6 +35,7 @@ from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                             F_CCD_NEVER, F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
                             S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
+from .pair_cache import cacheable, cached_rows, relative_pose, remember_rows, reuse_rows, still_holds
 
 
 @njit

@@ -23,17 +23,17 @@ adds up until the pair is tested again).  Only points the pair test found twice 
 warm-started from the step before): a manifold that changes from one test to the next, a corner touching for
 one step, is not carried on (kept, a heavy box on a light one dipped by 1.3 mm at 13 cm/s).  Pairs of a lone
 sphere are always tested: the sphere's test is about as cheap as the check, and a rolling sphere turns past
-``KEEP_ANGLE`` every step anyway.  A new feature coming
-within the speculative distance is found once the pair has moved by ``KEEP_DISTANCE`` or ``KEEP_ANGLE``.
+``KEEP_ANGLE`` every step anyway.  A new feature coming within the speculative distance is found once the pair
+has moved by ``KEEP_DISTANCE`` or ``KEEP_ANGLE``.
 """
 import math
 
 from .._numba.jit import njit_inline
+from ..collision import shape_types as st
 from ..math3d import quat_product, rotated
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_KEEP_A, C_KEEP_B, C_KEEP_N, C_KEEP_POSE,
                             C_KEEP_REACH, C_SHAPE_A, C_SHAPE_B, CP_MATCHED, POS, QUAT, S_TYPE, SHAPE_COUNT,
                             SHAPE_START)
-from ..collision import shape_types as st
 
 #: how far (m) body b may move in body a's frame before the pair is tested again (Jolt's default is 1 mm: with
 #: it, a crate riding a gently accelerating platform under penalty contacts slid by 1.0 mm, past its test's 1 mm)
