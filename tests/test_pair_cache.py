@@ -34,11 +34,11 @@ def _two_boxes(tilt, sensor=False):
     return w
 
 
-def _narrow(w, previous=None, speculative=SPECULATIVE):
+def _narrow(w, previous=None, speculative=SPECULATIVE, matched=None):
     """The narrow phase of the world's one pair at its poses: ``(n, raw_f, raw_i, ci, cf)``, reusing
-    ``previous`` (an earlier result) as last step's table when given; its rows are marked as warm-started from
-    the step before, as a pair test that found the same features twice running leaves them (the step's
-    "match" stage)."""
+    ``previous`` (an earlier result) as last step's table when given; its rows ``matched`` (all by default) are
+    marked as warm-started from the step before, as a pair test that found the same features twice running
+    leaves them (the step's "match" stage)."""
     st = w._state
     nb = st.bodies.end
     aabbs, sweep = np.zeros((nb, 6)), np.zeros(nb)
@@ -52,7 +52,7 @@ def _narrow(w, previous=None, speculative=SPECULATIVE):
     else:
         npc, _, _, pci, pcf = previous
         pci = pci.copy()
-        pci[:npc, L.C_FLAGS] |= L.CP_MATCHED
+        pci[:npc if matched is None else matched, L.C_FLAGS] |= L.CP_MATCHED
     n = narrow_phase_all(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, pairs, 1, sweep, speculative, raw_f,
                          raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
     return n, raw_f, raw_i, ci, cf
@@ -183,19 +183,14 @@ def test_points_found_once_are_tested_again():
     # changes from one test to the next (a corner touching for one step) is not carried on
     w = _two_boxes(0.3)
     n, raw_f, raw_i, ci, cf = _narrow(w)
-    st = w._state
-    nb = st.bodies.end
-    aabbs, sweep = np.zeros((nb, 6)), np.zeros(nb)
-    pos_t, rot_t, state, q = pose_tables(st.sf.shape[0])
-    update_aabbs(st.bf, st.bi, st.sf, st.si, nb, aabbs, sweep, DT, 9.81, SPECULATIVE, pos_t, rot_t, q)
-    out_f, out_i = np.zeros((64, 7)), np.zeros(64, np.int64)
-    out_ci, out_cf = np.zeros((64, L.CI_COLS), np.int64), np.zeros((64, L.CF_COLS))
     marked = ci.copy()
     marked[:n, L.C_FEATURE] = -7
-    marked[1, L.C_FLAGS] |= L.CP_MATCHED           # (one of the four rows warm-started, the others new)
-    m = narrow_phase_all(st.bf, st.bi, st.sf, st.si, st.geom_f, st.geom_i, np.array([[0, 1]]), 1, sweep,
-                         SPECULATIVE, out_f, out_i, out_ci, out_cf, cf, marked, n, pos_t, rot_t, state, q)
-    assert m == n and not np.any(out_i[:m] == -7)
+    # (the first of the four rows warm-started, the others new)
+    m, _, out_i, _, _ = _narrow(w, (n, raw_f, raw_i, marked, cf), matched=1)
+    assert m == n == 4 and not np.any(out_i[:m] == -7)
+    # (all four warm-started: kept)
+    m, _, out_i, _, _ = _narrow(w, (n, raw_f, raw_i, marked, cf))
+    assert m == n and np.all(out_i[:m] == -7)
 
 
 def test_a_lone_sphere_and_a_sensor_are_always_tested():
