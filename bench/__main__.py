@@ -48,8 +48,11 @@ ENGINES = ("marbellous", "marbellous-2t", "pybullet", "mujoco", "jolt-native", "
            "rapier-wasm")
 
 
-def warm_up():
-    """Compile the step kernel once (every scene shares its signature); returns the seconds it took."""
+def warm_up(names=(), quick=False, thread_counts=(1,)):
+    """Compile or load the step kernels the timed runs will take, so that no run times them: a few steps of a
+    small world, then one step of each world scene of ``names`` with each of ``thread_counts`` (a scene's step
+    is compiled for its kinds of shape and its size, and its first step would load that variant: 0.13 s of the
+    1k pile's 600 steps).  Returns the seconds it took."""
     import marbellous as mb
     from marbellous.scenes.terrain import terrain_mesh
 
@@ -62,6 +65,13 @@ def warm_up():
     w.add_body(mb.Sphere(0.5), position=(0.0, 1.5, 0.0))
     for _ in range(3):
         w.step(DT)
+    for name in names:
+        if not SCENES[name].world:
+            continue
+        for threads in thread_counts:
+            world, _ = SCENES[name].build(quick)
+            world.threads = threads
+            world.step(DT)
     return time.perf_counter() - t
 
 
@@ -281,8 +291,10 @@ def main(argv=None):
     paths = output_paths(machine, args.out, args.quick, not args.no_plot, args.write_docs)
     print(f"{machine['cpu']}, {machine['cores']} cores, Python {machine['python']}, NumPy {machine['numpy']}, "
           f"Numba {machine['numba']}, peers {machine['peers']}")
-    compile_s = warm_up()
-    print(f"warm-up (compile or load the step kernel): {compile_s:.1f} s")
+    marbellous_engines = [e for e in args.engines if e.startswith("marbellous")]
+    compile_s = warm_up(args.scenes if marbellous_engines else (), args.quick,
+                        sorted({2 if e == "marbellous-2t" else 1 for e in marbellous_engines}))
+    print(f"warm-up (compile or load the step kernels): {compile_s:.1f} s")
     results = {}
     for name in args.scenes:
         results[name] = run_scene(name, args.engines, args.quick, args.cap)
