@@ -50,8 +50,8 @@ from ..state.layout import (CP_MATCHED, CP_SENSOR, CP_SLIDING, C_ADJ_SEP, C_BODY
                             RESTITUTION, ROLLING, SB_INV_I, SB_INV_MASS, SB_ISO, STATIC_FRICTION, TORSION, VEL)
 from .contact_basis import contact_basis
 from .forces import is_moving
-from .solver_bodies import (effective_mass_along, lighter, motion, push, relative_velocity_at, set_velocity, twist,
-                            velocity)
+from .solver_bodies import (effective_mass_along, effective_masses, lighter, motion, push, relative_velocity_at,
+                            set_velocity, twist, velocity)
 
 
 @njit_inline
@@ -79,9 +79,7 @@ def prepare_contacts(bf, cf, ci, nc, sb, slide_speed):
             # warm-started on a body whose inertia turned since: as refresh_turning_masses
             _refresh_contact_masses(cf, ci, c, sb)
         else:
-            cf[c, C_MASS_N] = effective_mass_along(sb, a, ra, b, rb, n)
-            cf[c, C_MASS_T1] = effective_mass_along(sb, a, ra, b, rb, t1)
-            cf[c, C_MASS_T2] = effective_mass_along(sb, a, ra, b, rb, t2)
+            cf[c, C_MASS_N], cf[c, C_MASS_T1], cf[c, C_MASS_T2] = effective_masses(sb, a, ra, b, rb, n, t1, t2)
         # Materials: friction by geometric mean, restitution, rolling and torsional friction by maximum.
         cf[c, C_MU_D] = math.sqrt(bf[a, FRICTION] * bf[b, FRICTION])
         cf[c, C_MU_S] = math.sqrt(bf[a, STATIC_FRICTION] * bf[b, STATIC_FRICTION])

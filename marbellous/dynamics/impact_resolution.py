@@ -26,7 +26,7 @@ from ..state.layout import (C_BODY_A, C_BODY_B, C_E, C_LAMBDA_N, C_LAMBDA_T1, C_
                             IMP_N, IMP_T, OMEGA, POS, RESTITUTION, VEL)
 from .contact_basis import contact_basis
 from .forces import is_moving
-from .solver_bodies import (effective_mass_along, prepare_solver_bodies, push, relative_velocity_at, set_velocity,
+from .solver_bodies import (effective_masses, prepare_solver_bodies, push, relative_velocity_at, set_velocity,
                             store_velocities, velocity)
 
 #: most passes over the impacts of one instant
@@ -74,9 +74,7 @@ def resolve_impacts(bf, bi, nb, cf, ci, listed, m, sb, impact_f, tolerance):
         for j in range(3):
             cf[c, C_T1 + j] = t1[j]
             cf[c, C_T2 + j] = t2[j]
-        cf[c, C_MASS_N] = effective_mass_along(sb, a, ra, b, rb, n)
-        cf[c, C_MASS_T1] = effective_mass_along(sb, a, ra, b, rb, t1)
-        cf[c, C_MASS_T2] = effective_mass_along(sb, a, ra, b, rb, t2)
+        cf[c, C_MASS_N], cf[c, C_MASS_T1], cf[c, C_MASS_T2] = effective_masses(sb, a, ra, b, rb, n, t1, t2)
         cf[c, C_E] = max(bf[a, RESTITUTION], bf[b, RESTITUTION])
         cf[c, C_MU_D] = math.sqrt(bf[a, FRICTION] * bf[b, FRICTION])
         cf[c, C_VN0] = dot3(relative_velocity_at(velocity(sb, a), ra, velocity(sb, b), rb), n)
