@@ -8,9 +8,10 @@ Each scene is built and stepped into its measured state; then the step's own bun
 them.  First one pass of each from the same copy: the two must leave bit-identical tables (the C++ pass
 does the engine's arithmetic term for term, so equal tables show that it does the same work, no more and no
 less).  Then each is timed over ``passes`` passes inside its own compiled loop (no call overhead counted),
-best of ``REPEATS`` rounds, as the machine is shared.  The pass's work does not depend on the values (the
-only branches are the bundles' flags), so later passes cost what the first does.  Reports ns per contact
-(per lane, pad lanes counted apart), the ratio, and writes ``bench/results/<date>-<host>-contact_pass.json``.
+best of ``REPEATS`` rounds (``bench_narrow_phase.best_seconds``), as the machine is shared.  The pass's work
+does not depend on the values (the only branches are the bundles' flags), so later passes cost what the first
+does.  Reports ns per contact (pad lanes not counted as contacts), the ratios, and the largest difference the
+single-precision pass makes to the velocities, and writes ``bench/results/<date>-<host>-contact_pass.json``.
 
 The C++ kernel is compiled on first use by ``$CXX`` (else ``c++``) into
 ``~/.cache/marbellous-bench/contact-pass/<key>/`` (key: the source, the layout and the flags).
@@ -20,11 +21,9 @@ Run:  python -m bench.bench_contact_pass [--quick] [--scenes pile_1k pyramid_20_
 import argparse
 import ctypes
 import hashlib
-import json
 import os
 import shutil
 import subprocess
-import time
 
 import numpy as np
 
@@ -34,7 +33,8 @@ from marbellous.dynamics.contact_bundles import solve_bundles
 from marbellous.dynamics.soft import soft_depth
 from marbellous.state import layout as L
 
-from .machine import describe
+from .bench_narrow_phase import REPEATS, best_seconds
+from .machine import describe, write_results
 from .peers.cache import cache_dir, exclusive
 from .scenes import DT, SCENES, build_scene
 
@@ -50,9 +50,6 @@ LAYOUT_NAMES = ("BUNDLE_FIELDS", "BUNDLE_ROWS", "SB_COLS", "SB_V", "WB_NORMAL", 
                 "WB_INV_I_B", "WB_ROLL", "WB_TORSION", "WB_LAMBDA_R", "WI_READ_A", "WI_READ_B", "WI_WRITE_A",
                 "WI_WRITE_B", "WI_TURNING", "WI_ROLLING")
 DEFAULT_SCENES = ("pile_1k", "pile_8k", "pyramid_20_awake")
-REPEATS = 7
-#: wall time (s) one round of passes should take at least
-ROUND_SECONDS = 0.05
 #: steps before measuring the awake pyramid (it stands; the piles use their bench warm-up)
 AWAKE_STEPS = 120
 
@@ -163,23 +160,10 @@ class ContactPass:
         return float(np.max(np.abs(single_sb[:, velocities] - double_sb[:, velocities])))
 
     def seconds_per_pass(self, run, dtype=np.float64):
-        """Best seconds per pass of ``run`` (on tables in ``dtype``) over ``REPEATS`` rounds of at least
-        ``ROUND_SECONDS``."""
+        """Best seconds per pass of ``run`` on copies of the tables in ``dtype`` (``bench_narrow_phase.best_seconds``:
+        best of its rounds)."""
         wide_f, sb = self.wide_f.astype(dtype), self.sb.astype(dtype)
-        passes = 1
-        while True:
-            t0 = time.perf_counter()
-            run(passes, wide_f, sb)
-            t = time.perf_counter() - t0
-            if t >= ROUND_SECONDS or passes >= 1 << 20:
-                break
-            passes *= 2
-        best = t / passes
-        for _ in range(REPEATS - 1):
-            t0 = time.perf_counter()
-            run(passes, wide_f, sb)
-            best = min(best, (time.perf_counter() - t0) / passes)
-        return best
+        return best_seconds(lambda passes: run(passes, wide_f, sb))
 
 
 def measure(name, kernels, quick=False):
@@ -226,10 +210,7 @@ def main(argv=None):
     machine["compiler"] = subprocess.run([os.environ.get("CXX") or "c++", "--version"], capture_output=True,
                                          text=True).stdout.splitlines()[0]
     out = {"machine": machine, "quick": args.quick, "repeats": REPEATS, "flags": list(FLAGS), "scenes": rows}
-    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    path = os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-contact_pass.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=1)
+    path = write_results(os.path.join(HERE, "results"), "contact_pass", out)
     print("wrote", path)
     return rows
 

@@ -14,7 +14,6 @@ Run:  python -m bench.bench_narrow_phase [--quick] [--scenes pile_1k marble_terr
 """
 import argparse
 import hashlib
-import json
 import os
 import time
 
@@ -26,7 +25,7 @@ from marbellous.state.params import write_params
 from marbellous.pipeline.collide import narrow_phase, pose_tables, update_aabbs
 from marbellous.state import layout as L
 
-from .machine import describe
+from .machine import describe, write_results
 from .scenes import DT, SCENES, build_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -38,13 +37,14 @@ ROUND_SECONDS = 0.05
 
 
 @njit
-def _repeat_narrow(reps, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                   pos_t, rot_t, state, q):
-    """``narrow_phase`` called ``reps`` times; returns the last count."""
+def _repeat_narrow(reps, coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i,
+                   ci, cf, pcf, pci, pos_t, rot_t, state, q):
+    """``narrow_phase`` called ``reps`` times, every pair tested (no rows of a last step to keep); returns the
+    last count."""
     n = 0
     for _ in range(reps):
-        n = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i, ci,
-                         pos_t, rot_t, state, q)
+        n = narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i,
+                         ci, cf, pcf, pci, 0, pos_t, rot_t, state, q)
     return n
 
 
@@ -71,6 +71,9 @@ class CollideInput:
         gravity = pf[L.PF_GRAVITY:L.PF_GRAVITY + 3]
         self.g_mag = float(np.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2))
         self.speculative = float(pf[L.PF_SPECULATIVE])
+        # the pair tests compiled for the kinds of shape the world has, and no last step's rows to keep
+        self.coverage = w._state.step_variant()[0]
+        self.previous_f, self.previous_i = np.zeros((0, L.CF_COLS)), np.zeros((0, L.CI_COLS), dtype=np.int64)
         self.aabbs = w._state.aabbs.copy()
         self.sweep = np.empty(self.nb)
         self.poses = pose_tables(self.sf.shape[0])   # the step's scratch (the record's, in a world)
@@ -90,6 +93,7 @@ class CollideInput:
             self.raw_f = np.zeros((cap, w._state.raw_f.shape[1]))
             self.raw_i = np.zeros(cap, dtype=np.int64)
             self.ci = np.zeros((cap, L.CI_COLS), dtype=np.int64)
+            self.cf = np.zeros((cap, L.CF_COLS))
             self.n_contacts = self.narrow(1)
             if self.n_contacts <= cap:
                 break
@@ -97,9 +101,9 @@ class CollideInput:
 
     def narrow(self, reps):
         """Run the narrow phase ``reps`` times; the number of contact points."""
-        return _repeat_narrow(reps, self.bf, self.bi, self.sf, self.si, self.geom_f, self.geom_i, self.pairs,
-                              self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci,
-                              *self.poses)
+        return _repeat_narrow(reps, self.coverage, self.bf, self.bi, self.sf, self.si, self.geom_f, self.geom_i,
+                              self.pairs, self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci,
+                              self.cf, self.previous_f, self.previous_i, *self.poses)
 
     def aabbs_update(self, reps):
         """Run ``update_aabbs`` ``reps`` times."""
@@ -197,10 +201,7 @@ def main(argv=None):
     machine = describe(ROOT, {})
     machine["load_average"] = os.getloadavg()[0]
     out = {"machine": machine, "quick": args.quick, "repeats": REPEATS, "scenes": rows}
-    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    path = os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-narrow_phase.json")
-    with open(path, "w") as f:
-        json.dump(out, f, indent=1)
+    path = write_results(os.path.join(HERE, "results"), "narrow_phase", out)
     print("wrote", path)
     return rows
 

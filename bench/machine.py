@@ -1,5 +1,6 @@
 """A description of the machine and software a benchmark ran on, for the results file."""
 import datetime
+import json
 import os
 import platform
 import socket
@@ -44,3 +45,14 @@ def describe(root, peer_versions):
             "os": platform.platform(), "python": platform.python_version(), "numpy": numpy.__version__,
             "numba": numba.__version__, "marbellous": marbellous.__version__, "peers": peer_versions,
             "git_commit": commit, "git_dirty": dirty}
+
+
+def write_results(directory, name, record):
+    """Write ``record`` (with its ``"machine"`` from :func:`describe`) as
+    ``directory/<date>-<host>-<name>.json``; returns the path."""
+    machine = record["machine"]
+    os.makedirs(directory, exist_ok=True)
+    path = os.path.join(directory, f"{machine['date']}-{machine['hostname']}-{name}.json")
+    with open(path, "w") as f:
+        json.dump(record, f, indent=1)
+    return path
