@@ -45,10 +45,12 @@ def test_one_pass_of_the_cpp_kernel_is_the_engines_bit_for_bit(kernels):
     flags = run.wide_i[:run.bundles * L.BUNDLE_ROWS * LANES].reshape(run.bundles, L.BUNDLE_ROWS, LANES)
     assert flags[:, L.WI_TURNING, 0].any() and flags[:, L.WI_ROLLING, 0].any()   # both kinds of bundle are there
     assert run.same_result()
-    # in single precision the velocities move by float rounding only: a few units of 2^-24 of the largest speed
-    # or impulse over the pass's dozens of operations
+    # in single precision a body's velocity takes the rounding of each of its contacts' updates in turn: under a
+    # hundred operations each, at 2^-24 of the largest speed (the tables themselves rounded to float first)
+    written = np.concatenate([flags[:, L.WI_WRITE_A].ravel(), flags[:, L.WI_WRITE_B].ravel()])
+    updates = np.bincount(written[written < run.sb.shape[0] - 1]).max()       # (the sink row left out)
     scale = 1.0 + float(np.max(np.abs(run.sb[:, L.SB_V:L.SB_W + 3])))
-    assert run.single_difference() < 1e-4 * scale
+    assert run.single_difference() < (updates + 1) * 100 * 2.0**-24 * scale
 
 
 def test_a_quick_run_reports_both_kernels_on_the_same_contacts(capsys):

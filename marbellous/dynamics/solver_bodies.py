@@ -21,6 +21,7 @@ bodies once, updates them in registers and writes them back once.
 import math
 
 from .._numba.jit import njit, njit_inline
+from ..math3d import cross
 from ..state.layout import (DTHETA, F_ISOTROPIC, FLAGS, INV_I, INV_MASS, OMEGA, POS, POS0, QUAT, SB_DP, SB_DTHETA,
                             SB_INV_I, SB_INV_MASS, SB_ISO, SB_V, SB_W, VEL)
 from .forces import is_moving
@@ -149,16 +150,10 @@ def _isotropic_term(iso, c):
     return c[0] * (iso * c[0]) + c[1] * (iso * c[1]) + c[2] * (iso * c[2])
 
 
-@njit_inline
-def _cross(r, d):
-    """``r x d`` as a 3-tuple."""
-    return r[1] * d[2] - r[2] * d[1], r[2] * d[0] - r[0] * d[2], r[0] * d[1] - r[1] * d[0]
-
-
 @njit
 def _angular_term(sb, i, r, d):
     """``(r x d) . I_w^-1 (r x d)`` of body ``i`` (1/kg)."""
-    c = _cross(r, d)
+    c = cross(r, d)
     iso = sb[i, SB_ISO]
     if iso >= 0.0:
         return _isotropic_term(iso, c)
@@ -183,7 +178,7 @@ def effective_mass_along(sb, a, ra, b, rb, d):
 def _isotropic_mass(inv_mass_a, iso_a, ra, inv_mass_b, iso_b, rb, d):
     """:func:`effective_mass_along` of two bodies whose world inverse inertias are ``iso_a E`` and ``iso_b E``
     (same rounding)."""
-    k = (inv_mass_a + _isotropic_term(iso_a, _cross(ra, d))) + (inv_mass_b + _isotropic_term(iso_b, _cross(rb, d)))
+    k = (inv_mass_a + _isotropic_term(iso_a, cross(ra, d))) + (inv_mass_b + _isotropic_term(iso_b, cross(rb, d)))
     return 1.0 / k if k > 0.0 else 0.0
 
 
