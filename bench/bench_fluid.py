@@ -154,7 +154,7 @@ class MarbellousRun:
 
     @property
     def viscosity_iterations(self):
-        return getattr(self.f, "_viscosity_iterations", None)
+        return self.f.viscosity_iterations
 
     def max_divergence(self):
         return float(np.max(np.abs(self.f.divergence())))

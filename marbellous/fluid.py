@@ -116,6 +116,7 @@ class Fluid:
         self._world = None
         self._time = 0.0
         self._pressure_iterations = 0
+        self._viscosity_iterations = 0
 
     # --- description -------------------------------------------------------------------------------------
     @property
@@ -185,6 +186,11 @@ class Fluid:
     def pressure_iterations(self) -> int:
         """Conjugate-gradient iterations of the last step's pressure solve."""
         return self._pressure_iterations
+
+    @property
+    def viscosity_iterations(self) -> int:
+        """Conjugate-gradient iterations of the last step's viscosity solve (0 without viscosity)."""
+        return self._viscosity_iterations
 
     # --- fields -------------------------------------------------------------------------------------------
     @property
@@ -333,9 +339,10 @@ class Fluid:
         subtract_gradient(moved, self._p, 0.5 * dt / (rho * h), n, self._coefficients)   # 3. - dt/2 grad p
         self._q = moved
         add_body_force(self._q, self._fixed, self._force, dt, dims)                   # 4. body force
+        self._viscosity_iterations = 0
         if self._viscosity > 0.0:                                                     # 5. viscosity
-            diffuse(self._q, self._fixed, self._viscosity * dt / h ** 2, n, periodic, wall, dims,
-                    np.empty((4,) + self._q.shape))
+            self._viscosity_iterations = diffuse(self._q, self._fixed, self._viscosity * dt / h ** 2, n, periodic,
+                                                 wall, dims, np.empty((4,) + self._q.shape))
         self._project(dt)                                                             # 6. pressure projection
         self._flow = None
         self._time += dt

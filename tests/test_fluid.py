@@ -107,6 +107,18 @@ def test_plane_couette_flow_is_a_line():
     assert np.abs(f.velocity[:, :, 0] - y).max() <= 1e-6
 
 
+def test_each_step_reports_its_solves_iterations():
+    f = mb.Fluid((4, 16), 1 / 16, viscosity=0.1, density=1.0, boundary=("periodic", "wall"))
+    assert f.viscosity_iterations == 0 and f.pressure_iterations == 0
+    f.set_wall_velocity("y+", (1.0, 0.0))
+    f.step(0.1)
+    # conjugate gradients end within as many iterations as the system has unknowns (2 components of 4 x 16 cells)
+    assert 1 <= f.viscosity_iterations <= 2 * 4 * 16
+    f.viscosity = 0.0
+    f.step(0.1)
+    assert f.viscosity_iterations == 0
+
+
 def test_a_lid_over_a_closed_channel_drives_the_return_flow():
     f = mb.Fluid((128, 16), 1 / 16, viscosity=1.0, density=1.0)
     f.set_wall_velocity("y+", (1.0, 0.0))
