@@ -30,7 +30,7 @@ import numpy as np
 from marbellous._numba.jit import njit
 from marbellous._numba.wide import LANES
 from marbellous.dynamics.contact_bundles import solve_bundles
-from marbellous.dynamics.soft import soft_depth
+from marbellous.pipeline.step import solve_softness
 from marbellous.state import layout as L
 
 from .bench_narrow_phase import REPEATS, best_seconds
@@ -93,8 +93,7 @@ def build_kernels():
 def _bundle_tables(ctx):
     """The step's bundle tables, solver bodies, bundle and overflow counts, sub-step and the solve passes'
     soft parameters ``(bias_rate, mass_scale, impulse_scale, max_bias)``, as the last step left them."""
-    rate = ctx.soft[0, 0]
-    soft = np.array([rate, ctx.soft[0, 1], ctx.soft[0, 2], rate * soft_depth(rate, ctx.params_f[L.PF_MAX_PUSH])])
+    soft = np.array(solve_softness(ctx))
     return (ctx.wide_f.copy(), ctx.wide_i.copy(), ctx.solver_bodies.copy(), ctx.bundles, ctx.n_overflow, ctx.nc,
             ctx.h, soft)
 

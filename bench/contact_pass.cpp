@@ -42,7 +42,7 @@ INLINE v8 vabs(v8 a) { v8 r; for (int l = 0; l < LANES; ++l) r[l] = std::fabs(a[
 INLINE v8 vsqrt(v8 a) { v8 r; for (int l = 0; l < LANES; ++l) r[l] = std::sqrt(a[l]); return r; }
 
 struct V3 { v8 x, y, z; };
-struct U6 { v8 u[8]; };          // (v, omega) of each lane's body, and two columns carried along
+struct U8 { v8 u[8]; };          // (v, omega) of each lane's body, and the two columns after them
 struct I9 { v8 m[9]; };          // row-major world inverse inertia of each lane's body
 
 INLINE T *at(T *wide_f, int64_t bundle, int field) {
@@ -76,29 +76,29 @@ INLINE void transpose(v8 *r) {
         r[i + 4] = __builtin_shuffle(s[i], s[i + 4], m8{4, 5, 6, 7, 12, 13, 14, 15});
     }
 }
-INLINE U6 gather_u(const T *sb, const int64_t *rows) {
-    U6 r;
+INLINE U8 gather_u(const T *sb, const int64_t *rows) {
+    U8 r;
     for (int l = 0; l < LANES; ++l) r.u[l] = load(sb + rows[l] * SB_COLS + SB_V);
     transpose(r.u);
     return r;
 }
-INLINE void scatter_u(T *sb, const int64_t *rows, U6 u) {
+INLINE void scatter_u(T *sb, const int64_t *rows, U8 u) {
     transpose(u.u);
     for (int l = 0; l < LANES; ++l) store(sb + rows[l] * SB_COLS + SB_V, u.u[l]);
 }
 
 // (v_b + w_b x rb) - (v_a + w_a x ra)
-INLINE V3 relative_velocity(const U6 &a, V3 ra, const U6 &b, V3 rb) {
+INLINE V3 relative_velocity(const U8 &a, V3 ra, const U8 &b, V3 rb) {
     return {(b.u[0] + b.u[4] * rb.z - b.u[5] * rb.y) - (a.u[0] + a.u[4] * ra.z - a.u[5] * ra.y),
             (b.u[1] + b.u[5] * rb.x - b.u[3] * rb.z) - (a.u[1] + a.u[5] * ra.x - a.u[3] * ra.z),
             (b.u[2] + b.u[3] * rb.y - b.u[4] * rb.x) - (a.u[2] + a.u[3] * ra.y - a.u[4] * ra.x)};
 }
 
 // u after the impulse sign p at offset r:  v += sign p / m,  omega += sign I^-1 (r x p)
-INLINE U6 push(const U6 &u, v8 inv_mass, const I9 &inv_i, V3 r, V3 p, T sign, bool turning) {
+INLINE U8 push(const U8 &u, v8 inv_mass, const I9 &inv_i, V3 r, V3 p, T sign, bool turning) {
     v8 cx = r.y * p.z - r.z * p.y, cy = r.z * p.x - r.x * p.z, cz = r.x * p.y - r.y * p.x;
     v8 im = inv_mass * sign;
-    U6 o;
+    U8 o;
     o.u[0] = u.u[0] + im * p.x;
     o.u[1] = u.u[1] + im * p.y;
     o.u[2] = u.u[2] + im * p.z;
@@ -116,8 +116,8 @@ INLINE U6 push(const U6 &u, v8 inv_mass, const I9 &inv_i, V3 r, V3 p, T sign, bo
 }
 
 // omega += sign I^-1 l
-INLINE U6 twist(const U6 &u, const I9 &i, V3 l, T sign) {
-    U6 o = u;
+INLINE U8 twist(const U8 &u, const I9 &i, V3 l, T sign) {
+    U8 o = u;
     o.u[3] = u.u[3] + sign * (i.m[0] * l.x + i.m[1] * l.y + i.m[2] * l.z);
     o.u[4] = u.u[4] + sign * (i.m[3] * l.x + i.m[4] * l.y + i.m[5] * l.z);
     o.u[5] = u.u[5] + sign * (i.m[6] * l.x + i.m[7] * l.y + i.m[8] * l.z);
@@ -140,7 +140,7 @@ INLINE I9 inertia(T *wide_f, int64_t bundle, int field, bool turning) {
 
 // Rolling and torsional friction: lambda_r := lambda_r - K^-1 (w_b - w_a), K^-1 = adj(K) / det K,
 // then its part across n clamped to rho lambda_n and its part along n to tau lambda_n.
-static void solve_rolling(T *wide_f, int64_t bundle, U6 &ua, const I9 &ia, U6 &ub, const I9 &ib,
+static void solve_rolling(T *wide_f, int64_t bundle, U8 &ua, const I9 &ia, U8 &ub, const I9 &ib,
                           v8 normal_impulse) {
     v8 zero = splat(0.0);
     const v8 *a = ia.m, *b = ib.m;
@@ -186,7 +186,7 @@ static T solve_pass(T *wide_f, const int64_t *wide_i, int64_t first, int64_t las
     v8 largest = zero;
     for (int64_t bundle = first; bundle < last; ++bundle) {
         const int64_t *rows = wide_i + bundle * BUNDLE_ROWS * LANES;
-        U6 ua = gather_u(sb, rows + WI_READ_A * LANES), ub = gather_u(sb, rows + WI_READ_B * LANES);
+        U8 ua = gather_u(sb, rows + WI_READ_A * LANES), ub = gather_u(sb, rows + WI_READ_B * LANES);
         v8 ima = load(at(wide_f, bundle, WB_INV_MASS_A)), imb = load(at(wide_f, bundle, WB_INV_MASS_B));
         bool turning = rows[WI_TURNING * LANES] != 0;
         I9 ia = inertia(wide_f, bundle, WB_INV_I_A, turning), ib = inertia(wide_f, bundle, WB_INV_I_B, turning);

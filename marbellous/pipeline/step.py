@@ -627,6 +627,14 @@ def _push_depth(ctx):
 
 
 @njit_inline
+def solve_softness(ctx):
+    """``(bias_rate, mass_scale, impulse_scale, max_bias)`` of the solve passes (``contact_solver.soft_bias``):
+    shallow overlap opened softly at the contacts' bias rate, as deep as the pushes leave to them."""
+    rate = ctx.soft[0, 0]
+    return rate, ctx.soft[0, 1], ctx.soft[0, 2], rate * _push_depth(ctx)
+
+
+@njit_inline
 def _contact_pass(ctx, tier, pushing, first_pass, softened):
     """One sequential-impulse pass over the contacts in the step's execution variant: on the velocities
     (solve: ``softened``, shallow overlap opened softly; relax: rigid), or, when ``pushing``, on the
@@ -636,7 +644,7 @@ def _contact_pass(ctx, tier, pushing, first_pass, softened):
     h = ctx.h
     rate = ctx.soft[0, 0]
     max_push = ctx.params_f[PF_MAX_PUSH]
-    soft = (rate, ctx.soft[0, 1], ctx.soft[0, 2], rate * _push_depth(ctx)) if softened else (0.0, 1.0, 0.0, 0.0)
+    soft = solve_softness(ctx) if softened else (0.0, 1.0, 0.0, 0.0)
     if tier == FULL:
         if ctx.bundled:
             return solve_bundle_pass(cf, ci, ctx.wide_f, ctx.wide_i, ctx.part_bundles, ctx.overflow,
