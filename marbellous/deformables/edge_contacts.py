@@ -2,14 +2,14 @@
 which the points against triangles (triangle_contacts.py) do not see, kept a thickness apart on the side they
 came from.
 
-Once per step (``edge_candidates``), a spatial hash over the edges' midpoints lists the pairs of cloth edges
-(of two cloths, or of one cloth with ``self_collision``) no farther apart than what the two can close in the
-step, leaving out edges that share an end or that lie within twice the cloth's thickness of each other in its
-rest shape, and records the side ``s = +-1``: the sign of ``(x_a - x_c) . (e_1 x e_2)``, ``e_1 = x_b - x_a``
-and ``e_2 = x_d - x_c``.  In each sub-step, a pair whose closest points ``p_1 = x_a + u e_1`` and
-``p_2 = x_c + v e_2`` lie inside both edges (``0 < u, v < 1``; at an end it is a point's contact) and closer than
-``g`` (the two edges' radii, half the thickness each) along ``n = s (e_1 x e_2) / |e_1 x e_2|``, or behind by
-less than that, is pushed apart:
+Once per step (``edge_candidates``), a grid of the edges' swept boxes (swept_boxes.py) lists the pairs of cloth
+edges (of two cloths, or of one cloth with ``self_collision``) whose swept boxes overlap and that are no farther
+apart than what the two can close in the step, leaving out edges that share an end or that lie within twice the
+cloth's thickness of each other in its rest shape, and records the side ``s = +-1``: the sign of
+``(x_a - x_c) . (e_1 x e_2)``, ``e_1 = x_b - x_a`` and ``e_2 = x_d - x_c``.  In each sub-step, a pair whose
+closest points ``p_1 = x_a + u e_1`` and ``p_2 = x_c + v e_2`` lie inside both edges (``0 < u, v < 1``; at an
+end it is a point's contact) and closer than ``g`` (the two edges' radii, half the thickness each) along
+``n = s (e_1 x e_2) / |e_1 x e_2|``, or behind by less than that, is pushed apart:
 
     C = n . (p_1 - p_2) - g >= 0
     grad_a = (1 - u) n,  grad_b = u n,  grad_c = -(1 - v) n,  grad_d = -v n
@@ -25,8 +25,8 @@ import numpy as np
 
 from .._numba.jit import njit
 from .particle_layout import (CL_SELF, CL_THICKNESS, E_A, E_B, E_FLAGS, EB_BROKEN, P_CLOTH, P_INV_MASS, P_POS,
-                              P_PREV, P_RADIUS, P_REST, P_VEL)
-from .particle_pairs import cell_key
+                              P_PREV, P_RADIUS, P_REST)
+from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, typical_extent, overlapping, sweep_point
 from .triangle_contacts import PUSH_SPEED
 
 #: ``|e_1 x e_2| / (|e_1| |e_2|)`` under which two edges count as parallel
@@ -90,126 +90,54 @@ def _segment_distance(pf, a, b, c, d):
 
 
 @njit
-def _edge_box(pf, ei, e, grow):
-    """``(lo, hi)`` of edge row ``e``'s box grown by ``grow`` (m)."""
-    a, b = ei[e, E_A], ei[e, E_B]
-    lo = (min(pf[a, P_POS], pf[b, P_POS]) - grow, min(pf[a, P_POS + 1], pf[b, P_POS + 1]) - grow,
-          min(pf[a, P_POS + 2], pf[b, P_POS + 2]) - grow)
-    hi = (max(pf[a, P_POS], pf[b, P_POS]) + grow, max(pf[a, P_POS + 1], pf[b, P_POS + 1]) + grow,
-          max(pf[a, P_POS + 2], pf[b, P_POS + 2]) + grow)
-    return lo, hi
-
-
-@njit
-def _speed(pf, ei, e, mean):
-    """The speed (m/s) of edge row ``e``'s faster end relative to the velocity ``mean``."""
-    fastest = 0.0
-    for p in (ei[e, E_A], ei[e, E_B]):
-        fastest = max(fastest, math.sqrt((pf[p, P_VEL] - mean[0]) ** 2 + (pf[p, P_VEL + 1] - mean[1]) ** 2
-                                         + (pf[p, P_VEL + 2] - mean[2]) ** 2))
-    return fastest
-
-
-@njit
-def edge_candidates(pf, pi, ei, ne, cloth_f, dt, slack, cell_start, entries, out):
+def edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, slack, cell_start, out):
     """List the candidate ``(edge, edge, side)`` rows into ``out`` (module docstring); returns how many there
-    are (rows past ``out``'s end are not written).  Two edges whose ends move at most ``s_1`` and ``s_2``
-    relative to the cloths' mean velocity close by at most ``(s_1 + s_2) dt <= 2 max(s_1, s_2) dt`` in the
-    step; so each pair is looked for from its faster edge only, within its box grown by that, ``slack`` (m)
-    and the thickness, over a hash of the edges' midpoints in cells of the largest edge's size (a sheet
-    whose corners whip at 14 m/s as it lands then costs what its fast edges reach, not what its fastest
-    reaches from every edge).  Scratch: ``cell_start`` (table + 1 ints) and ``entries`` (ne ints)."""
+    are (rows past ``out``'s end are not written).  Two edges are looked at when their swept boxes overlap
+    (swept_boxes.py; ``mean`` the velocity they sweep relative to, m/s, each grown by half its cloth's
+    thickness and half of ``slack``, m), and kept when they are no farther apart than the thickest cloth's
+    thickness, ``slack`` and what their ends can close in the step (``swept_boxes.closing_reach``).  Scratch:
+    ``cell_start`` (table + 1 ints)."""
     if cloth_f.shape[0] == 0 or (cloth_f.shape[0] == 1 and cloth_f[0, CL_SELF] == 0.0):
         return 0
-    table = cell_start.shape[0] - 1
     thickest = 0.0
     for c in range(cloth_f.shape[0]):
         thickest = max(thickest, cloth_f[c, CL_THICKNESS])
-    mean = [0.0, 0.0, 0.0]
-    count = 0
-    longest = 0.0
+    lo, hi = empty_boxes(ne)
     for e in range(ne):
-        if _cloth_edge(pi, ei, e) >= 0:
-            count += 1
-            a, b = ei[e, E_A], ei[e, E_B]
-            for k in range(3):
-                mean[k] += 0.5 * (pf[a, P_VEL + k] + pf[b, P_VEL + k])
-            lo, hi = _edge_box(pf, ei, e, 0.0)
-            longest = max(longest, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
-    if count == 0:
-        return 0
-    for k in range(3):
-        mean[k] /= count
-    cell = longest + thickest + slack
-    for k in range(table + 1):
-        cell_start[k] = 0
-    for e in range(ne):
-        if _cloth_edge(pi, ei, e) >= 0:
-            a, b = ei[e, E_A], ei[e, E_B]
-            cell_start[cell_key(0.5 * (pf[a, P_POS] + pf[b, P_POS]), 0.5 * (pf[a, P_POS + 1] + pf[b, P_POS + 1]),
-                                0.5 * (pf[a, P_POS + 2] + pf[b, P_POS + 2]), cell, table) + 1] += 1
-    for k in range(table):
-        cell_start[k + 1] += cell_start[k]
-    fill = cell_start[:table].copy()
-    speed = np.zeros(ne)
-    for e in range(ne):
-        if _cloth_edge(pi, ei, e) >= 0:
-            a, b = ei[e, E_A], ei[e, E_B]
-            key = cell_key(0.5 * (pf[a, P_POS] + pf[b, P_POS]), 0.5 * (pf[a, P_POS + 1] + pf[b, P_POS + 1]),
-                           0.5 * (pf[a, P_POS + 2] + pf[b, P_POS + 2]), cell, table)
-            entries[fill[key]] = e
-            fill[key] += 1
-            speed[e] = _speed(pf, ei, e, mean)
-    seen = np.full(ne, -1, np.int64)          # the edge whose search last listed each edge (hash collisions)
+        own = _cloth_edge(pi, ei, e)
+        if own >= 0:
+            sweep_point(pf, ei[e, E_A], mean, dt, lo, hi, e)
+            sweep_point(pf, ei[e, E_B], mean, dt, lo, hi, e)
+            grow_box(lo, hi, e, 0.5 * cloth_f[own, CL_THICKNESS] + 0.5 * slack)
+    cell = typical_extent(lo, hi, ne)
+    grid = bin_boxes(lo, hi, ne, cell, cell_start)
+    found = np.empty(ne, np.int64)
     n = 0
     for e1 in range(ne):
         own = _cloth_edge(pi, ei, e1)
         if own < 0:
             continue
         a, b = ei[e1, E_A], ei[e1, E_B]
-        reach = thickest + 2.0 * speed[e1] * dt + slack
-        lo, hi = _edge_box(pf, ei, e1, reach)
-        # the midpoints of the edges within reach lie in the box grown by half the longest edge
-        first = (math.floor((lo[0] - 0.5 * longest) / cell), math.floor((lo[1] - 0.5 * longest) / cell),
-                 math.floor((lo[2] - 0.5 * longest) / cell))
-        last = (math.floor((hi[0] + 0.5 * longest) / cell), math.floor((hi[1] + 0.5 * longest) / cell),
-                math.floor((hi[2] + 0.5 * longest) / cell))
-        cells = (last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1)
-        # (a fast edge whose box spans more cells than there are edges looks at every edge instead)
-        scan_all = cells > ne
-        for c_i in range(ne if scan_all else cells):
-            if scan_all:
-                lo_slot, hi_slot = c_i, c_i + 1
-            else:
-                iz = first[2] + c_i % (last[2] - first[2] + 1)
-                iy = first[1] + (c_i // (last[2] - first[2] + 1)) % (last[1] - first[1] + 1)
-                ix = first[0] + c_i // ((last[2] - first[2] + 1) * (last[1] - first[1] + 1))
-                key = cell_key((ix + 0.5) * cell, (iy + 0.5) * cell, (iz + 0.5) * cell, cell, table)
-                lo_slot, hi_slot = cell_start[key], cell_start[key + 1]
-            for slot in range(lo_slot, hi_slot):
-                e2 = slot if scan_all else entries[slot]
-                if _cloth_edge(pi, ei, e2) < 0 or e2 == e1 or seen[e2] == e1 or speed[e2] > speed[e1] \
-                        or (speed[e2] == speed[e1] and e2 < e1):
-                    continue
-                seen[e2] = e1
-                other = _cloth_edge(pi, ei, e2)
-                c, d = ei[e2, E_A], ei[e2, E_B]
-                if c == a or c == b or d == a or d == b or (other == own and cloth_f[own, CL_SELF] == 0.0):
-                    continue
-                if other == own and not _rest_apart(pf, a, b, c, d, 2.0 * cloth_f[own, CL_THICKNESS]):
-                    continue
-                lo2, hi2 = _edge_box(pf, ei, e2, 0.0)
-                if lo2[0] > hi[0] or hi2[0] < lo[0] or lo2[1] > hi[1] or hi2[1] < lo[1] or lo2[2] > hi[2] \
-                        or hi2[2] < lo[2] or _segment_distance(pf, a, b, c, d) > reach:
-                    continue
-                side = _side(pf, a, b, c, d)
-                if side == 0:
-                    continue
-                if n < out.shape[0]:
-                    out[n, 0] = e1
-                    out[n, 1] = e2
-                    out[n, 2] = side
-                n += 1
+        for f in range(overlapping(lo, hi, ne, cell, cell_start, grid, lo, hi, e1, e1, found)):
+            e2 = found[f]
+            other = _cloth_edge(pi, ei, e2)
+            c, d = ei[e2, E_A], ei[e2, E_B]
+            if c == a or c == b or d == a or d == b or (other == own and cloth_f[own, CL_SELF] == 0.0):
+                continue
+            if other == own and not _rest_apart(pf, a, b, c, d, 2.0 * cloth_f[own, CL_THICKNESS]):
+                continue
+            closing = max(closing_reach(pf, a, c, dt), closing_reach(pf, a, d, dt), closing_reach(pf, b, c, dt),
+                          closing_reach(pf, b, d, dt))
+            if _segment_distance(pf, a, b, c, d) > thickest + closing + slack:
+                continue
+            side = _side(pf, a, b, c, d)
+            if side == 0:
+                continue
+            if n < out.shape[0]:
+                out[n, 0] = e1
+                out[n, 1] = e2
+                out[n, 2] = side
+            n += 1
     return n
 
 

@@ -19,10 +19,15 @@ from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_
 
 
 @njit
+def index_key(i, j, k, table):
+    """The hash-table slot (of ``table``) of the cell of integer indices ``(i, j, k)``."""
+    return ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791)) % table
+
+
+@njit
 def cell_key(x, y, z, cell, table):
     """The hash-table slot of the cell of side ``cell`` (m) that holds the point ``(x, y, z)``."""
-    i, j, k = math.floor(x / cell), math.floor(y / cell), math.floor(z / cell)
-    return ((int(i) * 73856093) ^ (int(j) * 19349663) ^ (int(k) * 83492791)) % table
+    return index_key(int(math.floor(x / cell)), int(math.floor(y / cell)), int(math.floor(z / cell)), table)
 
 
 @njit

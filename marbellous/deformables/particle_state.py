@@ -297,18 +297,17 @@ class ParticleState:
         table = 1 << max(4, int(2 * n - 1).bit_length())
         aabbs = st.aabbs if st.aabbs.shape[0] >= max(nb, 1) else np.zeros((max(nb, 1), 6))
         scratch = (np.zeros(n + 1, dtype=np.int64), np.zeros(max(2 * ne, 1), dtype=np.int64),
-                   np.zeros(table + 1, dtype=np.int64), np.zeros(n, dtype=np.int64),
-                   np.zeros(max(ne, 1), dtype=np.int64), aabbs, np.zeros((max(nb, 1), BX_COLS)))
+                   np.zeros(table + 1, dtype=np.int64), np.zeros(n, dtype=np.int64), aabbs,
+                   np.zeros((max(nb, 1), BX_COLS)))
         return tri, bend_f, bend_i, cloth_f, scratch
 
     def _candidate_arguments(self, st, tri, cloth_f, scratch):
         """The arguments of ``find_candidates``."""
-        adjacent_start, adjacent, cell_start, cell_entries, edge_entries, aabbs, bx = scratch
+        adjacent_start, adjacent, cell_start, cell_entries, aabbs, bx = scratch
         return (self.params, self.pf, self.pi, self.n, self.ei, self.ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
                 st.sf, st.si, st.geom_f, st.geom_i, st.bodies.end, aabbs, bx, self.shape_pairs, self.particle_pairs,
                 self.triangle_pairs, self.edge_pairs, adjacent_start, adjacent, cell_start, cell_entries,
-                edge_entries, self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1],
-                self.rot_s, self.q_s)
+                self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s)
 
     def _stretch_system(self, bend_f, bend_i, h, passes):
         """The cloths' stretch factored for sub-steps of ``h`` s (over no edge when ``passes`` is 0), kept while

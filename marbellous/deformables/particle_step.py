@@ -147,8 +147,7 @@ def _kernels(meeting, coverage):
     @njit
     def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
                         aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
-                        cell_start, cell_entries, edge_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
-                        rot_s, q_s):
+                        cell_start, cell_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
         """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
         candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs`` and the
         ``(edge, edge, side)`` candidates into ``edge_pairs``; returns the four counts (a count past an array's
@@ -177,9 +176,9 @@ def _kernels(meeting, coverage):
         margin = 2.0 * (fastest * dt + reach)
         n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
                                      particle_pairs)
-        n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, reach, cell_start,
-                                         cell_entries, adjacent_start, adjacent, triangle_pairs)
-        n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, dt, reach, cell_start, edge_entries, edge_pairs)
+        n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, reach, cell_start,
+                                         adjacent_start, adjacent, triangle_pairs)
+        n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, reach, cell_start, edge_pairs)
         return n_shape, n_pair, n_triangle, n_edge
 
     @njit

@@ -2,9 +2,10 @@
 against other cloths', and colliding particles (``collide_particles``) against every cloth.
 
 A triangle is a slab of the cloth's thickness ``t``: a point of radius ``r`` stays at least ``r + t / 2`` from
-its plane, on the side it came from. Once per step (``triangle_candidates``), a spatial hash over the points
-lists the (point, triangle) pairs whose boxes, grown by what the two can close in the step, meet, leaving out a
-triangle's own corners, the points an edge joins to them (neighbours lie in the triangle's plane by design) and,
+its plane, on the side it came from. Once per step (``triangle_candidates``), a grid of the points' swept boxes
+(swept_boxes.py) lists the (point, triangle) pairs whose swept boxes overlap and whose boxes, grown by what the
+two can close in the step, meet, leaving out a triangle's own corners, the points an edge joins to them
+(neighbours lie in the triangle's plane by design) and,
 within a cloth, the vertices within twice its thickness of the triangle's corners in the cloth's rest shape (to
 reach the triangle from behind they would have to fold sharper than the thickness), and records the
 side ``s = +-1`` of the triangle each point is on then. In each sub-step, a pair whose point lies over the
@@ -35,8 +36,9 @@ import numpy as np
 from .._numba.jit import njit
 from .particle_contacts import append_pair
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
-                              P_RADIUS, P_REST, P_STATIC_FRICTION, P_VEL, PP_COLLIDE, T_A, T_CLOTH)
-from .particle_pairs import add_key, cell_key, joined
+                              P_RADIUS, P_REST, P_STATIC_FRICTION, PP_COLLIDE, T_A, T_CLOTH)
+from .particle_pairs import joined
+from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, typical_extent, overlapping, sweep_point
 
 #: how fast (m/s) a point and a triangle that overlap at the start of a sub-step are pushed apart
 PUSH_SPEED = 1.0
@@ -87,79 +89,54 @@ def _near_at_rest(pf, p, a, b, c, reach):
 
 
 @njit
-def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, margin, dt, slack, cell_start, cell_entries,
-                        adjacent_start, adjacent, out):
+def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slack, cell_start, adjacent_start,
+                        adjacent, out):
     """List the candidate ``(point, triangle, side)`` rows into ``out`` (module docstring); returns how many
-    there are (rows past ``out``'s end are not written).  ``margin`` (m): how far any point and triangle may
-    close in the step (the hash's cells); each pair is kept within its own closing, twice its relative speed
-    times ``dt`` plus ``slack`` (m).  Scratch: ``cell_start`` (table + 1 ints) and ``cell_entries`` (n_particles
-    ints)."""
+    there are (rows past ``out``'s end are not written).  A point and a triangle are looked at when their
+    swept boxes overlap (swept_boxes.py; ``mean`` the velocity they sweep relative to, m/s, each grown by its
+    half of the gap kept and half of ``slack``, m), and kept when the point lies within the triangle's box
+    grown by the gap, ``slack`` and what the two can close in the step (``swept_boxes.closing_reach``).
+    Scratch: ``cell_start`` (table + 1 ints)."""
     if n_tri == 0:
         return 0
-    table = cell_start.shape[0] - 1
-    reach = 0.0
+    point_lo, point_hi = empty_boxes(n_particles)
     for p in range(n_particles):
         if _is_point(pi, p):
-            reach = max(reach, pf[p, P_RADIUS])
-    thickest = 0.0
-    for c in range(cloth_f.shape[0]):
-        thickest = max(thickest, cloth_f[c, CL_THICKNESS])
-    grow = reach + 0.5 * thickest + margin
-    cell = 0.0
+            sweep_point(pf, p, mean, dt, point_lo, point_hi, p)
+            grow_box(point_lo, point_hi, p, pf[p, P_RADIUS] + 0.5 * slack)
+    tri_lo, tri_hi = empty_boxes(n_tri)
     for t in range(n_tri):
-        lo, hi = _triangle_box(pf, tri, t, grow)
-        cell = max(cell, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
-    for k in range(table + 1):
-        cell_start[k] = 0
-    for p in range(n_particles):
-        if _is_point(pi, p):
-            cell_start[cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table) + 1] += 1
-    for k in range(table):
-        cell_start[k + 1] += cell_start[k]
-    fill = cell_start[:table].copy()
-    for p in range(n_particles):
-        if _is_point(pi, p):
-            key = cell_key(pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2], cell, table)
-            cell_entries[fill[key]] = p
-            fill[key] += 1
+        for q in range(3):
+            sweep_point(pf, tri[t, T_A + q], mean, dt, tri_lo, tri_hi, t)
+        grow_box(tri_lo, tri_hi, t, 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS] + 0.5 * slack)
+    cell = typical_extent(tri_lo, tri_hi, n_tri)
+    grid = bin_boxes(point_lo, point_hi, n_particles, cell, cell_start)
+    found = np.empty(n_particles, np.int64)
     n = 0
-    keys = np.empty(8, np.int64)
     for t in range(n_tri):
-        lo, hi = _triangle_box(pf, tri, t, grow)
-        # the box is no wider than a cell: it meets at most two cells along each axis
-        n_keys = 0
-        for x in (lo[0], hi[0]):
-            for y in (lo[1], hi[1]):
-                for z in (lo[2], hi[2]):
-                    n_keys = add_key(keys, n_keys, cell_key(x, y, z, cell, table))
         a, b, c = tri[t, T_A], tri[t, T_A + 1], tri[t, T_A + 2]
         own = tri[t, T_CLOTH]
-        for k in range(n_keys):
-            for slot in range(cell_start[keys[k]], cell_start[keys[k] + 1]):
-                p = cell_entries[slot]
-                if p == a or p == b or p == c:
-                    continue
-                if pi[p, P_CLOTH] == own and cloth_f[own, CL_SELF] == 0.0:
-                    continue
-                # the box grown by what this point and triangle can close in the step: their relative sweep
-                closing = 0.0
-                for q in (a, b, c):
-                    closing = max(closing, math.sqrt((pf[p, P_VEL] - pf[q, P_VEL]) ** 2
-                                                     + (pf[p, P_VEL + 1] - pf[q, P_VEL + 1]) ** 2
-                                                     + (pf[p, P_VEL + 2] - pf[q, P_VEL + 2]) ** 2))
-                shrink = grow - (pf[p, P_RADIUS] + 0.5 * cloth_f[own, CL_THICKNESS] + 2.0 * closing * dt + slack)
-                x = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
-                if x[0] < lo[0] + shrink or x[0] > hi[0] - shrink or x[1] < lo[1] + shrink or x[1] > hi[1] - shrink \
-                        or x[2] < lo[2] + shrink or x[2] > hi[2] - shrink:
-                    continue
-                if joined(adjacent_start, adjacent, p, a) or joined(adjacent_start, adjacent, p, b) \
-                        or joined(adjacent_start, adjacent, p, c):
-                    continue
-                if pi[p, P_CLOTH] == own and _near_at_rest(pf, p, a, b, c, 2.0 * cloth_f[own, CL_THICKNESS]):
-                    continue
-                if n < out.shape[0]:
-                    out[n, 2] = _side(pf, tri, t, p)
-                n = append_pair(out, n, p, t)
+        for f in range(overlapping(point_lo, point_hi, n_particles, cell, cell_start, grid, tri_lo, tri_hi, t, -1,
+                                   found)):
+            p = found[f]
+            if p == a or p == b or p == c:
+                continue
+            if pi[p, P_CLOTH] == own and cloth_f[own, CL_SELF] == 0.0:
+                continue
+            # the triangle's box grown by what this point and triangle can close in the step
+            closing = max(closing_reach(pf, p, a, dt), closing_reach(pf, p, b, dt), closing_reach(pf, p, c, dt))
+            lo, hi = _triangle_box(pf, tri, t, pf[p, P_RADIUS] + 0.5 * cloth_f[own, CL_THICKNESS] + closing + slack)
+            if pf[p, P_POS] < lo[0] or pf[p, P_POS] > hi[0] or pf[p, P_POS + 1] < lo[1] or pf[p, P_POS + 1] > hi[1] \
+                    or pf[p, P_POS + 2] < lo[2] or pf[p, P_POS + 2] > hi[2]:
+                continue
+            if joined(adjacent_start, adjacent, p, a) or joined(adjacent_start, adjacent, p, b) \
+                    or joined(adjacent_start, adjacent, p, c):
+                continue
+            if pi[p, P_CLOTH] == own and _near_at_rest(pf, p, a, b, c, 2.0 * cloth_f[own, CL_THICKNESS]):
+                continue
+            if n < out.shape[0]:
+                out[n, 2] = _side(pf, tri, t, p)
+            n = append_pair(out, n, p, t)
     return n
 
 
