@@ -13,13 +13,14 @@ meeting place lies in both boxes, so only pairs whose boxes overlap are candidat
 direction each one moves in, so a sheet that has stopped on a sphere in its middle while its rim still falls
 pairs each edge with the few it can reach, not with every edge within its speed's reach in all directions.
 
-The pairing: a hash grid of cells whose width along each axis is ``cell 2^l`` for that axis' level ``l``
-(``cell`` the boxes' median largest extent).  Each box is binned once, into the cell of its low corner among
-the cells as narrow as it is along each axis (so a box long in one direction, the sweep of a fast point, sits
-in cells long in that direction only), with a counting sort so the candidates come in a fixed order.  A box
-that overlaps a query box then has its low corner at most one cell below the query's along each axis, so a
-query looks at those few cells of each shape of cell in use.  A sheet at rest has every box in the finest
-cells; the fast rim of a sheet landing on a sphere moves its own boxes to longer cells, not everyone's.
+The pairing: a hash grid (``particle_pairs.index_key``) of cells whose width along each axis is ``cell 2^l``
+for that axis' level ``l`` (``cell`` the boxes' median largest extent).  Each box is binned once, into the cell
+of its low corner among the cells as narrow as it is along each axis (so a box long in one direction, the sweep
+of a fast point, sits in cells long in that direction only), with a counting sort so the candidates come in a
+fixed order.  A box that overlaps a query box then has its low corner at most one cell below the query's along
+each axis, so a query looks at those few cells of each shape of cell in use.  A sheet at rest has every box in
+the finest cells; the fast rim of a sheet landing on a sphere moves its own boxes to longer cells, not
+everyone's.
 """
 import math
 
@@ -27,6 +28,7 @@ import numpy as np
 
 from .._numba.jit import njit
 from .particle_layout import P_FORCE, P_INV_MASS, P_POS, P_VEL
+from .particle_pairs import index_key
 
 #: levels along an axis (a box wider along some axis than 2^15 cell is looked at by every query)
 LEVELS = 16
@@ -91,7 +93,7 @@ def typical_extent(lo, hi, count):
 @njit
 def shape_key(i, j, k, shape, table):
     """The hash-table slot (of ``table``) of cell ``(i, j, k)`` among the cells of shape ``shape``."""
-    return ((i * 73856093) ^ (j * 19349663) ^ (k * 83492791) ^ (shape * 2654435761)) % table
+    return index_key(i ^ (shape * 2654435761), j, k, table)
 
 
 @njit
