@@ -59,7 +59,7 @@ def test_the_grid_finds_every_overlapping_box_once(data):
     assert len(pairs) == len(set(pairs)) and all(c > b for b, c in pairs)
 
 
-def test_a_point_sweeps_along_its_velocity_relative_to_the_mean_and_its_force():
+def test_a_point_sweeps_along_its_velocity_relative_to_the_mean_and_its_force_and_may_turn():
     pf = np.zeros((1, PF_COLS))
     pf[0, P_POS:P_POS + 3] = (1.0, 2.0, 3.0)
     pf[0, P_VEL:P_VEL + 3] = (3.0, -1.0, 0.0)
@@ -68,9 +68,11 @@ def test_a_point_sweeps_along_its_velocity_relative_to_the_mean_and_its_force():
     mean = np.array([1.0, 1.0, 0.0])
     lo, hi = sb.empty_boxes(1)
     sb.sweep_point(pf, 0, mean, DT, lo, hi, 0)
+    # from x to x + 2 (v - m) dt + w F dt^2, grown by half its speed relative to the mean times dt
     end = np.array([1.0 + 2 * 2.0 * DT, 2.0 + 2 * -2.0 * DT, 3.0 - 2.0 * 36.0 * DT * DT])
-    assert np.allclose(lo[0], np.minimum(pf[0, :3], end), rtol=0, atol=1e-15)
-    assert np.allclose(hi[0], np.maximum(pf[0, :3], end), rtol=0, atol=1e-15)
+    pad = 0.5 * math.hypot(2.0, -2.0) * DT
+    assert np.allclose(lo[0], np.minimum(pf[0, :3], end) - pad, rtol=0, atol=1e-15)
+    assert np.allclose(hi[0], np.maximum(pf[0, :3], end) + pad, rtol=0, atol=1e-15)
     other = np.zeros((2, PF_COLS))
     other[0] = pf[0]
     other[1, P_VEL:P_VEL + 3] = (0.0, 2.0, 0.0)

@@ -1,11 +1,15 @@
 """Swept boxes and the hash grid that pairs them: the broad phase of the cloths' contacts with themselves
 (triangle_contacts.py, edge_contacts.py).
 
-A point's swept box holds where it goes in the step if it keeps its velocity ``v`` relative to a common
-velocity ``m`` (any will do: two points that meet at time ``s`` meet at one place in every frame moving at a
-constant velocity) at up to twice its speed, and its user force ``F`` (of inverse mass ``w``) acts on it:
+A point's swept box holds where it goes in the step if it keeps the direction of its velocity ``v`` relative
+to a common velocity ``m`` (any will do: two points that meet at time ``s`` meet at one place in every frame
+moving at a constant velocity) at up to twice its speed, or turns by up to half its speed, and its user force
+``F`` (of inverse mass ``w``) acts on it:
 
-    box(p) = box{ x_p,  x_p + 2 (v_p - m) dt + w_p F_p dt^2 } grown by its pad
+    box(p) = box{ x_p,  x_p + 2 (v_p - m) dt + w_p F_p dt^2 } grown by |v_p - m| dt / 2 and its pad
+
+(the turn: a bag's vertices pushed about by the ball in it, boxed along their velocities alone, missed folds of
+the bag they were pushed into, which then snagged: its edges ended stretched by 18 % instead of 12 %)
 
 (``m`` the mean velocity of the particles, so a sheet falling as a whole has boxes no larger than at rest).
 A triangle's or an edge's box holds its corners' boxes.  Where two primitives meet within the step, the
@@ -43,12 +47,15 @@ def empty_boxes(count):
 @njit
 def sweep_point(pf, p, mean, dt, lo, hi, row):
     """Widen box ``row`` of ``lo``/``hi`` (m) to hold particle row ``p``'s sweep over the step of ``dt`` s,
-    ``x_p`` to ``x_p + 2 (v_p - mean) dt + w_p F_p dt^2`` (module docstring)."""
+    ``x_p`` to ``x_p + 2 (v_p - mean) dt + w_p F_p dt^2`` and the turn ``|v_p - mean| dt / 2`` around it (module
+    docstring)."""
+    turn = 0.5 * math.sqrt((pf[p, P_VEL] - mean[0]) ** 2 + (pf[p, P_VEL + 1] - mean[1]) ** 2
+                           + (pf[p, P_VEL + 2] - mean[2]) ** 2)
     for k in range(3):
         x = pf[p, P_POS + k]
         y = x + 2.0 * (pf[p, P_VEL + k] - mean[k]) * dt + pf[p, P_INV_MASS] * pf[p, P_FORCE + k] * dt * dt
-        lo[row, k] = min(lo[row, k], x, y)
-        hi[row, k] = max(hi[row, k], x, y)
+        lo[row, k] = min(lo[row, k], min(x, y) - turn * dt)
+        hi[row, k] = max(hi[row, k], max(x, y) + turn * dt)
 
 
 @njit
