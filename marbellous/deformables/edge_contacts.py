@@ -26,7 +26,7 @@ import numpy as np
 from .._numba.jit import njit
 from .particle_layout import (CL_SELF, CL_THICKNESS, E_A, E_B, E_FLAGS, EB_BROKEN, P_CLOTH, P_INV_MASS, P_POS,
                               P_PREV, P_RADIUS, P_REST)
-from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, typical_extent, overlapping, sweep_point
+from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, overlapping, sweep_point, typical_extent
 from .triangle_contacts import PUSH_SPEED
 
 #: ``|e_1 x e_2| / (|e_1| |e_2|)`` under which two edges count as parallel

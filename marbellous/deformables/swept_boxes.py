@@ -8,10 +8,9 @@ moving at a constant velocity) at up to twice its speed, or turns by up to half 
 
     box(p) = box{ x_p,  x_p + 2 (v_p - m) dt + w_p F_p dt^2 } grown by |v_p - m| dt / 2 and its pad
 
-(the turn: a bag's vertices pushed about by the ball in it, boxed along their velocities alone, missed folds of
-the bag they were pushed into, which then snagged: its edges ended stretched by 18 % instead of 12 %)
-
-(``m`` the mean velocity of the particles, so a sheet falling as a whole has boxes no larger than at rest).
+(``m`` the mean velocity of the particles, so a sheet falling as a whole has boxes no larger than at rest; the
+turn: a bag's vertices pushed about by the ball in it, boxed along their velocities alone, missed folds of the
+bag they were pushed into, which then snagged: its edges ended stretched by 18 % instead of 12 %).
 A triangle's or an edge's box holds its corners' boxes.  Where two primitives meet within the step, the
 meeting place lies in both boxes, so only pairs whose boxes overlap are candidates: the boxes follow the
 direction each one moves in, so a sheet that has stopped on a sphere in its middle while its rim still falls
