@@ -313,8 +313,13 @@ def test_cloth_and_particles_come_to_rest_on_a_soft_block():
     block = w.add_soft_body(vertices, tets, young_modulus=5e4, position=(0, 0.16, 0))
     sheet = w.add_cloth(*mb.cloth_grid(0.8, 0.8, 20, 20), mass=0.2, position=(0, 0.6, 0))
     grains = w.add_particles([(0.1, 1.0, 0.05), (-0.1, 1.2, 0.0)], radius=0.03, collide_particles=True)
-    for _ in range(180):
+    # (the block under them rings down slowly: at 3 s the grains still rise and fall at up to 5 cm/s, at 4-5 s at
+    # under 2 cm/s; every step of the fifth second is checked, not one instant of an oscillation)
+    fastest = 0.0
+    for step in range(300):
         w.step(1 / 60)
+        if step >= 240:
+            fastest = max(fastest, np.abs(grains.velocities).max())
     y = block.positions[:, 1]
     top = y[vertices[:, 1] > 0.15 - 1e-9]
     x = sheet.positions
@@ -324,7 +329,7 @@ def test_cloth_and_particles_come_to_rest_on_a_soft_block():
     # spheres, nowhere through the block
     assert top.mean() + block.radius < x[over, 1].min() < top.max() + 0.5 * sheet.thickness + block.radius + 1e-3
     assert np.all(grains.positions[:, 1] > x[over, 1].min())
-    assert np.abs(grains.velocities).max() < 0.05
+    assert fastest < 0.05
 
 
 def test_soft_bodies_carry_rigid_bodies_and_are_pushed_by_them():
