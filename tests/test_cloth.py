@@ -6,9 +6,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import marbellous as mb
 from marbellous.cloth import cloth_grid
+from marbellous.deformables.stretch_solve import pushing_forces
 
 DT = 1.0 / 60.0
 
@@ -182,13 +185,15 @@ def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
     assert np.all(np.isfinite(c.positions)) and y[-1] > 0.5
 
 
-def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy():
+@pytest.mark.parametrize("mass", [1.0, 3.0])
+def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy(mass):
     # the trampoline above, solved as a whole cloth (cloth_stretch_passes = 1), undamped, without bending: the
     # box's energy and the sheet's (its springs, motion and weight) never add up to more than the box brought,
-    # since each sub-step is a backward-Euler step of the springs (which only loses energy) and the contacts are
-    # inelastic (0.5 % for evaluating the springs at the frames' ends).  The box gets the springs' pull on the
-    # vertices it holds (stretch_solve.hold_bodies); with only its share of the vertices' moves out of it, it
-    # pushed the sheet down at no cost and rose to 3.8 m
+    # since each sub-step is a backward-Euler step of the springs and the box's contacts (which only loses energy)
+    # and the contacts are inelastic (0.5 % for evaluating the springs at the frames' ends).  The box 15 times as
+    # heavy as the sheet too: with the springs' pull at the one vertex a contact moved, it rose to 2.6 m, and
+    # with tethers on the solve's vertices it took energy from their fight with the contacts
+    # (stretch_solve.hold_bodies, tethers.py)
     n = 21
     v, t = cloth_grid(1.0, 1.0, n, n)
     w = mb.World()
@@ -198,7 +203,7 @@ def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy():
                     self_collision=False)
     c.pin([0, n - 1, n * (n - 1), n * n - 1])
     half = (0.15, 0.05, 0.15)
-    box = w.add_body(mb.Box(half), position=(0.0, 1.5, 0.0), mass=1.0)
+    box = w.add_body(mb.Box(half), position=(0.0, 1.5, 0.0), mass=mass)
     inertia = box.mass * np.array([half[1] ** 2 + half[2] ** 2, half[0] ** 2 + half[2] ** 2,
                                    half[0] ** 2 + half[1] ** 2]) / 3.0
     e, rest, k = _springs(v, t, 1.0e4)
@@ -220,6 +225,100 @@ def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy():
     assert most <= 1.005 * brought
     # it landed on the sheet and stayed on it
     assert lowest < 1.0 + 0.05 and box.position[1] > 0.5
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 9), st.integers(0, 2 ** 32 - 1))
+def test_the_contact_forces_solve_their_complementarity_problem(m, seed):
+    # mu >= 0, gap = S mu - d >= 0, mu . gap = 0 with S symmetric positive definite is the least of
+    # mu^T S mu / 2 - d . mu over mu >= 0, a non-negative least-squares problem once S = L L^T:
+    # |L^T mu - L^-1 d|^2 (scipy's nnls, an independent reference); contacts coupled as a sheet couples them
+    # (positive off-diagonal terms, condition up to 1e6) and overlaps of either sign
+    from scipy.optimize import nnls
+    rng = np.random.default_rng(seed)
+    basis = rng.normal(size=(m, m)) + 3.0 * np.abs(rng.normal(size=(m, m)))
+    s = basis @ basis.T + 10.0 ** rng.uniform(-6, 0) * np.trace(basis @ basis.T) * np.eye(m) / m
+    d = rng.normal(size=m) * 10.0 ** rng.uniform(-4, 0)
+    mu = pushing_forces(s, d)
+    lower = np.linalg.cholesky(s)
+    expected = nnls(lower.T, np.linalg.solve(lower, d), maxiter=1000)[0]
+    scale = np.abs(expected).max() + 1e-300
+    assert np.all(mu >= 0.0)
+    assert np.allclose(mu, expected, rtol=1e-6, atol=1e-6 * scale)
+    gap = s @ mu - d
+    assert np.all(gap >= -1e-9 * (np.abs(s) @ np.abs(mu) + np.abs(d)))
+
+
+def _box_on_sheet_at_rest(v, t, stretch_stiffness, sheet_mass, fixed, half, mass, radius):
+    """``(height of the box's centre, vertices' positions)`` (m) at rest of a sheet with the vertices ``fixed``
+    held and a level box of half extents ``half`` and ``mass`` kg lying on it, centred over the origin, without
+    friction: the least of the springs' energy plus the weights' potential energy with the vertices under the
+    box (within its footprint) no higher than its underside less their radius (L-BFGS-B: each such vertex's
+    height is the box's less its gap, a variable >= 0).  A reference independent of the engine's solvers."""
+    from scipy.optimize import minimize
+    e, rest, k = _springs(v, t, stretch_stiffness)
+    area = 0.5 * np.linalg.norm(np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]), axis=1)
+    weight = 9.81 * sheet_mass * np.bincount(t.ravel(), np.repeat(area, 3), len(v)) / (3.0 * area.sum())
+    free = np.setdiff1d(np.arange(len(v)), fixed)
+    under = np.flatnonzero((np.abs(v[free, 0]) < half[0]) & (np.abs(v[free, 2]) < half[2]))
+    top = half[1] + radius
+    n_free = 3 * len(free)
+
+    def place(q):
+        x = v.copy()
+        x_free = q[:n_free].reshape(-1, 3).copy()
+        x_free[under, 1] = q[-1] - top - q[n_free:-1]
+        x[free] = x_free
+        return x
+
+    def energy(q):
+        x = place(q)
+        d = x[e[:, 0]] - x[e[:, 1]]
+        length = np.linalg.norm(d, axis=1)
+        pull = (k * (length - rest) / length)[:, None] * d
+        gradient = np.zeros_like(x)
+        np.add.at(gradient, e[:, 0], pull)
+        np.add.at(gradient, e[:, 1], -pull)
+        gradient[:, 1] += weight
+        g = gradient[free]
+        g_box = 9.81 * mass + g[under, 1].sum()
+        g_gap = -g[under, 1]
+        g[under, 1] = 0.0
+        value = 0.5 * np.sum(k * (length - rest) ** 2) + np.sum(weight * x[:, 1]) + 9.81 * mass * q[-1]
+        return value, np.concatenate([g.ravel(), g_gap, [g_box]])
+
+    start = np.concatenate([v[free].ravel(), np.zeros(len(under)), [top]])
+    bounds = [(None, None)] * n_free + [(0.0, None)] * len(under) + [(None, None)]
+    fit = minimize(energy, start, jac=True, method="L-BFGS-B", bounds=bounds,
+                   options={"maxiter": 100000, "gtol": 1e-12, "ftol": 1e-16})
+    return fit.x[-1], place(fit.x)
+
+
+def test_a_box_resting_on_a_whole_cloth_solve_sheet_sags_it_to_their_equilibrium():
+    # a 2 kg box (0.28 m square) on a 1 m sheet of 21 x 21 vertices and 0.2 kg pinned all round, solved as a whole
+    # cloth: at rest, the box's contacts are solved with the sheet's step (stretch_solve.hold_bodies), so box and
+    # sheet rest where their energy is least (with the springs' pull at the one vertex a contact moved, the box
+    # floated 6 cm above it and shook the sheet at 0.5 m/s).  The reference has no friction, which can hold a
+    # little of the sheet's pull under the box here: the box's sag within 2 % of the reference's, and the middle
+    # vertex's
+    n, stiffness, load = 21, 1.0e4, 2.0
+    v, t, border, middle = _pinned_sheet(n)
+    w = mb.World()
+    w.cloth_stretch_passes = 1
+    c = w.add_cloth(v, t, mass=0.2, stretch_stiffness=stiffness, bend_stiffness=0.0, damping=2.0,
+                    self_collision=False)
+    c.pin(border)
+    half = (0.14, 0.05, 0.14)
+    radius = c.thickness / 2.0
+    expected, x = _box_on_sheet_at_rest(v, t, stiffness, 0.2, border, half, load, radius)
+    box = w.add_body(mb.Box(half), position=(0.0, half[1] + radius, 0.0), mass=load, linear_damping=2.0,
+                     angular_damping=2.0)
+    for _ in range(900):
+        w.step(DT)
+    sag = half[1] + radius - expected
+    assert 0.04 < sag < 0.08
+    assert abs(box.position[1] - expected) < 0.02 * sag
+    assert abs(c.positions[middle, 1] - x[middle, 1]) < 0.02 * -x[middle, 1]
 
 
 def _springs(v, t, stretch_stiffness):

@@ -188,7 +188,7 @@ def _kernels(meeting, coverage):
                        scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
                        soft_tolerance, soft_iterations, soft_rot, soft_work, solved, stretch_edges, flat, hinges,
                        weights, slot, rows, mass_h2, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
-                       u_diagonal, y, b, x):
+                       u_diagonal, y, b, x, columns, column_of, column_unknown, column_used):
         """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
         (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
         ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
@@ -226,7 +226,7 @@ def _kernels(meeting, coverage):
             solve_edges(pf, pi, ef, ei, ne, solved, bf, bi, bx, back, h, 1.0 / substeps, False)
             if passes == 0:
                 solve_bends(pf, bend_f, bend_i, n_bends, flat, h)
-            solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, back, h)
+            solve_tethers(pf, pi, bf, bi, bx, tether_p, tether_q, tether_length, slot, back, h)
             _pins(pf, pi, n_particles, bf, bi, bx, back)
             # (particles against particles first: the shapes' static friction then holds what a particle's load
             # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
@@ -247,7 +247,9 @@ def _kernels(meeting, coverage):
                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             most = max(most, nk)
             if passes > 0:
-                hold_bodies(pf, ef, ei, stretch_edges, slot, mass_h2, y, x, kf, ki, nk, bf, bi, bx, back, h)
+                hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
+                            u_diagonal, x, columns, column_of, column_unknown, column_used, kf, ki, nk, bf, bi, bx,
+                            back, h)
             _velocities(pf, n_particles, h)
             velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
             if meeting and n_soft > 0:

@@ -1,6 +1,8 @@
 """Tethers (long-range attachments, Kim, Chentanez and Mueller 2012): no particle of an inextensible network
 or of a cloth gets farther from its nearest world pin than the network's rods and cables (the cloth's edges)
-allow (a cloth that can tear, ``tear_strain``, has none: they would hold it back from its tear).
+allow (a cloth that can tear, ``tear_strain``, has none: they would hold it back from its tear; nor do the
+vertices of the whole-cloth solve, stretch_solve.py, which hands a load to the pins by itself, and whose contacts
+with bodies a tether pulling back each sub-step would feed with energy).
 
 One position pass per sub-step hands a load up a chain of rods one link per pass: a 50 kg box hanging from
 a rope of ten 50 g beads, 1 m long, sank 58 mm (5.8 %) below the rope's length at 16 sub-steps (a 5 kg box:
@@ -60,10 +62,13 @@ def find_tethers(pf, pi, n, ef, ei, ne):
 
 
 @njit
-def solve_tethers(pf, pi, bf, bi, bx, particles, pins, lengths, back, h):
-    """Pull every particle farther from its pin than its tether's length back onto the tether's sphere."""
+def solve_tethers(pf, pi, bf, bi, bx, particles, pins, lengths, slot, back, h):
+    """Pull every particle farther from its pin than its tether's length back onto the tether's sphere (not
+    the unknowns of the whole-cloth solve, ``slot >= 0``: it hands the load to the pins itself)."""
     for t in range(particles.shape[0]):
         p, q = particles[t], pins[t]
+        if slot[p] >= 0:
+            continue
         d0 = pf[p, P_POS] - pf[q, P_POS]
         d1 = pf[p, P_POS + 1] - pf[q, P_POS + 1]
         d2 = pf[p, P_POS + 2] - pf[q, P_POS + 2]
