@@ -571,3 +571,16 @@ def test_the_stiff_cloth_example_holds_the_sheet_together_when_solved_at_once():
     local, whole = r[0], r[1]
     assert whole[0] < 0.05 and whole[1] < 1.0 and whole[2] > -0.005
     assert local[0] > whole[0]
+
+
+def test_the_trampoline_example_bounces_lower_each_time_and_rests_on_the_sheet():
+    """examples/cloth_trampoline.py: the 2 kg box dropped on the whole-cloth trampoline never bounces as high as it
+    fell, each bounce lower than the one before (the sheet's damping takes energy, the contacts give none), and
+    after 6 s it lies on the sheet sagged under it, the sheet nearly still."""
+    example = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "cloth_trampoline.py"))
+    tops, rest, fastest = example["run"]()
+    start = example["HEIGHT"] + example["HALF"][1] + example["DROP"]
+    assert len(tops) >= 3 and tops[0] < start
+    assert all(later < earlier for earlier, later in zip(tops, tops[1:]))
+    assert 0.5 < rest < example["HEIGHT"] + example["HALF"][1] - 0.03
+    assert fastest < 0.5
