@@ -3,8 +3,9 @@ triangles and hinges (bends), kept in the cloth's own vertex numbering and laid 
 
 A cloth's mass is spread over its vertices by area, its springs and hinges follow from its rest shape
 (``cloth_topology.py``).  When edges tear, the cloth's vertices split along the tear: its set of particles
-grows (the new vertices copy the position, velocity and pin of the vertex they came from, the masses follow
-the new fans' areas), and its edges and hinges are derived again.
+grows (the new vertices copy the position and velocity of the vertex they came from, the masses follow the new
+fans' areas; a pin stays with the vertex that keeps its number), and its edges and hinges are derived again.  An
+edge on the border that tears starts a crack into the cloth (``crack_from_border``).
 """
 import numpy as np
 
@@ -80,12 +81,42 @@ def torn_pairs(ps, record):
     return np.sort(torn, axis=1)
 
 
+def crack_from_border(ps, record, torn):
+    """Where an edge on the border (held by one triangle) has torn, the crack runs into the cloth: the more
+    stretched of its triangle's two other edges that are held by two triangles tears too, so the vertex on the
+    border splits and the cloth opens there (a border edge alone separates nothing).  ``torn``: the torn edges
+    (sorted vertex pairs); returns them with the edges torn here."""
+    triangles = record.triangles
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    keys, held = np.unique(edges, axis=0, return_counts=True)
+    inner = {(int(a), int(b)) for a, b in keys[held == 2]}
+    g, net = record.set, record.network
+    x = ps.pf[g.start:g.start + g.count, P.P_POS:P.P_POS + 3]
+    ei = ps.ei[net.start:net.start + net.count]
+    row = {(int(a), int(b)): r for r, (a, b) in enumerate(np.sort(ei[:, P.E_A:P.E_B + 1] - g.start, axis=1))}
+    rest = ps.ef[net.start:net.start + net.count, P.E_REST]
+    cracked = set()
+    for a, b in torn:
+        if (int(a), int(b)) in inner:
+            continue
+        corners = triangles[np.flatnonzero(np.isin(triangles, (a, b)).sum(axis=1) == 2)[0]]
+        c = int(corners[(corners != a) & (corners != b)][0])
+        onward = [pair for pair in (tuple(sorted((int(a), c))), tuple(sorted((int(b), c)))) if pair in inner]
+        if onward:
+            # the strain |x_u - x_v| / L - 1 of each edge the crack can run on along
+            strain = [np.linalg.norm(x[u] - x[v]) / rest[row[(u, v)]] - 1.0 for u, v in onward]
+            cracked.add(onward[int(np.argmax(strain))])
+    for u, v in cracked:
+        ps.ei[net.start + row[(u, v)], P.E_FLAGS] |= P.EB_BROKEN
+    return torn_pairs(ps, record) if cracked else torn
+
+
 def tear(ps, record):
-    """After the step broke some of the cloth's edges: split its vertices along the tears, grow its set of
-    particles, and derive its springs and hinges again (module docstring)."""
-    torn = torn_pairs(ps, record)
-    # (an edge on the border, held by one triangle, separates nothing when it tears: it is derived again from its
-    # triangle below and acts on, and is not counted; the tears are the edges held by two)
+    """After the step broke some of the cloth's edges: run the cracks on from the border, split its vertices
+    along the tears, grow its set of particles, and derive its springs and hinges again (module docstring)."""
+    torn = crack_from_border(ps, record, torn_pairs(ps, record))
+    # (a torn edge on the border is derived again from its triangle below and acts on, and is not counted; the
+    # tears are the edges held by two)
     record.torn += int(np.count_nonzero(edges_and_hinges(record.triangles, torn)[1])) - record.still_torn
     g = record.set
     old = ps.pf[g.start:g.start + g.count]
@@ -93,9 +124,14 @@ def tear(ps, record):
     record.triangles = triangles
     f = old[source].copy()
     i = ps.pi[g.start:g.start + g.count][source].copy()
+    # a pinned vertex that splits keeps its pin on the fan that keeps its number: the others come away (pinned
+    # too, the cloth could never tear off its pins, and a crack would run round a pin one edge a step)
+    came_away = (np.arange(source.shape[0]) >= g.count) & ((i[:, P.P_FLAGS] & P.PP_PINNED) != 0)
+    i[came_away, P.P_FLAGS] &= ~P.PP_PINNED
+    i[came_away, P.P_PIN_BODY] = -1
     rest = f[:, P.P_REST:P.P_REST + 3]
     f[:, P.P_MASS] = vertex_masses(rest, triangles, source.shape[0], record.density)
-    free = f[:, P.P_INV_MASS] > 0.0
+    free = (f[:, P.P_INV_MASS] > 0.0) | came_away
     f[free, P.P_INV_MASS] = 1.0 / f[free, P.P_MASS]
     ps.replace_set(g, f, i)
     # (a torn edge still held by two triangles has kept both its vertices' numbers: the ends that split no
