@@ -320,9 +320,8 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
         given[i] = kf[c, K_DEPTH] / (pf[p, P_INV_MASS] + w_b)
         delta[i] = kf[c, K_DEPTH]
         for j in range(m):
-            system[i, j] = columns[slot[ki[held[j], K_PARTICLE]], z[i]] * (normal[i, 0] * normal[j, 0]
-                                                                   + normal[i, 1] * normal[j, 1]
-                                                                   + normal[i, 2] * normal[j, 2])
+            alike = normal[i, 0] * normal[j, 0] + normal[i, 1] * normal[j, 1] + normal[i, 2] * normal[j, 2]
+            system[i, j] = columns[slot[ki[held[j], K_PARTICLE]], z[i]] * alike
         system[i, i] += h * h * w_b
     mu = pushing_forces(system, delta)
     # each held vertex back to where it was before the contact pass, then every vertex by Z C^T mu
