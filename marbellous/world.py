@@ -491,9 +491,8 @@ class World:
         (0 to 100; default 0: each spring and hinge on its own, as a network's).  Each pass is one linear solve of
         a backward-Euler step of all the cloth's springs and flat hinges, which holds a fine, stiff sheet
         together where one spring at a time lets it stretch and shake (a 128 x 128 sheet draped over a sphere:
-        its edges within 2 % instead of 169 %).  Bodies' contacts with such cloth are solved with its step.  Not yet
-        for cloth that folds onto itself with self collision: a 50 x 50 sheet hung by two corners blows up once it
-        swings and folds (deformables/stretch_solve.py)."""
+        its edges within 2 % instead of 169 %).  Bodies' contacts with such cloth, and its contacts with itself and
+        other cloth, are solved with its step (deformables/stretch_solve.py, deformables/layer_contacts.py)."""
         return self._cloth_stretch_passes
 
     @cloth_stretch_passes.setter

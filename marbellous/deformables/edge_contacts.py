@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
+from .layer_contacts import record_push
 from .particle_layout import (CL_SELF, CL_THICKNESS, E_A, E_B, E_FLAGS, EB_BROKEN, P_CLOTH, P_INV_MASS, P_POS,
                               P_PREV, P_RADIUS, P_REST)
 from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, overlapping, sweep_point, typical_extent
@@ -142,8 +143,10 @@ def edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, slack, cell_start, out):
 
 
 @njit
-def edge_contacts(pf, ei, pairs, n_pairs, h):
-    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds."""
+def edge_contacts(pf, ei, pairs, n_pairs, h, lf, li, n_rec):
+    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds; each push is
+    recorded into ``lf``/``li`` after the ``n_rec`` there (``layer_contacts.record_push``); returns their new
+    count."""
     push = PUSH_SPEED * h
     for k in range(n_pairs):
         e1, e2, s = pairs[k, 0], pairs[k, 1], pairs[k, 2]
@@ -188,3 +191,5 @@ def edge_contacts(pf, ei, pairs, n_pairs, h):
             pf[b, P_POS + j] += wb * u * dlambda * n[j]
             pf[c, P_POS + j] -= wc * (1.0 - v) * dlambda * n[j]
             pf[d, P_POS + j] -= wd * v * dlambda * n[j]
+        n_rec = record_push(lf, li, n_rec, -1 - k, (a, b, c, d), (1.0 - u, u, -(1.0 - v), -v), n, dlambda, target)
+    return n_rec

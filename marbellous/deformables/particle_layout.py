@@ -112,6 +112,18 @@ KI_COLS = 3
 KK_BODY = 0
 KK_PARTICLE = 1
 
+# --- the pushes of a sub-step's cloth contacts with cloth (points on triangles, edges on edges), float table
+# lf and int table li (scratch of the step, for the whole-cloth solve, layer_contacts.py) ------------------------
+L_NORMAL = 0         # the unit normal the push was along, 3
+L_WEIGHT = 3         # each corner's weight in the contact's distance n . sum_j c_j x_j, 4
+L_PUSH = 7           # the positional impulse (kg m) the position pass gave along n
+L_TARGET = 8         # the distance (m) it pushed the contact out to
+LF_COLS = 9
+
+L_CORNER = 0         # the four corners' particle rows (-1: none), 4
+L_PAIR = 4           # which pair: its row in the point-triangle table, or -1 - its row in the edge-edge table
+LI_COLS = 5
+
 # --- the step's parameters, float array params (one per call) ----------------------------------------------
 Q_DT = 0             # the step (s)
 Q_GRAVITY = 1        # 3 (m/s^2)

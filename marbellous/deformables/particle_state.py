@@ -20,6 +20,9 @@ from .tethers import find_tethers
 SOFT_TOLERANCE = 1e-3
 #: ... or after this many conjugate-gradient iterations
 SOFT_MAX_ITERATIONS = 500
+#: the most pushes of cloth on cloth a sub-step records (the deepest of them are solved with the whole-cloth solve's
+#: step, layer_contacts.py)
+LAYER_PUSHES = 1024
 
 
 class Group:
@@ -74,6 +77,8 @@ class ParticleState:
         self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
         self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
         self.edge_pairs = np.zeros((64, 3), dtype=np.int64)
+        self.lf = np.zeros((LAYER_PUSHES, P.LF_COLS))     # a sub-step's pushes of cloth on cloth (layer_contacts.py)
+        self.li = np.zeros((LAYER_PUSHES, P.LI_COLS), dtype=np.int64)
         self.tf = np.zeros((0, P.TF_COLS))
         self.ti = np.zeros((0, P.TI_COLS), dtype=np.int64)
         self.nt = 0                      # element rows in use
@@ -330,7 +335,7 @@ class ParticleState:
                 self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
                 self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start,
                 self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
-                np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)), *stretch.arrays)
+                np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)), *stretch.arrays, self.lf, self.li)
 
     def meeting(self):
         """Whether particles here can meet each other: soft bodies, two cloths, a cloth that collides with itself,

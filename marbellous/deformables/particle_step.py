@@ -55,6 +55,7 @@ from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
 from .soft_step import record_contact_normals, step_soft_bodies
+from .layer_contacts import hold_layers
 from .stretch_solve import hold_bodies, solve_stretch
 from .tethers import solve_tethers
 from .triangle_contacts import triangle_candidates, triangle_contacts
@@ -188,11 +189,12 @@ def _kernels(meeting, coverage):
                        scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
                        soft_tolerance, soft_iterations, soft_rot, soft_work, solved, stretch_edges, flat, hinges,
                        weights, slot, rows, mass_h2, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
-                       u_diagonal, y, b, x, columns, column_of, column_unknown, column_used):
+                       u_diagonal, y, b, x, columns, column_of, column_unknown, column_used, lf, li):
         """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
         (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
         ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
-        ``step_soft_bodies``; ``solved`` .. ``x`` the factored stretch of the cloths, ``stretch_solve.StretchSystem``);
+        ``step_soft_bodies``; ``solved`` .. ``column_used`` the factored stretch of the cloths,
+        ``stretch_solve.StretchSystem``; ``lf``, ``li`` scratch for the pushes of cloth on cloth, layer_contacts.py);
         returns ``(edges broken, most contacts of a sub-step, most soft-body solver
         iterations of a sub-step, its largest residual ratio)``
         (contacts past ``kf``'s length had no velocity pass)."""
@@ -234,15 +236,19 @@ def _kernels(meeting, coverage):
             nk = 0
             if meeting:
                 nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
-                triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
-                edge_contacts(pf, ei, edge_pairs, n_edge, h)
+                n_rec = triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, lf, li, 0)
+                n_rec = edge_contacts(pf, ei, edge_pairs, n_edge, h, lf, li, n_rec)
+                if passes > 0:
+                    hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
+                                u_diagonal, x, columns, column_of, column_unknown, column_used, lf, li, n_rec)
             nk = shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                 kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             if meeting and n_triangle > 0:
                 # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
                 # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
-                # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds
-                triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h)
+                # lower layer back up into the upper, passed through it at 10 g with one pass; with two it holds (its
+                # pushes are not solved with the whole-cloth solve's step)
+                triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, lf, li, 0)
                 shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
             most = max(most, nk)

@@ -60,8 +60,9 @@ class StretchSystem:
     - ``u_start``, ``u_row``, ``u_value``, ``u_diagonal``: the strictly upper part of ``U`` by columns and its
       diagonal;
     - ``y``, ``b``, ``x`` (u, 3): scratch (the predicted positions, the right-hand side, the solve's work);
-    - ``columns`` (u, MAX_HELD): columns of ``A^-1`` kept for :func:`hold_bodies`, ``column_of`` (u,): each
-      unknown's column there, -1 if none, ``column_unknown`` (MAX_HELD,): each column's unknown, -1 if none,
+    - ``columns`` (u, MAX_HELD): columns of ``A^-1`` kept for :func:`hold_bodies` and
+      ``layer_contacts.hold_layers``, ``column_of`` (u,): each unknown's column there, -1 if none,
+      ``column_unknown`` (MAX_HELD,): each column's unknown, -1 if none,
       ``column_used`` (MAX_HELD + 1,): when each column was last used, and the clock.
     """
 
@@ -289,7 +290,7 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
         sum_j (Z_{s_i s_j} n_i . n_j + h^2 w_i [i = j]) mu_j - d_i = g_i,    mu >= 0,  g >= 0,  mu . g = 0
 
     (a linear complementarity problem, :func:`pushing_forces`; the columns of ``Z`` are kept while their vertices
-    stay held, :func:`_columns`).  The contact pass had moved the vertex by its
+    stay held, :func:`columns_of`).  The contact pass had moved the vertex by its
     share of ``d_i`` alone and the body by the rest (``particle_contacts.separate``): the vertex goes back, every
     vertex moves by ``dx``, and the body gets what it lacks of ``mu_i h^2``.  Taken at the one vertex the contact
     pass moved while its neighbours stayed, a stiff sheet's pull on a body is many times its force (before this,
@@ -302,8 +303,11 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
     if m == 0:
         return
     u = work.shape[0]
-    z = _columns(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work, columns,
-                 column_of, column_unknown, column_used, slot, ki, held)
+    unknowns = np.empty(m, np.int64)
+    for i in range(m):
+        unknowns[i] = slot[ki[held[i], K_PARTICLE]]
+    z = columns_of(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work, columns,
+                   column_of, column_unknown, column_used, unknowns)
     normal = np.empty((m, 3))
     given = np.empty(m)             # dlambda_i, the positional impulse (kg m) the contact pass gave the body
     system = np.empty((m, m))
@@ -345,18 +349,19 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
 
 
 @njit
-def _columns(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work, columns, column_of,
-             column_unknown, column_used, slot, ki, held):
-    """Which of ``columns`` holds ``Z e_s`` (``Z = A^-1``) for the vertex of each contact row in ``held``,
-    solving for those not kept (three to a solve) into the columns least recently used by others."""
-    m = held.shape[0]
+def columns_of(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work, columns, column_of,
+               column_unknown, column_used, unknowns):
+    """Which of ``columns`` holds ``Z e_s`` (``Z = A^-1``) for each unknown ``s`` of ``unknowns`` (at most
+    ``MAX_HELD`` distinct), solving for those not kept (three to a solve) into the columns least recently used by
+    others."""
+    m = unknowns.shape[0]
     clock = column_used[-1] + 1
     column_used[-1] = clock
     z = np.empty(m, np.int64)
     missing = np.empty(m, np.int64)
     n_missing = 0
     for i in range(m):
-        s = slot[ki[held[i], K_PARTICLE]]
+        s = unknowns[i]
         if column_of[s] < 0:
             # a free column: never used, or the one used longest ago (not in this call: m <= MAX_HELD)
             c = np.argmin(column_used[:-1])
@@ -381,7 +386,8 @@ def _columns(perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u
 
 #: the most contacts of bodies with the whole-cloth solve's vertices solved with it in a sub-step (the deepest;
 #: each vertex newly held costs a third of a solve of the factored system, and the forces a dense solve of their
-#: number; a 2 kg box resting on a 50 x 50 sheet: 34 ms a step, 14 ms with none solved)
+#: number; a 2 kg box resting on a 50 x 50 sheet: 34 ms a step, 14 ms with none solved), and the most vertices of
+#: its contacts with cloth solved with it (layer_contacts.py)
 MAX_HELD = 96
 
 

@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
+from .layer_contacts import record_push
 from .particle_contacts import append_pair
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
                               P_RADIUS, P_REST, P_STATIC_FRICTION, PP_COLLIDE, T_A, T_CLOTH)
@@ -141,8 +142,10 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slac
 
 
 @njit
-def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h):
-    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds."""
+def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, lf, li, n_rec):
+    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds; each push is
+    recorded into ``lf``/``li`` after the ``n_rec`` there (``layer_contacts.record_push``); returns their new
+    count."""
     push = PUSH_SPEED * h
     for k in range(n_pairs):
         p, t, s = pairs[k, 0], pairs[k, 1], pairs[k, 2]
@@ -191,7 +194,9 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h):
             pf[a, P_POS + j] -= wa * b0 * dlambda * n[j]
             pf[b, P_POS + j] -= wb * b1 * dlambda * n[j]
             pf[c, P_POS + j] -= wc * b2 * dlambda * n[j]
+        n_rec = record_push(lf, li, n_rec, k, (p, a, b, c), (1.0, -b0, -b1, -b2), n, dlambda, target)
         _friction(pf, p, a, b, c, b0, b1, b2, n, target - d, denominator)
+    return n_rec
 
 
 @njit
