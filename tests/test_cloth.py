@@ -100,9 +100,16 @@ def test_a_sheet_hung_by_its_corners_tears_off_them_and_its_pins_stay_put():
     assert c.positions[label == largest, 1].max() < 0.0
 
 
-def test_a_sheet_folded_onto_itself_does_not_pass_through():
+@pytest.mark.parametrize("passes, bend", [(0, 1.0e-3), pytest.param(1, 1.0e-4, marks=pytest.mark.xfail(
+    strict=True, reason="solved as a whole cloth, the landing upper layer drives the lower one 5-8 cm under the "
+                        "plane in one step (likely: the step's shape candidates, found from the velocities at its "
+                        "start, do not reach that far)"))])
+def test_a_sheet_folded_onto_itself_does_not_pass_through(passes, bend):
     # a strip folded in a U (lower layer 2 cm up, upper layer 12 cm up, a half circle of 5 cm between them) falls
-    # onto the plane while its upper layer is pressed down at 40 g
+    # onto the plane while its upper layer is pressed down at 40 g.  Also solved as a whole cloth (with softer
+    # hinges: at the default bending stiffness the whole-cloth solve's hinges open the U and the upper layer rolls
+    # off); with its contacts with itself solved with the sheet's step, and those of layers on the ground too, it
+    # slid apart and flew 1 m sideways (layer_contacts.py)
     from scipy.spatial import cKDTree
     r, flat = 0.05, 0.4
     v, t = cloth_grid(2 * flat + math.pi * r, 0.3, 60, 12)
@@ -112,8 +119,9 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through():
     y = np.where(s < flat, 0.02, np.where(s > flat + math.pi * r, 0.12, 0.07 - r * np.cos(theta)))
     folded = np.column_stack([x, y, v[:, 2]])
     w = mb.World()
+    w.cloth_stretch_passes = passes
     w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
-    c = w.add_cloth(folded, t, mass=0.2)
+    c = w.add_cloth(folded, t, mass=0.2, bend_stiffness=bend)
     upper = np.flatnonzero(s > flat + math.pi * r + 0.05)
     lower = np.flatnonzero(s < flat - 0.05)
     press = 40.0 * 9.81 * c.mass[upper].mean()

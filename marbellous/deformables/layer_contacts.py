@@ -23,12 +23,17 @@ close each contact's distance to its target, or are zero and leave it open (a li
 
 A backward-Euler step with its contacts as constraints only loses energy.  The columns of ``Z`` are the
 bodies' (``stretch_solve.columns_of``, ``MAX_HELD`` of them): the contacts pushed hardest whose corners fit in them
-are solved this way, the others keep their pushes.  Friction stays with the position pass.
+are solved this way, the others keep their pushes, and so do the contacts with a corner on a shape the particles
+cannot move (the ground): that contact is not in the problem, and a layer pressed onto the ground by the forces
+of another, then pushed back up by position, fed it (a folded strip lying on the ground slid apart and flew off).
+Friction stays with the position pass.
 """
 import numpy as np
 
 from .._numba.jit import njit
-from .particle_layout import L_CORNER, L_NORMAL, L_PAIR, L_PUSH, L_TARGET, L_WEIGHT, P_INV_MASS, P_POS
+from .body_motion import pushable
+from .particle_layout import (K_KIND, K_OTHER, K_PARTICLE, KK_BODY, L_CORNER, L_NORMAL, L_PAIR, L_PUSH, L_TARGET,
+                              L_WEIGHT, P_INV_MASS, P_POS)
 from .stretch_solve import MAX_HELD, columns_of, pushing_forces
 
 
@@ -52,11 +57,12 @@ def record_push(lf, li, n_rec, pair, corners, weights, n, push, target):
 
 
 @njit
-def _held(pf, slot, lf, li, n_rec):
+def _held(pf, slot, lf, li, n_rec, grounded):
     """``(rows, corners)``: the first record of each contact to solve with the sheet (module docstring) and the
     distinct unknowns of their corners, and ``push`` (n_rec,): each record's contact's total push (a contact the
     second pass pushed again has two records).  A contact is solved when all its moving corners are unknowns of
-    the solve; the hardest pushed first while their corners fit in ``MAX_HELD`` columns."""
+    the solve and none is ``grounded`` (touches a shape the particles cannot move); the hardest pushed first while
+    their corners fit in ``MAX_HELD`` columns."""
     order = np.argsort(li[:n_rec, L_PAIR], kind="mergesort")
     first = np.empty(n_rec, np.int64)
     n_first = 0
@@ -82,7 +88,7 @@ def _held(pf, slot, lf, li, n_rec):
         for j in range(4):
             q = li[r, L_CORNER + j]
             if q >= 0 and pf[q, P_INV_MASS] > 0.0:
-                if slot[q] < 0:
+                if slot[q] < 0 or grounded[q]:
                     ok = False
                 elif not _listed(corners, n_corners, slot[q]):
                     extra += 1
@@ -115,12 +121,17 @@ def _index(values, value):
 
 @njit
 def hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work,
-                columns, column_of, column_unknown, column_used, lf, li, n_rec):
+                columns, column_of, column_unknown, column_used, lf, li, n_rec, kf, ki, nk, bf, bi):
     """Solve the sub-step's recorded cloth-on-cloth pushes (``lf``/``li``, ``n_rec`` of them) with the
-    whole-cloth solve's step (module docstring; ``work`` (u, 3) scratch)."""
+    whole-cloth solve's step (module docstring; ``work`` (u, 3) scratch), after the shapes' contact pass
+    (``kf``/``ki``, ``nk`` contacts; ``bf``/``bi`` the bodies)."""
     if n_rec == 0:
         return
-    held, corners, push = _held(pf, slot, lf, li, n_rec)
+    grounded = np.zeros(pf.shape[0], np.bool_)
+    for c in range(min(nk, kf.shape[0])):
+        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
+            grounded[ki[c, K_PARTICLE]] = True
+    held, corners, push = _held(pf, slot, lf, li, n_rec, grounded)
     m = held.shape[0]
     if m == 0:
         return
@@ -162,6 +173,14 @@ def hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
                         continue
                     total += lf[r, L_WEIGHT + j] * lf[r2, L_WEIGHT + j2] * columns[slot[q], column_of[slot[q2]]]
             system[i, i2] = total * alike
+    # two contacts can push alike (a point over the edge two flat triangles share: its contacts with both have
+    # the same corners, weights and normal), which makes the system singular: a compliance of a millionth of
+    # the mean point's keeps it definite, changing the forces by about as much
+    soft = 0.0
+    for i in range(m):
+        soft += system[i, i]
+    for i in range(m):
+        system[i, i] += 1e-6 * soft / m
     mu = pushing_forces(system, delta)
     # every unknown by Z C^T mu: the force on each held corner (C^T mu), then its column times it
     force = np.zeros((corners.shape[0], 3))

@@ -233,16 +233,17 @@ def _kernels(meeting, coverage):
             # (particles against particles first: the shapes' static friction then holds what a particle's load
             # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
             # spread them apart by 5 cm in 10 s)
-            nk = 0
+            nk = n_rec = 0
             if meeting:
                 nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
                 n_rec = triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, lf, li, 0)
                 n_rec = edge_contacts(pf, ei, edge_pairs, n_edge, h, lf, li, n_rec)
-                if passes > 0:
-                    hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
-                                u_diagonal, x, columns, column_of, column_unknown, column_used, lf, li, n_rec)
             nk = shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                 kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+            if meeting and passes > 0:
+                hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
+                            u_diagonal, x, columns, column_of, column_unknown, column_used, lf, li, n_rec, kf, ki, nk,
+                            bf, bi)
             if meeting and n_triangle > 0:
                 # a second pass over the triangles and the shapes (the shapes' contacts of this one not kept for the
                 # velocity pass): a layer of cloth pressed onto another on the ground, once the ground pushed the
