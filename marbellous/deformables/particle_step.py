@@ -48,6 +48,7 @@ from .body_motion import body_pose, clear_motion, drift, start_motion, to_world,
 from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
+from .layer_contacts import hold_layers
 from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
                               P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_STRETCH_PASSES,
@@ -55,7 +56,6 @@ from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
 from .soft_step import record_contact_normals, step_soft_bodies
-from .layer_contacts import hold_layers
 from .stretch_solve import hold_bodies, solve_stretch
 from .tethers import solve_tethers
 from .triangle_contacts import triangle_candidates, triangle_contacts
