@@ -191,5 +191,5 @@ def edge_contacts(pf, ei, pairs, n_pairs, h, lf, li, n_rec):
             pf[b, P_POS + j] += wb * u * dlambda * n[j]
             pf[c, P_POS + j] -= wc * (1.0 - v) * dlambda * n[j]
             pf[d, P_POS + j] -= wd * v * dlambda * n[j]
-        n_rec = record_push(lf, li, n_rec, -1 - k, (a, b, c, d), (1.0 - u, u, -(1.0 - v), -v), n, dlambda, target)
+        n_rec = record_push(lf, li, n_rec, (a, b, c, d), (1.0 - u, u, -(1.0 - v), -v), n, dlambda, target)
     return n_rec

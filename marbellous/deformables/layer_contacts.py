@@ -32,15 +32,15 @@ import numpy as np
 
 from .._numba.jit import njit
 from .body_motion import pushable
-from .particle_layout import (K_KIND, K_OTHER, K_PARTICLE, KK_BODY, L_CORNER, L_NORMAL, L_PAIR, L_PUSH, L_TARGET,
+from .particle_layout import (K_KIND, K_OTHER, K_PARTICLE, KK_BODY, L_CORNER, L_NORMAL, L_PUSH, L_TARGET,
                               L_WEIGHT, P_INV_MASS, P_POS)
 from .stretch_solve import MAX_HELD, columns_of, pushing_forces
 
 
 @njit
-def record_push(lf, li, n_rec, pair, corners, weights, n, push, target):
-    """Append to ``lf``/``li`` (rows past their end are dropped) that the position pass pushed the contact
-    ``pair`` (module docstring; ``corners`` its four particle rows, -1 for none, ``weights`` their ``c_j``) by the
+def record_push(lf, li, n_rec, corners, weights, n, push, target):
+    """Append to ``lf``/``li`` (rows past their end are dropped) that the position pass pushed a contact
+    (module docstring; ``corners`` its four particle rows, -1 for none, ``weights`` their ``c_j``) by the
     positional impulse ``push`` (kg m) along the unit normal ``n`` out to the distance ``target`` (m); returns the
     new count."""
     if n_rec >= lf.shape[0]:
@@ -52,37 +52,19 @@ def record_push(lf, li, n_rec, pair, corners, weights, n, push, target):
         li[n_rec, L_CORNER + j] = corners[j]
     lf[n_rec, L_PUSH] = push
     lf[n_rec, L_TARGET] = target
-    li[n_rec, L_PAIR] = pair
     return n_rec + 1
 
 
 @njit
 def _held(pf, slot, lf, li, n_rec, grounded):
-    """``(rows, corners)``: the first record of each contact to solve with the sheet (module docstring) and the
-    distinct unknowns of their corners, and ``push`` (n_rec,): each record's contact's total push (a contact the
-    second pass pushed again has two records).  A contact is solved when all its moving corners are unknowns of
-    the solve and none is ``grounded`` (touches a shape the particles cannot move); the hardest pushed first while
-    their corners fit in ``MAX_HELD`` columns."""
-    order = np.argsort(li[:n_rec, L_PAIR], kind="mergesort")
-    first = np.empty(n_rec, np.int64)
-    n_first = 0
-    push = np.zeros(n_rec)
-    for a in range(n_rec):
-        r = order[a]
-        if a > 0 and li[r, L_PAIR] == li[order[a - 1], L_PAIR]:
-            push[first[n_first - 1]] += lf[r, L_PUSH]
-            continue
-        first[n_first] = r
-        push[r] = lf[r, L_PUSH]
-        n_first += 1
-    pushed = np.empty(n_first)
-    for a in range(n_first):
-        pushed[a] = push[first[a]]
-    rows = np.empty(n_first, np.int64)
+    """``(rows, corners)``: the records of the contacts to solve with the sheet (module docstring; one per contact:
+    the first pass's) and the distinct unknowns of their corners.  A contact is solved when all its moving corners
+    are unknowns of the solve and none is ``grounded`` (touches a shape the particles cannot move); the hardest
+    pushed first while their corners fit in ``MAX_HELD`` columns."""
+    rows = np.empty(n_rec, np.int64)
     corners = np.empty(MAX_HELD, np.int64)
     n_rows = n_corners = 0
-    for a in np.argsort(-pushed):
-        r = first[a]
+    for r in np.argsort(-lf[:n_rec, L_PUSH]):
         ok = True
         extra = 0
         for j in range(4):
@@ -101,7 +83,7 @@ def _held(pf, slot, lf, li, n_rec, grounded):
                 n_corners += 1
         rows[n_rows] = r
         n_rows += 1
-    return rows[:n_rows], corners[:n_corners], push
+    return rows[:n_rows], corners[:n_corners]
 
 
 @njit
@@ -131,7 +113,7 @@ def hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
     for c in range(min(nk, kf.shape[0])):
         if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
             grounded[ki[c, K_PARTICLE]] = True
-    held, corners, push = _held(pf, slot, lf, li, n_rec, grounded)
+    held, corners = _held(pf, slot, lf, li, n_rec, grounded)
     m = held.shape[0]
     if m == 0:
         return
@@ -143,7 +125,7 @@ def hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
         for j in range(4):
             q = li[r, L_CORNER + j]
             if q >= 0:
-                share = pf[q, P_INV_MASS] * lf[r, L_WEIGHT + j] * push[r]
+                share = pf[q, P_INV_MASS] * lf[r, L_WEIGHT + j] * lf[r, L_PUSH]
                 for k in range(3):
                     pf[q, P_POS + k] -= share * lf[r, L_NORMAL + k]
     # the contacts' system and how far each is from its target

@@ -121,8 +121,7 @@ L_TARGET = 8         # the distance (m) it pushed the contact out to
 LF_COLS = 9
 
 L_CORNER = 0         # the four corners' particle rows (-1: none), 4
-L_PAIR = 4           # which pair: its row in the point-triangle table, or -1 - its row in the edge-edge table
-LI_COLS = 5
+LI_COLS = 4
 
 # --- the step's parameters, float array params (one per call) ----------------------------------------------
 Q_DT = 0             # the step (s)

@@ -194,7 +194,7 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, lf, li, n_rec):
             pf[a, P_POS + j] -= wa * b0 * dlambda * n[j]
             pf[b, P_POS + j] -= wb * b1 * dlambda * n[j]
             pf[c, P_POS + j] -= wc * b2 * dlambda * n[j]
-        n_rec = record_push(lf, li, n_rec, k, (p, a, b, c), (1.0, -b0, -b1, -b2), n, dlambda, target)
+        n_rec = record_push(lf, li, n_rec, (p, a, b, c), (1.0, -b0, -b1, -b2), n, dlambda, target)
         _friction(pf, p, a, b, c, b0, b1, b2, n, target - d, denominator)
     return n_rec
 
