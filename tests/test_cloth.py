@@ -101,9 +101,12 @@ def test_a_sheet_hung_by_its_corners_tears_off_them_and_its_pins_stay_put():
 
 
 @pytest.mark.parametrize("passes, bend", [(0, 1.0e-3), (1, 1.0e-4)])
-def test_a_sheet_folded_onto_itself_does_not_pass_through(passes, bend):
+@pytest.mark.parametrize("g_press, nest", [(40.0, 0.5), (100.0, 0.0)])
+def test_a_sheet_folded_onto_itself_does_not_pass_through(passes, bend, g_press, nest):
     # a strip folded in a U (lower layer 2 cm up, upper layer 12 cm up, a half circle of 5 cm between them) falls
-    # onto the plane while its upper layer is pressed down at 40 g.  Also solved as a whole cloth (with softer
+    # onto the plane while its upper layer is pressed down at 40 or 100 g (at 100 g, from rest, its lower layer
+    # went 4 cm under the plane in the first step until the press widened the reach in which particles look for
+    # shapes, and the upper went through it).  Also solved as a whole cloth (with softer
     # hinges: at the default bending stiffness the whole-cloth solve's hinges open the U and the upper layer rolls
     # off); with its contacts with itself solved with the sheet's step, and those of layers on the ground too, it
     # slid apart and flew 1 m sideways (layer_contacts.py)
@@ -121,18 +124,20 @@ def test_a_sheet_folded_onto_itself_does_not_pass_through(passes, bend):
     c = w.add_cloth(folded, t, mass=0.2, bend_stiffness=bend)
     upper = np.flatnonzero(s > flat + math.pi * r + 0.05)
     lower = np.flatnonzero(s < flat - 0.05)
-    press = 40.0 * 9.81 * c.mass[upper].mean()
+    press = g_press * 9.81 * c.mass[upper].mean()
     for _ in range(120):
         c.apply_force((0.0, -press, 0.0), upper)
         w.step(DT)
         # every vertex of the upper layer over the lower one (within its box, 2 cm in) stays above the lower
-        # layer's nearest vertex (the layers' vertices may nest between each other's, down to half the thickness)
+        # layer's nearest vertex (the layers' vertices may nest between each other's, down to half the thickness;
+        # at 100 g the upper layer lands at 8 m/s, 8 mm a sub-step, and an overlap a sub-step starts with is pushed
+        # out at no more than 1 m/s, so only its staying above is asked)
         x = c.positions
         assert np.all(np.isfinite(x))
         lo, hi = x[lower].min(axis=0) + 0.02, x[lower].max(axis=0) - 0.02
         over = upper[np.all((x[upper][:, [0, 2]] > lo[[0, 2]]) & (x[upper][:, [0, 2]] < hi[[0, 2]]), axis=1)]
         _, nearest = cKDTree(x[lower][:, [0, 2]]).query(x[over][:, [0, 2]])
-        assert np.all(x[over, 1] - x[lower[nearest], 1] > 0.5 * c.thickness)
+        assert np.all(x[over, 1] - x[lower[nearest], 1] > nest * c.thickness)
     # in the end it lies pressed flat: the lower layer on the plane at half the thickness, the upper one, where it
     # lies over the lower (the self-contact has no friction: the upper layer slides off at the sides), a thickness
     # above it

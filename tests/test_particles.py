@@ -186,6 +186,23 @@ def test_particles_rest_on_a_mesh_and_a_height_field_without_falling_through():
     assert np.allclose(p.positions[:, 1], 0.02, atol=1e-6)
 
 
+def test_particles_pressed_from_rest_by_their_user_force_land_on_a_mesh_and_a_height_field():
+    # pressed down at 100 times their weight from rest 5 cm above a mesh one triangle thick and a height field, in
+    # one step a particle would go (1 + 1/n) / 2 a dt^2 = 14 cm (n sub-steps of semi-implicit Euler): its force
+    # widens the reach in which it looks for shapes (boxed by its velocity and gravity alone, it went through)
+    w = mb.World()
+    verts = np.array([[-2, 0, -2], [2, 0, -2], [2, 0, 2], [-2, 0, 2]], dtype=float)
+    w.add_static(mb.TriangleMesh(verts, np.array([[0, 2, 1], [0, 3, 2]])))
+    w.add_static(mb.HeightField(np.zeros((9, 9)), spacing=(0.5, 0.5), origin=(4.0, 0.0, -2.0)))
+    rng = np.random.default_rng(2)
+    on_mesh = rng.uniform(-1.5, 1.5, (20, 3)) * (1, 0, 1) + (0, 0.05, 0)
+    p = w.add_particles(np.vstack([on_mesh, on_mesh + (6.0, 0.0, 0.0)]), mass=0.01, radius=0.02)
+    for _ in range(10):
+        p.apply_force((0.0, -100.0 * G * 0.01, 0.0))
+        w.step(DT)
+        assert np.allclose(p.positions[:, 1], 0.02, atol=1e-6)
+
+
 # --- two ways with bodies -------------------------------------------------------------------------------------
 def test_momentum_is_conserved_when_a_particle_hits_a_free_box():
     w = mb.World(gravity=(0.0, 0.0, 0.0))

@@ -49,7 +49,7 @@ from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .layer_contacts import hold_layers
-from .particle_contacts import shape_candidates, shape_contacts, velocity_pass
+from .particle_contacts import forced_reach, shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
                               P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_STRETCH_PASSES,
                               Q_SUBSTEPS,
@@ -160,15 +160,16 @@ def _kernels(meeting, coverage):
         g = math.sqrt(params[Q_GRAVITY] ** 2 + params[Q_GRAVITY + 1] ** 2 + params[Q_GRAVITY + 2] ** 2)
         reach = g * dt * dt
         clear_motion(bx, nb)
-        # particles that meet each other push each other: a slow one struck by the fastest may take up to its
-        # speed within the step (a layer of cloth slammed onto another lying just above the ground drove it
-        # 7 cm under the plane in one step, the ground out of its reach)
+        # particles that meet each other push each other: a slow one struck by the fastest may go as far as it
+        # within the step (a layer of cloth slammed onto another lying just above the ground drove it 7 cm under
+        # the plane in one step, the ground out of its reach)
         pushed = 0.0
         if meeting:
             for p in range(n_particles):
-                pushed = max(pushed, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2))
+                pushed = max(pushed, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2) * dt
+                             + forced_reach(pf, p, dt))
         n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
-                                   reach + pushed * dt, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
+                                   reach + pushed, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
                                    rot_s, q_s)
         if not meeting:
             return n_shape, 0, 0, 0
