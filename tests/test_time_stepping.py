@@ -203,6 +203,22 @@ def test_no_shot_tunnels_through_a_thin_wall_or_a_mesh_floor(mode, target):
     assert through == []
 
 
+@pytest.mark.parametrize("mode", MODES)
+def test_a_ball_pressed_from_rest_by_its_user_force_does_not_go_through_a_mesh(mode):
+    """A 2 cm ball of 10 g at rest 5 cm above a mesh one triangle thick, pressed down at 100 times its weight:
+    in its first step it would go ``(1 + 1/n) / 2 a dt^2`` = 14 cm; its force widens its box and sweep as
+    gravity does (reached by its velocity and gravity alone, it went through the mesh and fell)."""
+    w = mb.World(time_stepping=mode)
+    v = np.array([[-1.0, 0.0, -1.0], [-1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0]])
+    w.add_static(mb.TriangleMesh(v, np.array([[0, 1, 3], [0, 3, 2]])))
+    ball = w.add_body(mb.Sphere(0.02), position=(0.0, 0.05, 0.0), mass=0.01)
+    for _ in range(30):
+        ball.apply_force((0.0, -100.0 * 9.81 * 0.01, 0.0))
+        w.step(DT)
+        assert 0.0 < ball.position[1] < 0.05
+    assert abs(ball.velocity[1]) < 1e-6
+
+
 @pytest.mark.parametrize("seed, shot", [(122, 5), (275, 109), (335, 113)])
 def test_a_box_that_spins_up_on_the_wall_does_not_go_through_it(seed, shot):
     """Three of 70,000 shots that went through the wall: a box hitting it at 62 to 100 m/s off its centre

@@ -3,7 +3,7 @@
 A body is *fast for its size* when the distance its surface may travel in the interval exceeds a fraction
 of its smallest dimension:
 
-    fast  <=>  sweep > FAST_FRACTION * extent,   sweep = (|v| + |omega| r_reach) T + |g| T^2  (m)
+    fast  <=>  sweep > FAST_FRACTION * extent,   sweep = (|v| + |omega| r_reach) T + (|g| + |F| / m) T^2  (m)
 
 with ``extent`` the smallest of its shapes' inner sizes (a sphere's or capsule's radius, a box's smallest
 half extent).  Speculative contacts already keep a body that moves less than that from passing through
@@ -12,17 +12,17 @@ their time (``pipeline/impacts.py``).  ``add_body(ccd=True)`` makes a body fast 
 (``F_CCD_ALWAYS``), ``ccd=False`` never (``F_CCD_NEVER``, which also leaves its motion out of its box).
 
 The motion of a body over an interval, as the search extrapolates it (``collision/toi/motion.py``), is
-its pose and velocities at the interval's start with gravity as its acceleration; static and sleeping
-bodies stand still.
+its pose and velocities at the interval's start with gravity and its user force ``F`` as its acceleration;
+static and sleeping bodies stand still.
 """
 import math
 
 from .._numba.jit import njit
 from ..collision import shape_types as st
 from ..collision.toi.motion import rotation_reach
-from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
-                            S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
-from .forces import is_moving
+from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, FORCE, INV_MASS, OMEGA, POS, QUAT, S_LOCAL_POS,
+                            S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
+from .forces import is_moving, user_acceleration
 from .integrators import velocity_at_end
 
 #: a body whose surface may move more than this fraction of its smallest dimension in an interval is fast.
@@ -76,13 +76,15 @@ def is_fast(bi, sf, si, sweep, i, stretch):
 def body_motion(bf, bi, i, gravity, lead):
     """The motion ``(x0, v, a, q0, omega)`` of body row ``i`` over the interval (``collision/toi/motion.py``):
     its pose and velocities now (``integrators.velocity_at_end``: ``lead`` is half the last sub-step for
-    Verlet, whose stored velocity is that sub-step's mean, else 0), accelerated by ``gravity`` (m/s^2) if it
-    moves; a static or sleeping body stands still."""
+    Verlet, whose stored velocity is that sub-step's mean, else 0), accelerated by ``gravity`` (m/s^2) and its
+    user force if it moves; a static or sleeping body stands still."""
     x = (bf[i, POS], bf[i, POS + 1], bf[i, POS + 2])
     q = (bf[i, QUAT], bf[i, QUAT + 1], bf[i, QUAT + 2], bf[i, QUAT + 3])
     if is_moving(bi, i):
-        return (x, velocity_at_end(bf, bi, i, gravity, lead), (gravity[0], gravity[1], gravity[2]), q,
-                (bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2]))
+        inv_m = bf[i, INV_MASS]
+        a = (gravity[0] + bf[i, FORCE] * inv_m, gravity[1] + bf[i, FORCE + 1] * inv_m,
+             gravity[2] + bf[i, FORCE + 2] * inv_m)
+        return x, velocity_at_end(bf, bi, i, gravity, lead), a, q, (bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2])
     zero = (0.0, 0.0, 0.0)
     return x, zero, zero, q, zero
 
@@ -90,7 +92,7 @@ def body_motion(bf, bi, i, gravity, lead):
 @njit
 def speed_bound(bf, bi, sf, si, i, gravity_mag, horizon):
     """Fastest (m/s) any surface point of body row ``i`` may move within ``horizon`` (s):
-    ``|v| + |omega| r_reach + |g| T`` (0 for a static or sleeping body)."""
+    ``|v| + |omega| r_reach + (|g| + |F| / m) T`` (0 for a static or sleeping body; ``F`` its user force)."""
     if not is_moving(bi, i):
         return 0.0
     v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
@@ -99,4 +101,4 @@ def speed_bound(bf, bi, sf, si, i, gravity_mag, horizon):
     s0 = bi[i, SHAPE_START]
     for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
         reach = max(reach, shape_reach(sf, si, s))
-    return v + (w * reach if w > 0.0 else 0.0) + gravity_mag * horizon
+    return v + (w * reach if w > 0.0 else 0.0) + (gravity_mag + user_acceleration(bf, i)) * horizon
