@@ -20,9 +20,9 @@ import math
 from .._numba.jit import njit
 from ..collision import shape_types as st
 from ..collision.toi.motion import rotation_reach
-from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, FORCE, INV_MASS, OMEGA, POS, QUAT, S_LOCAL_POS,
-                            S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
-from .forces import is_moving, user_acceleration
+from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
+                            S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
+from .forces import free_acceleration, is_moving, user_acceleration
 from .integrators import velocity_at_end
 
 #: a body whose surface may move more than this fraction of its smallest dimension in an interval is fast.
@@ -81,10 +81,8 @@ def body_motion(bf, bi, i, gravity, lead):
     x = (bf[i, POS], bf[i, POS + 1], bf[i, POS + 2])
     q = (bf[i, QUAT], bf[i, QUAT + 1], bf[i, QUAT + 2], bf[i, QUAT + 3])
     if is_moving(bi, i):
-        inv_m = bf[i, INV_MASS]
-        a = (gravity[0] + bf[i, FORCE] * inv_m, gravity[1] + bf[i, FORCE + 1] * inv_m,
-             gravity[2] + bf[i, FORCE + 2] * inv_m)
-        return x, velocity_at_end(bf, bi, i, gravity, lead), a, q, (bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2])
+        return (x, velocity_at_end(bf, bi, i, gravity, lead), free_acceleration(bf, i, gravity), q,
+                (bf[i, OMEGA], bf[i, OMEGA + 1], bf[i, OMEGA + 2]))
     zero = (0.0, 0.0, 0.0)
     return x, zero, zero, q, zero
 

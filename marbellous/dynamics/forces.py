@@ -22,6 +22,15 @@ def is_moving(bi, i):
 
 
 @njit_inline
+def free_acceleration(bf, i, gravity):
+    """``a = g + F_user / m`` (m/s^2, a tuple): body row ``i``'s acceleration before contacts, joints and
+    springs."""
+    inv_m = bf[i, INV_MASS]
+    return (gravity[0] + bf[i, FORCE] * inv_m, gravity[1] + bf[i, FORCE + 1] * inv_m,
+            gravity[2] + bf[i, FORCE + 2] * inv_m)
+
+
+@njit_inline
 def user_acceleration(bf, i):
     """``|F_user| / m`` (m/s^2): the acceleration body row ``i``'s user force gives it (0 for a static body).  The
     step's reach of a body counts it with gravity's: a small ball pressed at 100 g from rest 5 cm above a mesh,

@@ -37,9 +37,9 @@ import numpy as np
 
 from .._numba.jit import njit, njit_inline
 from ..math3d import quat_normalize, quat_step, row3, row4, tensor_vec
-from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, FORCE, INV_I, INV_MASS, LINEAR_DAMPING,
+from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, LINEAR_DAMPING,
                             OMEGA, POS, PREV_POS, QUAT, V_FREE, VEL, W_FREE, X_PRED)
-from .forces import accumulate_forces, add_applied_forces, is_driven, is_moving
+from .forces import accumulate_forces, add_applied_forces, free_acceleration, is_driven, is_moving
 from .rigid import inertia_world, inverse_inertia_world
 from .springs import add_spring_forces
 
@@ -145,9 +145,8 @@ def velocity_at_end(bf, bi, i, gravity, lead):
     v = (bf[i, VEL], bf[i, VEL + 1], bf[i, VEL + 2])
     if lead == 0.0 or (bi[i, FLAGS] & F_RESTART) != 0:
         return v
-    inv_m = bf[i, INV_MASS]
-    return (v[0] + (gravity[0] + bf[i, FORCE] * inv_m) * lead, v[1] + (gravity[1] + bf[i, FORCE + 1] * inv_m) * lead,
-            v[2] + (gravity[2] + bf[i, FORCE + 2] * inv_m) * lead)
+    a = free_acceleration(bf, i, gravity)
+    return v[0] + a[0] * lead, v[1] + a[1] * lead, v[2] + a[2] * lead
 
 
 @njit
