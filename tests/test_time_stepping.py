@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import marbellous as mb
 from marbellous.pipeline.step import MAX_TURN, turning_substeps
@@ -217,6 +218,25 @@ def test_a_ball_pressed_from_rest_by_its_user_force_does_not_go_through_a_mesh(m
         w.step(DT)
         assert 0.0 < ball.position[1] < 0.05
     assert abs(ball.velocity[1]) < 1e-6
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_plank_spun_from_rest_by_its_user_torque_does_not_turn_through_a_mesh(mode):
+    """A 1 m plank of 1 kg at rest 4 cm above a mesh one triangle thick, spun by 250 N m about its short axis
+    (3,000 rad/s^2): in its first step its end would turn ~20 cm down through the mesh; its torque widens its
+    box and sweep.  Its end stays above the mesh within what a contact's linear motion misses of the end's arc
+    over a sub-step turning at most ``MAX_TURN``, ``r (1 - cos MAX_TURN)``, r = 0.5 m."""
+    w = mb.World(time_stepping=mode)
+    v = np.array([[-2.0, 0.0, -2.0], [-2.0, 0.0, 2.0], [2.0, 0.0, -2.0], [2.0, 0.0, 2.0]])
+    w.add_static(mb.TriangleMesh(v, np.array([[0, 1, 3], [0, 3, 2]])))
+    half = np.array([0.5, 0.01, 0.05])
+    plank = w.add_body(mb.Box(tuple(half)), position=(0.0, 0.05, 0.0), mass=1.0)
+    plank.apply_torque((0.0, 0.0, -250.0))
+    w.step(DT)
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
+    w_, x_, y_, z_ = plank.orientation
+    lowest = (corners @ Rotation.from_quat([x_, y_, z_, w_]).as_matrix().T + plank.position)[:, 1].min()
+    assert lowest > -0.5 * (1.0 - math.cos(MAX_TURN))
 
 
 @pytest.mark.parametrize("seed, shot", [(122, 5), (275, 109), (335, 113)])

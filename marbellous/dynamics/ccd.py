@@ -3,7 +3,8 @@
 A body is *fast for its size* when the distance its surface may travel in the interval exceeds a fraction
 of its smallest dimension:
 
-    fast  <=>  sweep > FAST_FRACTION * extent,   sweep = (|v| + |omega| r_reach) T + (|g| + |F| / m) T^2  (m)
+    fast  <=>  sweep > FAST_FRACTION * extent,
+               sweep = (|v| + |omega| r_reach) T + (|g| + |F| / m + |I^-1 tau| r_reach) T^2  (m)
 
 with ``extent`` the smallest of its shapes' inner sizes (a sphere's or capsule's radius, a box's smallest
 half extent).  Speculative contacts already keep a body that moves less than that from passing through
@@ -12,7 +13,8 @@ their time (``pipeline/impacts.py``).  ``add_body(ccd=True)`` makes a body fast 
 (``F_CCD_ALWAYS``), ``ccd=False`` never (``F_CCD_NEVER``, which also leaves its motion out of its box).
 
 The motion of a body over an interval, as the search extrapolates it (``collision/toi/motion.py``), is
-its pose and velocities at the interval's start with gravity and its user force ``F`` as its acceleration;
+its pose and velocities at the interval's start with gravity and its user force ``F`` as its acceleration
+(its user torque ``tau`` is in its sweep, not in its motion: the search turns it at a constant rate);
 static and sleeping bodies stand still.
 """
 import math
@@ -22,7 +24,7 @@ from ..collision import shape_types as st
 from ..collision.toi.motion import rotation_reach
 from ..state.layout import (F_CCD_ALWAYS, F_CCD_NEVER, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_PARAMS, S_RADIUS,
                             S_TYPE, SHAPE_COUNT, SHAPE_START, VEL)
-from .forces import free_acceleration, is_moving, user_acceleration
+from .forces import free_acceleration, is_moving, user_acceleration, user_angular_acceleration
 from .integrators import velocity_at_end
 
 #: a body whose surface may move more than this fraction of its smallest dimension in an interval is fast.
@@ -90,7 +92,8 @@ def body_motion(bf, bi, i, gravity, lead):
 @njit
 def speed_bound(bf, bi, sf, si, i, gravity_mag, horizon):
     """Fastest (m/s) any surface point of body row ``i`` may move within ``horizon`` (s):
-    ``|v| + |omega| r_reach + (|g| + |F| / m) T`` (0 for a static or sleeping body; ``F`` its user force)."""
+    ``|v| + |omega| r_reach + (|g| + |F| / m + |I^-1 tau| r_reach) T`` (0 for a static or sleeping body; ``F``,
+    ``tau`` its user force and torque)."""
     if not is_moving(bi, i):
         return 0.0
     v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
@@ -99,4 +102,6 @@ def speed_bound(bf, bi, sf, si, i, gravity_mag, horizon):
     s0 = bi[i, SHAPE_START]
     for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
         reach = max(reach, shape_reach(sf, si, s))
-    return v + (w * reach if w > 0.0 else 0.0) + (gravity_mag + user_acceleration(bf, i)) * horizon
+    alpha = user_angular_acceleration(bf, i)
+    return (v + (w * reach if w > 0.0 else 0.0) + (gravity_mag + user_acceleration(bf, i)) * horizon
+            + (alpha * reach * horizon if alpha > 0.0 else 0.0))

@@ -9,8 +9,10 @@ method really sees the springs at its intermediate states.
 import math
 
 from .._numba.jit import njit, njit_inline
-from ..state.layout import (F_ALIVE, F_KINEMATIC, F_SLEEPING, F_STATIC, FLAGS, FORCE, INV_MASS, MASS, OMEGA, TORQUE,
-                            VEL)
+from ..math3d import row4, tensor_vec
+from ..state.layout import (F_ALIVE, F_KINEMATIC, F_SLEEPING, F_STATIC, FLAGS, FORCE, INV_MASS, MASS, OMEGA, QUAT,
+                            TORQUE, VEL)
+from .rigid import inverse_inertia_world
 from .springs import add_spring_forces
 
 
@@ -37,6 +39,19 @@ def user_acceleration(bf, i):
     reached by its velocity and gravity alone, went through the mesh in its first step."""
     f2 = bf[i, FORCE] ** 2 + bf[i, FORCE + 1] ** 2 + bf[i, FORCE + 2] ** 2
     return math.sqrt(f2) * bf[i, INV_MASS] if f2 > 0.0 else 0.0
+
+
+@njit_inline
+def user_angular_acceleration(bf, i):
+    """``|I^-1 T|`` (rad/s^2): the angular acceleration body row ``i``'s user torque ``T`` gives it at its
+    orientation now (``I^-1`` its world inverse inertia; 0 for a static body).  A plank spun by a torque from rest
+    over a mesh, reached by its velocity alone, turned 21 cm of its end through the mesh in its first step and
+    was flung off at 15 m/s."""
+    t = (bf[i, TORQUE], bf[i, TORQUE + 1], bf[i, TORQUE + 2])
+    if t[0] == 0.0 and t[1] == 0.0 and t[2] == 0.0:
+        return 0.0
+    a = tensor_vec(inverse_inertia_world(bf, i, row4(bf, i, QUAT)), t)
+    return math.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2)
 
 
 @njit

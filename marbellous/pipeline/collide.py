@@ -4,9 +4,9 @@ It only reads the bodies, so when a buffer turns out too small the caller grows 
 again from the same state.
 
     shape pose          x_s = x + R p_local,  R_s = R R_local
-    sweep of a body     d = |v| dt + |omega| r_sweep dt + (|g| + |F| / m) dt^2   (r_sweep: how far its
-                        surface reaches from the centre of mass; 0 for a centred sphere, which turns in
-                        place; F its user force)
+    sweep of a body     d = (|v| + |omega| r_sweep) dt + (|g| + |F| / m + |I^-1 T| r_sweep) dt^2
+                        (r_sweep: how far its surface reaches from the centre of mass; 0 for a centred
+                        sphere, which turns in place; F, T its user force and torque)
     AABB                shape boxes grown by the speculative distance and the sweep
     prediction          speculative distance + d_a + d_b: contacts are made before bodies touch
 
@@ -31,7 +31,7 @@ from ..collision.mesh.mesh_collide import collide_sphere_mesh
 from ..collision.pairs.contact_output import contact_point
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
-from ..dynamics.forces import is_driven, is_dynamic, is_moving, user_acceleration
+from ..dynamics.forces import is_driven, is_dynamic, is_moving, user_acceleration, user_angular_acceleration
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                             F_CCD_NEVER, F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
@@ -144,7 +144,10 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative,
         if (falls or is_driven(bf, bi, i)) and (bi[i, FLAGS] & F_CCD_NEVER) == 0:
             v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
             w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
-            sweep[i] = (v + w * reach) * dt + ((gravity_mag + user_acceleration(bf, i)) * dt * dt if falls else 0.0)
+            sweep[i] = (v + w * reach) * dt
+            if falls:
+                speeding = gravity_mag + user_acceleration(bf, i) + user_angular_acceleration(bf, i) * reach
+                sweep[i] += speeding * dt * dt
         else:
             sweep[i] = 0.0
         grow = speculative + sweep[i]
