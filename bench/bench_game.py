@@ -1,0 +1,101 @@
+"""Time of the game's own step (``marbellous.game.session.Game.step``) on a level, with and without the goal's
+cloth flag, as ``marbellous demo`` and ``marbellous play`` step it (1/120 s).
+
+The autopilot plays the level (``--level``, default the course) for ``--seconds`` of game time after one second
+untimed (which loads or compiles the kernels); each step is timed in three parts:
+- physics: ``World.step`` (the game's own clock of it, ``Game.physics_seconds``);
+- push: the flag's wind (``GoalFlag.blow``: the wind at its triangles and the velocity change of its push);
+- game: the whole ``Game.step`` with the autopilot's input (control force, push, physics, the goal's test; the
+  autopilot's own work, finding the marble on the course, not counted).
+Reported per run: the mean and the median of each over the timed steps (us), and how many steps there were.  The
+flag is scenery: ``flag=False`` is the marble's game alone (``autopilot_trial``'s default).
+
+    python bench/bench_game.py                      the course, 20 s of play, with and without the flag
+    python bench/bench_game.py --seconds 2          a check of the script
+    python bench/bench_game.py --json               also write bench/results/<date>-<host>-game.json
+"""
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+
+from bench.machine import describe  # noqa: E402
+
+#: the parts of a step timed, in order
+PARTS = ("physics", "push", "game")
+
+
+def time_play(level, seconds, flag):
+    """``{part: {"mean_us", "median_us"}, "steps": int}``: ``seconds`` (s) of ``level`` played by the autopilot,
+    with the goal's flag or without, after one second untimed."""
+    from marbellous.game.autopilot import Autopilot
+    from marbellous.game.goal import BestTimes
+    from marbellous.game.level import load_level
+    from marbellous.game.session import Game
+
+    game = Game(load_level(level), best_times=BestTimes(persistent=False), flag=flag)
+    pilot = Autopilot(game.course, game.spec.push)
+    for _ in range(round(1.0 / game.dt)):
+        pilot.step(game)
+    pushes = []
+    if game.flag is not None:
+        blow = game.flag.blow
+
+        def timed_blow(t, dt):
+            t0 = time.perf_counter()
+            blow(t, dt)
+            pushes.append(time.perf_counter() - t0)
+        game.flag.blow = timed_blow
+    physics, whole = [], []
+    for _ in range(round(seconds / game.dt)):
+        before, respawns, b = game.physics_seconds, game.respawns, game.marble
+        move = pilot.move(b.position, b.velocity, game.camera.heading)       # (the autopilot's time not counted)
+        t0 = time.perf_counter()
+        game.step(move)
+        whole.append(time.perf_counter() - t0)
+        physics.append(game.physics_seconds - before)
+        if game.respawns != respawns:
+            pilot.reset()
+    columns = {"physics": physics, "push": pushes or [0.0] * len(whole), "game": whole}
+    out = {part: {"mean_us": 1e6 * float(np.mean(columns[part])), "median_us": 1e6 * float(np.median(columns[part]))}
+           for part in PARTS}
+    out["steps"] = len(whole)
+    return out
+
+
+def default_json_path(machine):
+    """``bench/results/<date>-<host>-game.json``."""
+    return os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-game.json")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--level", default="course", help="a shipped level's name or a level file")
+    parser.add_argument("--seconds", type=float, default=20.0, help="timed game time (s)")
+    parser.add_argument("--json", nargs="?", const="", metavar="FILE",
+                        help="write the results to FILE (no FILE: bench/results/<date>-<host>-game.json)")
+    args = parser.parse_args(argv)
+    results = {("flag" if flag else "no_flag"): time_play(args.level, args.seconds, flag) for flag in (False, True)}
+    print(f"{args.level}, {args.seconds:g} s of play by the autopilot at 1/120 s a step; us per step (mean / median)")
+    print(f"{'run':>8s} " + " ".join(f"{p:>15s}" for p in PARTS) + "   steps")
+    for run, r in results.items():
+        print(f"{run:>8s} " + " ".join(f"{r[p]['mean_us']:7.1f}/{r[p]['median_us']:7.1f}" for p in PARTS)
+              + f"   {r['steps']}")
+    out = {"level": args.level, "seconds": args.seconds, "results": results}
+    if args.json is not None:
+        machine = describe(os.path.dirname(HERE), {})
+        path = args.json or default_json_path(machine)
+        with open(path, "w") as f:
+            json.dump({"benchmark": "game", "machine": machine, **out}, f, indent=1)
+        print(f"wrote {path}")
+    return out
+
+
+if __name__ == "__main__":
+    main()
