@@ -198,3 +198,15 @@ def test_the_game_renderer_draws_the_flag_on_its_pole_from_both_sides(ctx):
         row, col = pixel(view, pole)
         assert np.ptp(img[row, col].astype(int)) < 12 and np.any(img[row, col] != bare[row, col])
     assert brightness[-sunny] > 0.5 * brightness[sunny]       # (0.65 here; 0.36 were no sun let through)
+
+
+def test_the_wind_compiled_ahead_is_the_one_the_flag_then_calls():
+    import numba
+
+    f = game("blocks").flag
+    kernel, arguments = F.blow_call()
+    f.blow(0.5, 0.01)
+    assert kernel is F.blow_flag
+    assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures
+    assert len(kernel.signatures) == 1
+

@@ -32,6 +32,7 @@ import numpy as np
 
 from .._numba.jit import njit
 from ..cloth import cloth_grid
+from ..pipeline.precompile import await_kernel
 from ..render.sun import SUN
 
 #: The flag: length along the wind and height (m), vertices along each, and its mass (kg, a light canvas).
@@ -137,6 +138,14 @@ def blow_flag(x, v, triangles, t, dt, top, direction, across, inverse_mass):
     return plate_push(x, v, triangles, wind, 0.5 * AIR_DENSITY * DRAG, inverse_mass, dt)
 
 
+def blow_call():
+    """``(kernel, arguments)``: :func:`blow_flag` with arguments of the types :meth:`GoalFlag.blow` passes, for
+    compiling it ahead (``World._compile_ahead``)."""
+    x = np.zeros((3, 3))
+    return blow_flag, (x, x.copy(), np.array([[0, 1, 2]], np.int64), 0.0, 0.01, np.zeros(3), np.array([1.0, 0.0, 0.0]),
+                       np.array([0.0, 0.0, 1.0]), np.ones(3))
+
+
 class GoalFlag:
     """The flag of the goal box ``center``, ``half_extents`` (m), added to ``world`` as a cloth (see the
     module docstring; it sets ``world.particle_substeps``); ``ground`` and ``approach`` as for
@@ -164,5 +173,6 @@ class GoalFlag:
 
     def blow(self, t, dt):
         """Give the flag the velocity change of the wind's push at time ``t`` (s) over a step of ``dt`` (s)."""
+        await_kernel(blow_flag)         # (compiled ahead on a first run: Game's _compile_ahead)
         self.cloth.velocities = blow_flag(self.cloth.positions, self.cloth.velocities, self.triangles, t, dt,
                                           self.top, self.direction, self.across, self._inverse_mass)

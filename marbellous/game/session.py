@@ -17,7 +17,7 @@ from ..world import World
 from .camera import FollowCamera
 from .controls import control_force
 from .course import CoursePath
-from .flag import GoalFlag
+from .flag import GoalFlag, blow_call
 from .goal import BestTimes, GoalArea, format_time
 from .level import LevelError
 from .marble import MarbleSpec
@@ -97,8 +97,10 @@ class Game:
         self._stream_rest = [fluid._state() for fluid in self.streams]
         self.goal = GoalArea(level.goal_center, level.goal_half_extents)
         start = np.asarray(level.start_position, np.float64)
-        # on a first run, helper processes compile the flag's ray cast, the goal's test and the step's kernels
-        self.world._compile_ahead(self.dt, [self.goal.test_call(start, self.spec.radius)])
+        # on a first run, helper processes compile the flag's ray cast and wind, the goal's test and the step's
+        # kernels
+        self.world._compile_ahead(self.dt, [self.goal.test_call(start, self.spec.radius)]
+                                  + ([blow_call()] if flag else []))
         self.flag = (GoalFlag(self.world, level.goal_center, level.goal_half_extents, self.ground_height,
                               self._approach()) if flag else None)
         if self.goal.reached(start, self.spec.radius):
