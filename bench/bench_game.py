@@ -15,7 +15,6 @@ flag is scenery: ``flag=False`` is the marble's game alone (``autopilot_trial``'
     python bench/bench_game.py --json               also write bench/results/<date>-<host>-game.json
 """
 import argparse
-import json
 import os
 import sys
 import time
@@ -25,7 +24,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from bench.machine import describe  # noqa: E402
+from bench.machine import describe, write_results  # noqa: E402
 
 #: the parts of a step timed, in order
 PARTS = ("physics", "push", "game")
@@ -69,11 +68,6 @@ def time_play(level, seconds, flag):
     return out
 
 
-def default_json_path(machine):
-    """``bench/results/<date>-<host>-game.json``."""
-    return os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-game.json")
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--level", default="course", help="a shipped level's name or a level file")
@@ -89,10 +83,8 @@ def main(argv=None):
               + f"   {r['steps']}")
     out = {"level": args.level, "seconds": args.seconds, "results": results}
     if args.json is not None:
-        machine = describe(os.path.dirname(HERE), {})
-        path = args.json or default_json_path(machine)
-        with open(path, "w") as f:
-            json.dump({"benchmark": "game", "machine": machine, **out}, f, indent=1)
+        path = write_results(os.path.join(HERE, "results"), "game",
+                             {"benchmark": "game", "machine": describe(os.path.dirname(HERE), {}), **out}, args.json)
         print(f"wrote {path}")
     return out
 

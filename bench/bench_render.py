@@ -21,7 +21,6 @@ its contacts and a stats line.
     python bench/bench_render.py --viewer                 the viewer's frames
 """
 import argparse
-import json
 import os
 import sys
 import time
@@ -31,7 +30,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-from bench.machine import describe  # noqa: E402
+from bench.machine import describe, write_results  # noqa: E402
 from marbellous.render.antialiasing import ANTIALIASING  # noqa: E402
 
 #: the demo's video frame rate (frames per second)
@@ -142,11 +141,6 @@ def run(sizes, frames, warmup, seconds, antialiasing=None, shadow_size=None, vie
             "results": results}
 
 
-def default_json_path(machine):
-    """``bench/results/<date>-<host>-render.json``."""
-    return os.path.join(HERE, "results", f"{machine['date']}-{machine['hostname']}-render.json")
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="640x360,1280x720", help="comma-separated WIDTHxHEIGHT (pixels)")
@@ -167,10 +161,8 @@ def main(argv=None):
     for size, r in out["results"].items():
         print(f"{size:>10s} " + " ".join(f"{r[p]:7.2f}" for p in PARTS))
     if args.json is not None:
-        machine = describe(os.path.dirname(HERE), {})
-        path = args.json or default_json_path(machine)
-        with open(path, "w") as f:
-            json.dump({"benchmark": "render", "machine": machine, **out}, f, indent=1)
+        path = write_results(os.path.join(HERE, "results"), "render",
+                             {"benchmark": "render", "machine": describe(os.path.dirname(HERE), {}), **out}, args.json)
         print(f"wrote {path}")
     return out
 

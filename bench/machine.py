@@ -47,12 +47,13 @@ def describe(root, peer_versions):
             "git_commit": commit, "git_dirty": dirty}
 
 
-def write_results(directory, name, record):
-    """Write ``record`` (with its ``"machine"`` from :func:`describe`) as
-    ``directory/<date>-<host>-<name>.json``; returns the path."""
+def write_results(directory, name, record, path=None):
+    """Write ``record`` (with its ``"machine"`` from :func:`describe`) to ``path``, or when it is None or empty
+    as ``directory/<date>-<host>-<name>.json``; returns the path."""
     machine = record["machine"]
-    os.makedirs(directory, exist_ok=True)
-    path = os.path.join(directory, f"{machine['date']}-{machine['hostname']}-{name}.json")
+    if not path:
+        os.makedirs(directory, exist_ok=True)
+        path = os.path.join(directory, f"{machine['date']}-{machine['hostname']}-{name}.json")
     with open(path, "w") as f:
         json.dump(record, f, indent=1)
     return path
