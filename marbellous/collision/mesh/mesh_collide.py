@@ -79,6 +79,14 @@ def feature_is_true(geom_f, geom_i, off_f, off_i, t, feature, p, q):
     return True
 
 
+@njit_inline
+def _within_reach(c, reach, triangle):
+    """Whether the triangle ``(a, b, c, normal)`` (``ml.triangle``) is not degenerate and its box comes within
+    ``reach`` (m) of the point ``c``."""
+    a, b, cc, nrm = triangle
+    return not sphere_misses_box(c, reach, a, b, cc) and not (nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0)
+
+
 @njit
 def collide_sphere_mesh(centre, radius, pos_b, m_b, params_b, geom_f, geom_i, off_f_b, off_i_b, prediction,
                         out_f, out_i, n):
@@ -92,16 +100,22 @@ def collide_sphere_mesh(centre, radius, pos_b, m_b, params_b, geom_f, geom_i, of
     lo = (c[0] - radius - prediction, c[1] - radius - prediction, c[2] - radius - prediction)
     hi = (c[0] + radius + prediction, c[1] + radius + prediction, c[2] + radius + prediction)
     cand, first, count = mesh_candidates(params_b, geom_f, geom_i, off_f_b, off_i_b, lo, hi)
+    reach = radius + prediction
+    # (the first candidate within reach found before the repeats' memory is made: a sphere near none, such as most
+    # particles' queries each step, allocates nothing)
+    start = first
+    while start < first + count and not _within_reach(c, reach, ml.triangle(geom_f, geom_i, off_f_b, off_i_b,
+                                                                              cand[start])):
+        start += 1
+    if start == first + count:
+        return n
     seen = np.empty((SEEN_ROWS, 7))
     n_seen = 0
-    reach = radius + prediction
-    for j in range(first, first + count):
+    for j in range(start, first + count):
         t = cand[j]
         a, b, cc, nrm = ml.triangle(geom_f, geom_i, off_f_b, off_i_b, t)
-        if sphere_misses_box(c, reach, a, b, cc):
-            continue                                  # too far
-        if nrm[0] == 0.0 and nrm[1] == 0.0 and nrm[2] == 0.0:
-            continue                                  # degenerate
+        if not _within_reach(c, reach, (a, b, cc, nrm)):
+            continue
         feature, q, normal, depth = sphere_triangle(c, radius, a, b, cc, nrm, prediction)
         if feature >= 0 and feature_is_true(geom_f, geom_i, off_f_b, off_i_b, t, feature, c, q):
             n, n_seen = emit_contact(q, normal, depth, feature, pos_b, m_b, t, seen, n_seen, out_f, out_i, n)
