@@ -110,7 +110,7 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slac
         for q in range(3):
             sweep_point(pf, tri[t, T_A + q], mean, dt, tri_lo, tri_hi, t)
         grow_box(tri_lo, tri_hi, t, 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS] + 0.5 * slack)
-    cell = typical_extent(point_lo, point_hi, n_particles)
+    cell = typical_extent(tri_lo, tri_hi, n_tri)
     grid = bin_boxes(point_lo, point_hi, n_particles, cell, cell_start)
     found = np.empty(n_particles, np.int64)
     n = 0
