@@ -130,9 +130,9 @@ def blow_flag(x, v, triangles, t, dt, top, direction, across, inverse_mass):
     """:func:`plate_push` of the :func:`gusts` at the triangles' centres at time ``t`` (s) over a step of
     ``dt`` (s): the flag's velocities (m/s) after the wind's push."""
     centres = np.empty((triangles.shape[0], 3))
-    for t_ in range(triangles.shape[0]):
+    for i in range(triangles.shape[0]):
         for k in range(3):
-            centres[t_, k] = (x[triangles[t_, 0], k] + x[triangles[t_, 1], k] + x[triangles[t_, 2], k]) / 3.0
+            centres[i, k] = (x[triangles[i, 0], k] + x[triangles[i, 1], k] + x[triangles[i, 2], k]) / 3.0
     wind = np.empty_like(centres)
     gusts(centres, t, top, direction, across, wind)
     return plate_push(x, v, triangles, wind, 0.5 * AIR_DENSITY * DRAG, inverse_mass, dt)
