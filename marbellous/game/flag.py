@@ -21,7 +21,7 @@ it on each corner.  The force is given each step as the velocity change it makes
 ``dv = F dt / m`` per vertex (one write of the flag's velocities, where a force per vertex would take a call
 per vertex), and the pinned edge stays still.  The wind and its push are compiled kernels (:func:`gusts`,
 :func:`plate_push`, which read this module's constants): written with NumPy over the flag's 154 triangles they
-took 170 us a step, half as much again as the flag's cloth itself.
+took 170-210 us a step, more than half as much as the flag's cloth itself (360-380 us).
 
 The flag is the game world's only cloth, so it sets the world's particle sub-steps (:data:`SUBSTEPS`): 8 keep
 its edges within 6 % of their length and its cost near half a millisecond a step (16: 3 % and 0.8 ms).
