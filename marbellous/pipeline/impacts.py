@@ -38,6 +38,9 @@ from ..collision import shape_types as st
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from ..collision.toi.closed_forms import gap_comes_within, spheres_come_within
 from ..collision.toi.conservative_advancement import IMPACT, MISS, made_of_pieces, time_of_impact
+from ..collision.toi.motion import pose_shape_at
+from ..collision.toi.sphere_mesh_reach import sphere_reaches_triangle
+from ..collision.vec3 import matrix
 from ..dynamics.ccd import body_motion, is_fast, shape_reach, speed_bound
 from ..dynamics.forces import is_moving
 from ..dynamics.impact_resolution import closing_speed, resolve_impacts
@@ -195,11 +198,13 @@ def _centred(sf, s):
 
 
 @njit
-def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead):
+def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead, geom_f, geom_i, pos_t, rot_t, q):
     """1 if the pair of contact ``c`` comes within the hit tolerance in ``horizon`` (s), 0 if it does not, by
     the closed forms of ``collision/toi/closed_forms.py`` (two centred spheres with the same acceleration;
-    a centred sphere and a plane); -1 for other pairs (the search decides).  ``lead`` as in
-    ``ccd.body_motion``."""
+    a centred sphere and a plane), or 1 when a centred sphere touches the triangle of its contact with a mesh
+    that stands still at one of the times ``collision/toi/sphere_mesh_reach.py`` tries; -1 otherwise (the
+    search decides).  ``lead`` as in ``ccd.body_motion``; ``pos_t`` (2, 3), ``rot_t`` (2, 3, 3) and ``q`` (4,)
+    scratch."""
     a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
     sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
     ta, tb = si[sa, S_TYPE], si[sb, S_TYPE]
@@ -218,6 +223,20 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead):
             (tb == st.SPHERE and ta == st.PLANE and _centred(sf, sb)):
         c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity, lead)
         return int(gap_comes_within(-cf[c, C_DEPTH], c_lin, a_n, horizon, HIT_TOLERANCE))
+    if ta == st.MESH and tb == st.SPHERE:
+        a, b, sa, sb = b, a, sb, sa
+    elif not (ta == st.SPHERE and tb == st.MESH):
+        return -1
+    if not _centred(sf, sa) or is_moving(bi, b):
+        return -1
+    pose_shape_at(body_motion(bf, bi, b, gravity, lead), 0.0,
+                  (sf[sb, S_LOCAL_POS], sf[sb, S_LOCAL_POS + 1], sf[sb, S_LOCAL_POS + 2]),
+                  (sf[sb, S_LOCAL_QUAT], sf[sb, S_LOCAL_QUAT + 1], sf[sb, S_LOCAL_QUAT + 2], sf[sb, S_LOCAL_QUAT + 3]),
+                  pos_t[1], rot_t[1], q)
+    if sphere_reaches_triangle(body_motion(bf, bi, a, gravity, lead), sf[sa, S_PARAMS],
+                               (pos_t[1, 0], pos_t[1, 1], pos_t[1, 2]), matrix(rot_t[1]), geom_f, geom_i,
+                               si[sb, S_OFF_F], si[sb, S_OFF_I], ci[c, C_FEATURE] // 16, horizon):
+        return 1
     return -1
 
 
@@ -385,7 +404,9 @@ def stage_time_of_impact(ctx, coverage):
                     ctx.toi_touch[0] = 0
                     swept = swept_any and _swept(mode, bi, sf, si, sweep, ci[c, C_BODY_A], ci[c, C_BODY_B],
                                                  stretch)
-                    reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting, lead)
+                    reach = -1 if swept else closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, acting, lead,
+                                                               ctx.geom_f, ctx.geom_i, ctx.toi_pos, ctx.toi_rot,
+                                                               ctx.toi_q)
                     if reach >= 0:
                         gone = reach == 0
                     else:
