@@ -21,12 +21,20 @@ RIGHT_KEYS = ("D", "RIGHT")
 
 def clip_to_disc(move):
     """``move`` (2,) scaled down onto the unit disc if it lies outside it; NaN raises ValueError."""
+    return np.array(_clipped(move))
+
+
+def _clipped(move):
+    """:func:`clip_to_disc` as two floats.  ``np.hypot`` (the C library's, as the arrays' ``_clip_to_disc``
+    uses) only where the move may leave the disc: inside ``a^2 + b^2 <= 1/2`` it is left as it is."""
     m = np.asarray(move, np.float64).reshape(2)
     a, b = float(m[0]), float(m[1])
     if not (math.isfinite(a) and math.isfinite(b)):
         raise ValueError(f"move must be 2 finite numbers, got {move!r}")
+    if a * a + b * b <= 0.5:
+        return a, b
     n = float(np.hypot(a, b))
-    return np.array([a / n, b / n]) if n > 1.0 else np.array([a, b])
+    return (a / n, b / n) if n > 1.0 else (a, b)
 
 
 def heading_axes(heading):
@@ -38,9 +46,12 @@ def heading_axes(heading):
 def control_force(move, heading, mass, push):
     """World-space force (N) for a control input ``move = (forward, right)`` seen from a camera with
     ``heading`` (rad) on a marble of ``mass`` (kg) pushed with ``push`` (m/s^2) at full input."""
-    f, r = heading_axes(heading)
-    m = clip_to_disc(move)
-    return mass * push * (m[0] * f + m[1] * r)
+    c, s = math.cos(heading), math.sin(heading)
+    forward, right = _clipped(move)
+    mp = mass * push
+    # m_f f + m_r r with f = (c, 0, s), r = (-s, 0, c) (heading_axes), element by element as the arrays would
+    return np.array([mp * (forward * c + right * -s), mp * (forward * 0.0 + right * 0.0),
+                     mp * (forward * s + right * c)])
 
 
 def move_for_direction(direction, heading):
