@@ -6,7 +6,11 @@ untimed (which loads or compiles the kernels); each step is timed in three parts
 - physics: ``World.step`` (the game's own clock of it, ``Game.physics_seconds``);
 - push: the flag's wind (``GoalFlag.blow``: the wind at its triangles and the velocity change of its push);
 - game: the whole ``Game.step`` with the autopilot's input (control force, push, physics, the goal's test; the
-  autopilot's own work, finding the marble on the course, not counted).
+  autopilot's own work, finding the marble on the course, not counted);
+- replayed (without the flag): ``World.step`` of the same steps again in a new game, back to back, each with the
+  force the play gave the marble and nothing else run between them (its path checked to end bit for bit where the
+  play's did).  Played, the step follows the game's and the autopilot's Python, which leave its code and data
+  cold; replayed, it does not.
 Reported per run: the mean and the median of each over the timed steps (us), and how many steps there were.  The
 flag is scenery: ``flag=False`` is the marble's game alone (``autopilot_trial``'s default).
 
@@ -27,7 +31,7 @@ sys.path.insert(0, os.path.dirname(HERE))
 from bench.machine import describe, write_results  # noqa: E402
 
 #: the parts of a step timed, in order
-PARTS = ("physics", "push", "game")
+PARTS = ("physics", "push", "game", "replayed")
 
 
 def time_play(level, seconds, flag):
@@ -40,8 +44,10 @@ def time_play(level, seconds, flag):
 
     game = Game(load_level(level), best_times=BestTimes(persistent=False), flag=flag)
     pilot = Autopilot(game.course, game.spec.push)
+    forces = []                 # the marble's force in each step, for the replay
     for _ in range(round(1.0 / game.dt)):
         pilot.step(game)
+        forces.append(game._push_force)
     pushes = []
     if game.flag is not None:
         blow = game.flag.blow
@@ -59,13 +65,37 @@ def time_play(level, seconds, flag):
         game.step(move)
         whole.append(time.perf_counter() - t0)
         physics.append(game.physics_seconds - before)
+        forces.append(game._push_force)
         if game.respawns != respawns:
             pilot.reset()
-    columns = {"physics": physics, "push": pushes or [0.0] * len(whole), "game": whole}
-    out = {part: {"mean_us": 1e6 * float(np.mean(columns[part])), "median_us": 1e6 * float(np.median(columns[part]))}
+    replayed = None if flag or game.respawns else replay(level, forces, len(whole), game.marble)
+    columns = {"physics": physics, "push": pushes or [0.0] * len(whole), "game": whole, "replayed": replayed}
+    out = {part: None if columns[part] is None else
+           {"mean_us": 1e6 * float(np.mean(columns[part])), "median_us": 1e6 * float(np.median(columns[part]))}
            for part in PARTS}
     out["steps"] = len(whole)
     return out
+
+
+def replay(level, forces, timed, marble):
+    """Seconds of each of the last ``timed`` steps of ``World.step`` in a new game of ``level`` (no flag) stepped
+    with ``forces`` (N, one per step) on its marble and nothing else between the steps; None if its marble does not
+    end where ``marble`` (the played game's) did, bit for bit."""
+    from marbellous.game.goal import BestTimes
+    from marbellous.game.level import load_level
+    from marbellous.game.session import Game
+
+    game = Game(load_level(level), best_times=BestTimes(persistent=False), flag=False)
+    world, b, dt = game.world, game.marble, game.dt
+    clock = time.perf_counter
+    seconds = []
+    for force in forces:
+        b._add_force(force)
+        t0 = clock()
+        world.step(dt)
+        seconds.append(clock() - t0)
+    same = b.position.tobytes() == marble.position.tobytes() and b.velocity.tobytes() == marble.velocity.tobytes()
+    return seconds[-timed:] if same else None
 
 
 def main(argv=None):
@@ -79,8 +109,8 @@ def main(argv=None):
     print(f"{args.level}, {args.seconds:g} s of play by the autopilot at 1/120 s a step; us per step (mean / median)")
     print(f"{'run':>8s} " + " ".join(f"{p:>15s}" for p in PARTS) + "   steps")
     for run, r in results.items():
-        print(f"{run:>8s} " + " ".join(f"{r[p]['mean_us']:7.1f}/{r[p]['median_us']:7.1f}" for p in PARTS)
-              + f"   {r['steps']}")
+        cells = [f"{'-':>15s}" if r[p] is None else f"{r[p]['mean_us']:7.1f}/{r[p]['median_us']:7.1f}" for p in PARTS]
+        print(f"{run:>8s} " + " ".join(cells) + f"   {r['steps']}")
     out = {"level": args.level, "seconds": args.seconds, "results": results}
     if args.json is not None:
         path = write_results(os.path.join(HERE, "results"), "game",

@@ -1,5 +1,6 @@
 """The game's benchmark (bench/bench_game.py) plays a little of the course with and without the flag and reports
-every part of a step for both runs, in its table and its results file (no timing is checked)."""
+every part of a step for both runs, in its table and its results file, and replays the steps without the flag
+back to back to the same end (no timing is checked)."""
 import json
 
 from bench.bench_game import PARTS, main
@@ -14,6 +15,9 @@ def test_a_short_play_reports_every_part_with_and_without_the_flag(tmp_path, cap
         assert r["steps"] == 30 and set(PARTS) <= set(r)
         assert r["physics"]["mean_us"] > 0.0 and r["game"]["mean_us"] >= r["physics"]["mean_us"]
         assert (r["push"]["mean_us"] > 0.0) == (run == "flag")
+        # the replay of the same steps back to back ends where the play did (else it reports None)
+        assert (r["replayed"] is None) == (run == "flag")
+    assert runs["no_flag"]["replayed"]["mean_us"] > 0.0
     saved = json.loads(path.read_text())
     assert saved["benchmark"] == "game" and saved["results"] == runs and "machine" in saved
     table = capsys.readouterr().out
