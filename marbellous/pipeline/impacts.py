@@ -202,9 +202,9 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead, geom_f,
     """1 if the pair of contact ``c`` comes within the hit tolerance in ``horizon`` (s), 0 if it does not, by
     the closed forms of ``collision/toi/closed_forms.py`` (two centred spheres with the same acceleration;
     a centred sphere and a plane), or 1 when a centred sphere touches the triangle of its contact with a mesh
-    that stands still at one of the times ``collision/toi/sphere_mesh_reach.py`` tries; -1 otherwise (the
-    search decides).  ``lead`` as in ``ccd.body_motion``; ``pos_t`` (2, 3), ``rot_t`` (2, 3, 3) and ``q`` (4,)
-    scratch."""
+    or height field that stands still at one of the times ``collision/toi/sphere_mesh_reach.py`` tries; -1
+    otherwise (the search decides).  ``lead`` as in ``ccd.body_motion``; ``pos_t`` (2, 3), ``rot_t`` (2, 3, 3)
+    and ``q`` (4,) scratch."""
     a, b = ci[c, C_BODY_A], ci[c, C_BODY_B]
     sa, sb = ci[c, C_SHAPE_A], ci[c, C_SHAPE_B]
     ta, tb = si[sa, S_TYPE], si[sb, S_TYPE]
@@ -223,9 +223,9 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead, geom_f,
             (tb == st.SPHERE and ta == st.PLANE and _centred(sf, sb)):
         c_lin, a_n = _normal_closing(bf, bi, cf, ci, c, gravity, lead)
         return int(gap_comes_within(-cf[c, C_DEPTH], c_lin, a_n, horizon, HIT_TOLERANCE))
-    if ta == st.MESH and tb == st.SPHERE:
-        a, b, sa, sb = b, a, sb, sa
-    elif not (ta == st.SPHERE and tb == st.MESH):
+    if made_of_pieces(ta) and tb == st.SPHERE:
+        a, b, sa, sb, ta, tb = b, a, sb, sa, tb, ta
+    elif not (ta == st.SPHERE and made_of_pieces(tb)):
         return -1
     if not _centred(sf, sa) or is_moving(bi, b):
         return -1
@@ -234,8 +234,9 @@ def closed_form_reach(bf, bi, sf, si, cf, ci, c, gravity, horizon, lead, geom_f,
                   (sf[sb, S_LOCAL_QUAT], sf[sb, S_LOCAL_QUAT + 1], sf[sb, S_LOCAL_QUAT + 2], sf[sb, S_LOCAL_QUAT + 3]),
                   pos_t[1], rot_t[1], q)
     if sphere_reaches_triangle(body_motion(bf, bi, a, gravity, lead), sf[sa, S_PARAMS],
-                               (pos_t[1, 0], pos_t[1, 1], pos_t[1, 2]), matrix(rot_t[1]), geom_f, geom_i,
-                               si[sb, S_OFF_F], si[sb, S_OFF_I], ci[c, C_FEATURE] // 16, horizon):
+                               (pos_t[1, 0], pos_t[1, 1], pos_t[1, 2]), matrix(rot_t[1]), tb == st.HEIGHTFIELD,
+                               sf[sb, S_PARAMS:S_PARAMS + st.N_SHAPE_PARAMS], geom_f, geom_i, si[sb, S_OFF_F],
+                               si[sb, S_OFF_I], ci[c, C_FEATURE] // 16, horizon):
         return 1
     return -1
 
