@@ -31,9 +31,7 @@ Friction stays with the position pass.
 import numpy as np
 
 from .._numba.jit import njit
-from .body_motion import pushable
-from .particle_layout import (K_KIND, K_OTHER, K_PARTICLE, KK_BODY, L_CORNER, L_NORMAL, L_PUSH, L_TARGET,
-                              L_WEIGHT, P_INV_MASS, P_POS)
+from .particle_layout import L_CORNER, L_NORMAL, L_PUSH, L_TARGET, L_WEIGHT, P_INV_MASS, P_POS
 from .stretch_solve import MAX_HELD, columns_of, pushing_forces
 
 
@@ -56,11 +54,11 @@ def record_push(lf, li, n_rec, corners, weights, n, push, target):
 
 
 @njit
-def _held(pf, slot, lf, li, n_rec, grounded):
+def _held(pf, slot, lf, li, n_rec, ground):
     """``(rows, corners)``: the records of the contacts to solve with the sheet (module docstring; one per contact:
     the first pass's) and the distinct unknowns of their corners.  A contact is solved when all its moving corners
-    are unknowns of the solve and none is ``grounded`` (touches a shape the particles cannot move); the hardest
-    pushed first while their corners fit in ``MAX_HELD`` columns."""
+    are unknowns of the solve and none is held by the ground (``ground``: touches a shape the particles cannot
+    move); the hardest pushed first while their corners fit in ``MAX_HELD`` columns."""
     rows = np.empty(n_rec, np.int64)
     corners = np.empty(MAX_HELD, np.int64)
     n_rows = n_corners = 0
@@ -70,7 +68,7 @@ def _held(pf, slot, lf, li, n_rec, grounded):
         for j in range(4):
             q = li[r, L_CORNER + j]
             if q >= 0 and pf[q, P_INV_MASS] > 0.0:
-                if slot[q] < 0 or grounded[q]:
+                if slot[q] < 0 or ground[q, 3] > 0.0:
                     ok = False
                 elif not _listed(corners, n_corners, slot[q]):
                     extra += 1
@@ -103,17 +101,14 @@ def _index(values, value):
 
 @njit
 def hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work,
-                columns, column_of, column_unknown, column_used, lf, li, n_rec, kf, ki, nk, bf, bi):
-    """Solve the sub-step's recorded cloth-on-cloth pushes (``lf``/``li``, ``n_rec`` of them) with the
-    whole-cloth solve's step (module docstring; ``work`` (u, 3) scratch), after the shapes' contact pass
-    (``kf``/``ki``, ``nk`` contacts; ``bf``/``bi`` the bodies)."""
+                columns, column_of, column_unknown, column_used, lf, li, n_rec, ground):
+    """Solve the sub-step's recorded cloth-on-cloth pushes (``lf``/``li``, ``n_rec`` of them, pushed with no
+    particle held by the ground) with the whole-cloth solve's step (module docstring; ``work`` (u, 3) scratch),
+    after the shapes' contact pass (``ground``: what it found holding each particle,
+    ``particle_contacts.ground_normals``)."""
     if n_rec == 0:
         return
-    grounded = np.zeros(pf.shape[0], np.bool_)
-    for c in range(min(nk, kf.shape[0])):
-        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
-            grounded[ki[c, K_PARTICLE]] = True
-    held, corners = _held(pf, slot, lf, li, n_rec, grounded)
+    held, corners = _held(pf, slot, lf, li, n_rec, ground)
     m = held.shape[0]
     if m == 0:
         return

@@ -29,7 +29,7 @@ from ..math3d import quat_product, quat_to_matrix
 from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTION, S_BODY, S_LOCAL_POS,
                             S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
                             STATIC_FRICTION, VEL)
-from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, to_world
+from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, pushable, to_world
 from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
                               KK_BODY, KK_PARTICLE, P_FLAGS, P_FORCE, P_FRICTION, P_INV_MASS, P_POS, P_PREV, P_RADIUS,
                               P_RESTITUTION, P_STATIC_FRICTION, P_SUPPORT, P_VEL, P_VEL0, PP_PINNED, PP_SOFT)
@@ -365,3 +365,28 @@ def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed):
         if size > 0.0:
             separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (dv[0] / size, dv[1] / size, dv[2] / size),
                      size, h, False)
+
+
+@njit
+def ground_normals(pf, bf, bi, kf, ki, nk, ground):
+    """Fill ``ground`` (n, 4) with what holds each particle from below in this sub-step: the sum of the unit
+    normals of its contacts (``kf``/``ki``, ``nk`` of them) with shapes and bodies the particles cannot move
+    (static, kinematic), and their count (0: nothing holds it)."""
+    ground[:] = 0.0
+    for c in range(min(nk, kf.shape[0])):
+        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
+            p = ki[c, K_PARTICLE]
+            for k in range(3):
+                ground[p, k] += kf[c, K_NORMAL + k]
+            ground[p, 3] += 1.0
+
+
+@njit_inline
+def held_inverse_mass(pf, ground, p, along):
+    """Particle ``p``'s inverse mass (1/kg) for a push along ``along`` (a unit 3-tuple) by a contact of cloth
+    with cloth: 0 when it would push the particle into what holds it (``ground_normals``), which takes the push
+    whole (a layer pressed onto one lying on the ground is pushed up by the ground, not the lower layer down
+    into it)."""
+    if ground[p, 3] > 0.0 and ground[p, 0] * along[0] + ground[p, 1] * along[1] + ground[p, 2] * along[2] < 0.0:
+        return 0.0
+    return pf[p, P_INV_MASS]

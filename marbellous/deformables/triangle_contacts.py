@@ -16,6 +16,9 @@ behind it by less than that (it passed through in this sub-step), is pushed apar
     C = s n . (x_p - sum_i b_i x_i) - (r + t / 2) >= 0
     grad_p = s n,   grad_i = -b_i s n,   dlambda = -C / (w_p + sum_i b_i^2 w_i)
 
+A corner that the ground holds (``particle_contacts.held_inverse_mass``) takes no part of a push into the ground
+in the sub-step's second pass: its ``w`` counts as 0, unless every corner's would.
+
 An overlap already there at the sub-step's start (``C_start < 0``, on the positions the sub-step began with)
 is only reduced by ``PUSH_SPEED h``; overlap made within the sub-step is removed whole, so a point is not
 pushed through.  Pushed out at once, a crumpled sheet's overlaps became velocities ``C / h`` (10 m/s for a
@@ -35,7 +38,7 @@ import numpy as np
 
 from .._numba.jit import njit
 from .layer_contacts import record_push
-from .particle_contacts import append_pair
+from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
                               P_RADIUS, P_REST, P_STATIC_FRICTION, PP_COLLIDE, T_A, T_CLOTH)
 from .particle_pairs import joined
@@ -145,9 +148,10 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slac
 
 
 @njit
-def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, lf, li, n_rec):
-    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds; each push is
-    recorded into ``lf``/``li`` after the ``n_rec`` there (``layer_contacts.record_push``); returns their new
+def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, ground, lf, li, n_rec):
+    """The position pass over the candidate pairs (module docstring) in a sub-step of ``h`` seconds, with the
+    particles that the ground holds (``ground``, ``particle_contacts.ground_normals``; all zero: none); each push
+    is recorded into ``lf``/``li`` after the ``n_rec`` there (``layer_contacts.record_push``); returns their new
     count."""
     push = PUSH_SPEED * h
     for k in range(n_pairs):
@@ -187,8 +191,14 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, lf, li, n_rec):
         target = gap if d_start >= gap else min(gap, d_start + push)
         if d >= target:
             continue
-        wa, wb, wc, wp = pf[a, P_INV_MASS], pf[b, P_INV_MASS], pf[c, P_INV_MASS], pf[p, P_INV_MASS]
+        # (a corner held by the ground against the push takes none of it, unless every corner is held)
+        back_n = (-n[0], -n[1], -n[2])
+        wa, wb = held_inverse_mass(pf, ground, a, back_n), held_inverse_mass(pf, ground, b, back_n)
+        wc, wp = held_inverse_mass(pf, ground, c, back_n), held_inverse_mass(pf, ground, p, n)
         denominator = wp + b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wc
+        if denominator <= 0.0:
+            wa, wb, wc, wp = pf[a, P_INV_MASS], pf[b, P_INV_MASS], pf[c, P_INV_MASS], pf[p, P_INV_MASS]
+            denominator = wp + b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wc
         if denominator <= 0.0:
             continue
         dlambda = (target - d) / denominator
@@ -198,16 +208,17 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, lf, li, n_rec):
             pf[b, P_POS + j] -= wb * b1 * dlambda * n[j]
             pf[c, P_POS + j] -= wc * b2 * dlambda * n[j]
         n_rec = record_push(lf, li, n_rec, (p, a, b, c), (1.0, -b0, -b1, -b2), n, dlambda, target)
-        _friction(pf, p, a, b, c, b0, b1, b2, n, target - d, denominator)
+        _friction(pf, p, a, b, c, b0, b1, b2, n, target - d, (wp, wa, wb, wc), denominator)
     return n_rec
 
 
 @njit
-def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, denominator):
+def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, inverse_masses, denominator):
     """Coulomb friction between point ``p`` and the triangle ``a b c`` (barycentric weights ``b0 b1 b2``) whose
     overlap ``depth`` (m) along ``n`` was just removed, on positions (Macklin et al. 2014): their relative
     motion across ``n`` in this sub-step, ``dx_t``, is undone if it is shorter than ``mu_s depth`` (static),
-    else shortened by ``mu_d depth`` (sliding), split by the inverse masses as the overlap was.  The
+    else shortened by ``mu_d depth`` (sliding), split by the ``inverse_masses`` (of ``p a b c``) as the overlap
+    was.  The
     coefficients: the geometric means of the point's and the triangle's."""
     dx = [0.0, 0.0, 0.0]
     for j in range(3):
@@ -223,7 +234,7 @@ def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, denominator):
     mu_d = math.sqrt(pf[p, P_FRICTION] * pf[a, P_FRICTION])
     undo = slip if slip < mu_s * depth else min(slip, mu_d * depth)
     dlambda = undo / (slip * denominator)
-    wa, wb, wc, wp = pf[a, P_INV_MASS], pf[b, P_INV_MASS], pf[c, P_INV_MASS], pf[p, P_INV_MASS]
+    wp, wa, wb, wc = inverse_masses
     for j in range(3):
         pf[p, P_POS + j] -= wp * dlambda * t[j]
         pf[a, P_POS + j] += wa * b0 * dlambda * t[j]
