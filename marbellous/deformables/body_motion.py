@@ -10,8 +10,10 @@ body is a positional impulse ``P`` (kg m) at a point ``p``, split as in position
 
     D += P / m        Theta += I^-1 (r x P)        dv += P / (m h)        domega += I^-1 (r x P) / h
 
-(``r = p - x(t)``, ``I^-1 = R I_body^-1 R^T`` the world inverse inertia, ``h`` the sub-step), and the body goes on
-moving with its extra velocity ``dv, domega`` in the later sub-steps.  At the end of the step the pose and the
+(``r = p - x(t)``, ``I^-1 = R I_body^-1 R^T`` the world inverse inertia, ``h`` the sub-step; the velocities get
+less of it where a push takes the body out of an overlap it did not close in that sub-step,
+``particle_contacts._shape_pair``), and the body goes on moving with its extra velocity ``dv, domega`` in the
+later sub-steps.  At the end of the step the pose and the
 velocities are written back, so that momentum is conserved: what a particle gains the body loses.
 
 A body in free fall in the bodies' step (its velocity changed as gravity, its user force and its linear
@@ -153,9 +155,10 @@ def inverse_mass_along(bf, bi, b, x_b, q, p, n):
 
 
 @njit_inline
-def push_body(bf, bi, bx, b, x_b, q, p, impulse, h, move):
+def push_body(bf, bi, bx, b, x_b, q, p, impulse, h, move, share):
     """Give body row ``b`` the positional impulse ``impulse`` (kg m, a 3-tuple) at ``p``: a velocity change of
-    ``impulse / h`` (kg m/s), and, when ``move``, the position change too (see the module docstring)."""
+    ``share impulse / h`` (kg m/s; ``share`` 1 but where a push takes a body out of an overlap it did not close in
+    the sub-step), and, when ``move``, the position change too (see the module docstring)."""
     if not pushable(bf, bi, b):
         return
     r = (p[0] - x_b[0], p[1] - x_b[1], p[2] - x_b[2])
@@ -167,8 +170,8 @@ def push_body(bf, bi, bx, b, x_b, q, p, impulse, h, move):
         if move:
             bx[b, BX_D + k] += inv_m * impulse[k]
             bx[b, BX_THETA + k] += turn[k]
-        bx[b, BX_DV + k] += inv_m * impulse[k] / h
-        bx[b, BX_DW + k] += turn[k] / h
+        bx[b, BX_DV + k] += share * inv_m * impulse[k] / h
+        bx[b, BX_DW + k] += share * turn[k] / h
     bx[b, BX_TOUCHED] = 1.0
 
 

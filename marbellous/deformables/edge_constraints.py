@@ -54,7 +54,7 @@ def move_end(pf, pi, bf, bi, bx, p, back, w, dlambda, n, h):
     if (pi[p, P_FLAGS] & PP_PINNED) != 0 and b >= 0:
         x_b, q_b = body_pose(bf, bi, bx, b, back)
         point = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
-        push_body(bf, bi, bx, b, x_b, q_b, point, (dlambda * n[0], dlambda * n[1], dlambda * n[2]), h, True)
+        push_body(bf, bi, bx, b, x_b, q_b, point, (dlambda * n[0], dlambda * n[1], dlambda * n[2]), h, True, 1.0)
 
 
 @njit

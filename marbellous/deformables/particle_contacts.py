@@ -137,16 +137,51 @@ def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
     return pf[p, P_VEL] - u[0], pf[p, P_VEL + 1] - u[1], pf[p, P_VEL + 2] - u[2]
 
 
+@njit
+def ground_normals(pf, bf, bi, kf, ki, nk, ground):
+    """Fill ``ground`` (n, 4) with what holds each particle from below in this sub-step: the sum of the unit
+    normals of its contacts (``kf``/``ki``, ``nk`` of them) with shapes and bodies the particles cannot move
+    (static, kinematic), and their count (0: nothing holds it)."""
+    ground[:] = 0.0
+    for c in range(min(nk, kf.shape[0])):
+        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
+            p = ki[c, K_PARTICLE]
+            for k in range(3):
+                ground[p, k] += kf[c, K_NORMAL + k]
+            ground[p, 3] += 1.0
+
+
 @njit_inline
-def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move):
+def held_by_ground(pf, ground, p, along):
+    """Whether a push along ``along`` (a unit 3-tuple) would move particle ``p`` (not pinned) into what holds it
+    (:func:`ground_normals`)."""
+    return pf[p, P_INV_MASS] > 0.0 and ground[p, 3] > 0.0 \
+        and ground[p, 0] * along[0] + ground[p, 1] * along[1] + ground[p, 2] * along[2] < 0.0
+
+
+@njit_inline
+def held_inverse_mass(pf, ground, p, along):
+    """Particle ``p``'s inverse mass (1/kg) for a push along ``along`` (a unit 3-tuple) by a contact of cloth
+    with cloth: 0 when it would push the particle into what holds it (:func:`held_by_ground`), which takes the
+    push whole (a layer pressed onto one lying on the ground is pushed up by the ground, not the lower layer down
+    into it)."""
+    return 0.0 if held_by_ground(pf, ground, p, along) else pf[p, P_INV_MASS]
+
+
+@njit_inline
+def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move, held, share):
     """Move particle row ``p`` and the other side apart by ``amount`` along the unit ``u`` (positions and
     velocities when ``move``, velocities only (``amount`` a velocity, m/s) otherwise), split by their
-    generalised inverse masses; returns what the particle moved (m or m/s)."""
+    generalised inverse masses (the particle's taken as 0 when ``held`` and the other side can move); a body
+    pushed by position gets ``share`` of the push as velocity (``body_motion.push_body``).  Returns what the
+    particle moved (m or m/s)."""
     wp = pf[p, P_INV_MASS]
     if kind == KK_PARTICLE:
         wo = pf[other, P_INV_MASS]
     else:
         wo = inverse_mass_along(bf, bi, other, x_b, q_b, point, u)
+    if held and wo > 0.0:
+        wp = 0.0
     w = wp + wo
     if w <= 0.0:
         return 0.0
@@ -160,7 +195,8 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
     else:
         scale = 1.0 if move else h      # (push_body takes positional impulses)
         push_body(bf, bi, bx, other, x_b, q_b, point,
-                  (-dlambda * u[0] * scale, -dlambda * u[1] * scale, -dlambda * u[2] * scale), h, move)
+                  (-dlambda * u[0] * scale, -dlambda * u[1] * scale, -dlambda * u[2] * scale), h, move,
+                  share if move else 1.0)
     return wp * dlambda
 
 
@@ -183,7 +219,7 @@ def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s
         return 0.0
     if slip > 0.0:
         separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (-t[0] / slip, -t[1] / slip, -t[2] / slip),
-                 slip, h, True)
+                 slip, h, True, False, 1.0)
     return 1.0
 
 
@@ -207,45 +243,66 @@ def record_contact(kf, ki, nk, p, other, kind, n, point, depth, vn0, mu, e, stuc
 
 @njit_inline
 def _shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
-                    scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                    scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
     """The position pass of the sub-step ending ``back`` s before the step's end over the candidate pairs:
-    overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  A soft
-    body's node also records the contacts it merely touches (within ``SOFT_TOUCH`` of its radius: the
-    implicit step held it on the surface), and its friction counts the normal impulse that step gave it
-    (``P_SUPPORT``) as well as its overlap.  Returns the new count.  Scratch: ``scratch_f`` (m, 7) and
-    ``scratch_i`` (m,) rows of pair-test output, ``sphere`` (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3),
-    ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
-    for c in range(n_candidates):
-        p, s = candidates[c, 0], candidates[c, 1]
-        b = si[s, S_BODY]
-        soft = (pi[p, P_FLAGS] & PP_SOFT) != 0
-        touch = SOFT_TOUCH * pf[p, P_RADIUS] if soft else 0.0
-        m, x_b, q_b = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f,
-                                  scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-        moved0, moved1, moved2 = 0.0, 0.0, 0.0
-        for j in range(m):
-            # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
-            n = (-scratch_f[j, 3], -scratch_f[j, 4], -scratch_f[j, 5])
-            depth = scratch_f[j, 6] - (moved0 * n[0] + moved1 * n[1] + moved2 * n[2])
-            if depth <= -touch or (depth <= 0.0 and not soft):
-                continue
-            # (a soft body's node: the overlap that its support would have made, for friction)
-            grip = max(depth, pf[p, P_SUPPORT] * pf[p, P_INV_MASS] * h) if soft else depth
-            half = 0.5 * scratch_f[j, 6]
-            point = (scratch_f[j, 0] + n[0] * half, scratch_f[j, 1] + n[1] * half, scratch_f[j, 2] + n[2] * half)
-            before = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
-            u = point_velocity(bf, bi, bx, b, x_b, point)
-            vn0 = (pf[p, P_VEL0] - u[0]) * n[0] + (pf[p, P_VEL0 + 1] - u[1]) * n[1] + (pf[p, P_VEL0 + 2] - u[2]) * n[2]
-            if depth > 0.0:
-                separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True)
-            mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
-            stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, grip, mu_s, h)
-            moved0 += pf[p, P_POS] - before[0]
-            moved1 += pf[p, P_POS + 1] - before[1]
-            moved2 += pf[p, P_POS + 2] - before[2]
-            nk = record_contact(kf, ki, nk, p, b, KK_BODY, n, point, grip, vn0,
-                                math.sqrt(pf[p, P_FRICTION] * bf[b, FRICTION]),
-                                max(pf[p, P_RESTITUTION], bf[b, RESTITUTION]), stuck)
+    overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  First the
+    shapes the particles cannot move (static and kinematic), whose contacts then fill ``ground``
+    (:func:`ground_normals`); then the bodies they can move, which take the whole of a push that would move the
+    particle into what holds it, as velocity only what closes in the sub-step (the bodies' step had put a box
+    landing on a cloth that lies on the ground on the ground, through the cloth: split by the inverse masses,
+    the box pushed the vertices under it into the ground, 7 mm at 10 kg, 1 cm at 100 kg; given whole with its
+    velocity, the push out threw a 10 kg box up at 15 m/s).  A soft body's node also records the contacts it
+    merely touches (within ``SOFT_TOUCH`` of its radius: the implicit step held it on the surface), and its
+    friction counts the normal impulse that step gave it (``P_SUPPORT``) as well as its overlap.  Returns the new
+    count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
+    (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
+    for movable in (False, True):
+        if movable:
+            ground_normals(pf, bf, bi, kf, ki, nk, ground)
+        for c in range(n_candidates):
+            p, s = candidates[c, 0], candidates[c, 1]
+            b = si[s, S_BODY]
+            if pushable(bf, bi, b) == movable:
+                nk = _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, back, h, kf, ki, nk,
+                                 scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
+    return nk
+
+
+@njit_inline
+def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, back, h, kf, ki, nk, scratch_f,
+                scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
+    """:func:`_shape_contacts` of particle ``p`` and shape row ``s`` (of body row ``b``); returns the new count."""
+    soft = (pi[p, P_FLAGS] & PP_SOFT) != 0
+    touch = SOFT_TOUCH * pf[p, P_RADIUS] if soft else 0.0
+    m, x_b, q_b = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f,
+                              scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    moved0, moved1, moved2 = 0.0, 0.0, 0.0
+    for j in range(m):
+        # the normal from the shape to the particle, and the overlap left after this pair's earlier rows
+        n = (-scratch_f[j, 3], -scratch_f[j, 4], -scratch_f[j, 5])
+        depth = scratch_f[j, 6] - (moved0 * n[0] + moved1 * n[1] + moved2 * n[2])
+        if depth <= -touch or (depth <= 0.0 and not soft):
+            continue
+        # (a soft body's node: the overlap that its support would have made, for friction)
+        grip = max(depth, pf[p, P_SUPPORT] * pf[p, P_INV_MASS] * h) if soft else depth
+        half = 0.5 * scratch_f[j, 6]
+        point = (scratch_f[j, 0] + n[0] * half, scratch_f[j, 1] + n[1] * half, scratch_f[j, 2] + n[2] * half)
+        before = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
+        u = point_velocity(bf, bi, bx, b, x_b, point)
+        vn0 = (pf[p, P_VEL0] - u[0]) * n[0] + (pf[p, P_VEL0 + 1] - u[1]) * n[1] + (pf[p, P_VEL0 + 2] - u[2]) * n[2]
+        if depth > 0.0:
+            # held: the body takes the push, as velocity the part its approach closed in the sub-step
+            held = held_by_ground(pf, ground, p, n)
+            share = min(1.0, max(0.0, -vn0) * h / depth) if held else 1.0
+            separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True, held, share)
+        mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
+        stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, grip, mu_s, h)
+        moved0 += pf[p, P_POS] - before[0]
+        moved1 += pf[p, P_POS + 1] - before[1]
+        moved2 += pf[p, P_POS + 2] - before[2]
+        nk = record_contact(kf, ki, nk, p, b, KK_BODY, n, point, grip, vn0,
+                            math.sqrt(pf[p, P_FRICTION] * bf[b, FRICTION]),
+                            max(pf[p, P_RESTITUTION], bf[b, RESTITUTION]), stuck)
     return nk
 
 
@@ -291,41 +348,42 @@ def shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, 
 
 @njit
 def shape_contacts_spheres(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
-                           scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                           scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
     """:func:`shape_contacts` of a world of coverage ``COVER_SPHERES``."""
     return _shape_contacts(COVER_SPHERES, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
-                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
 
 
 @njit
 def shape_contacts_meshes(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
-                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
     """:func:`shape_contacts` of a world of coverage ``COVER_MESHES``."""
     return _shape_contacts(COVER_MESHES, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
-                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
 
 
 @njit
 def shape_contacts_ground(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
-                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                          scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
     """:func:`shape_contacts` with every sphere pair test (height fields and hulls too)."""
     return _shape_contacts(COVER_GROUND, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back,
-                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                           h, kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
 
 
 @njit_inline
 def shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf, ki, nk,
-                   scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                   scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground):
     """:func:`_shape_contacts` compiled for ``coverage`` (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``, a
     constant where this is inlined)."""
     if coverage == COVER_SPHERES:
         return shape_contacts_spheres(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h,
-                                      kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                                      kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s,
+                                      ground)
     if coverage == COVER_MESHES:
         return shape_contacts_meshes(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h,
-                                     kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                                     kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
     return shape_contacts_ground(pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candidates, n_candidates, back, h, kf,
-                                 ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                                 ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
 
 
 @njit_inline
@@ -338,9 +396,10 @@ def quat_product_into(q_b, sf, s, out):
 
 
 @njit
-def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed):
+def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed, ground):
     """Dynamic friction and restitution of the sub-step's contacts ``0 .. nk - 1`` (module docstring), on
-    the velocities taken from the positions."""
+    the velocities taken from the positions (a body takes the whole of a contact's change where the position
+    pass gave it the push: ``ground``)."""
     for c in range(min(nk, kf.shape[0])):
         p, other, kind = ki[c, K_PARTICLE], ki[c, K_OTHER], ki[c, K_KIND]
         n = (kf[c, K_NORMAL], kf[c, K_NORMAL + 1], kf[c, K_NORMAL + 2])
@@ -363,30 +422,6 @@ def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed):
         dv = (dvn * n[0] - cut * t[0], dvn * n[1] - cut * t[1], dvn * n[2] - cut * t[2])
         size = math.sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2])
         if size > 0.0:
+            held = kind == KK_BODY and held_by_ground(pf, ground, p, n)
             separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (dv[0] / size, dv[1] / size, dv[2] / size),
-                     size, h, False)
-
-
-@njit
-def ground_normals(pf, bf, bi, kf, ki, nk, ground):
-    """Fill ``ground`` (n, 4) with what holds each particle from below in this sub-step: the sum of the unit
-    normals of its contacts (``kf``/``ki``, ``nk`` of them) with shapes and bodies the particles cannot move
-    (static, kinematic), and their count (0: nothing holds it)."""
-    ground[:] = 0.0
-    for c in range(min(nk, kf.shape[0])):
-        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
-            p = ki[c, K_PARTICLE]
-            for k in range(3):
-                ground[p, k] += kf[c, K_NORMAL + k]
-            ground[p, 3] += 1.0
-
-
-@njit_inline
-def held_inverse_mass(pf, ground, p, along):
-    """Particle ``p``'s inverse mass (1/kg) for a push along ``along`` (a unit 3-tuple) by a contact of cloth
-    with cloth: 0 when it would push the particle into what holds it (``ground_normals``), which takes the push
-    whole (a layer pressed onto one lying on the ground is pushed up by the ground, not the lower layer down
-    into it)."""
-    if ground[p, 3] > 0.0 and ground[p, 0] * along[0] + ground[p, 1] * along[1] + ground[p, 2] * along[2] < 0.0:
-        return 0.0
-    return pf[p, P_INV_MASS]
+                     size, h, False, held, 1.0)

@@ -51,7 +51,7 @@ from .bend_constraints import solve_bends
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .layer_contacts import hold_layers
-from .particle_contacts import forced_reach, ground_normals, shape_candidates, shape_contacts, velocity_pass
+from .particle_contacts import forced_reach, shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
                               P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_STRETCH_PASSES,
                               Q_SUBSTEPS,
@@ -219,7 +219,7 @@ def _kernels(meeting, coverage):
         clear_edge_forces(ef, ei, ne)
         most = soft_most = 0
         soft_residual = 0.0
-        ground = np.zeros((n_particles if meeting else 0, 4))
+        ground = np.zeros((n_particles, 4))
         for step in range(substeps):
             back = dt - (step + 1) * h
             drift(bf, bx, nb, h)
@@ -247,17 +247,16 @@ def _kernels(meeting, coverage):
             # pushes sideways in the same sub-step; the other way round a grain in the groove of two on the floor
             # spread them apart by 5 cm in 10 s)
             nk = n_rec = 0
+            # (the first pass of cloth on cloth with nothing held by the ground: the whole-cloth solve takes its
+            # pushes back by the particles' own inverse masses, layer_contacts.py; the shapes' contacts then find
+            # what the ground holds, particle_contacts.ground_normals)
+            ground[:] = 0.0
             if meeting:
-                # (the first pass with nothing held by the ground: the whole-cloth solve takes its pushes back by
-                # the particles' own inverse masses, layer_contacts.py)
-                ground[:] = 0.0
                 nk = particle_contacts(pf, bf, bi, bx, particle_pairs, n_pair, h, kf, ki, 0)
                 n_rec = triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, ground, lf, li, 0)
                 n_rec = edge_contacts(pf, ei, edge_pairs, n_edge, h, lf, li, n_rec)
             nk = shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
-                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-            if meeting:
-                ground_normals(pf, bf, bi, kf, ki, nk, ground)
+                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
             if meeting and passes > 0:
                 hold_layers(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
                             u_diagonal, x, columns, column_of, column_unknown, column_used, lf, li, n_rec, ground)
@@ -271,14 +270,14 @@ def _kernels(meeting, coverage):
                 # went 1.7 cm through the lower
                 triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, ground, lf, li, 0)
                 shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
-                               kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                               kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
             most = max(most, nk)
             if passes > 0:
                 hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
                             u_diagonal, x, columns, column_of, column_unknown, column_used, kf, ki, nk, bf, bi, bx,
-                            back, h)
+                            back, h, ground)
             _velocities(pf, n_particles, h)
-            velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h)
+            velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h, ground)
             if meeting and n_soft > 0:
                 record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
         write_back(bf, bi, bx, nb)

@@ -144,7 +144,7 @@ def _pull_pinning_bodies(pf, pi, nodes, tf, ti, elements, rot, h, work, bf, bi, 
         x_b, q_b = body_pose(bf, bi, bx, body, back)
         point = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
         pull = ((b[p, 0] - ap[p, 0]) * h, (b[p, 1] - ap[p, 1]) * h, (b[p, 2] - ap[p, 2]) * h)
-        push_body(bf, bi, bx, body, x_b, q_b, point, pull, h, True)
+        push_body(bf, bi, bx, body, x_b, q_b, point, pull, h, True, 1.0)
 
 
 @njit

@@ -43,6 +43,7 @@ import numpy as np
 
 from .._numba.jit import njit, njit_inline
 from .body_motion import body_pose, inverse_mass_along, push_body, pushable
+from .particle_contacts import held_by_ground
 from .particle_layout import (BN_ANGLE, BN_COMPLIANCE, E_A, E_B, E_COMPLIANCE, E_FLAGS, E_FORCE, E_KIND, E_REST,
                               EB_BROKEN, EK_SPRING, K_DEPTH, K_KIND, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, KK_BODY,
                               P_CLOTH, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN_BODY, P_POS, P_REST, PP_PINNED)
@@ -274,7 +275,7 @@ def solve_stretch(pf, ef, ei, solved, edges, flat, hinges, weights, slot, rows, 
 
 @njit
 def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value, u_diagonal, work,
-                columns, column_of, column_unknown, column_used, kf, ki, nk, bf, bi, bx, back, h):
+                columns, column_of, column_unknown, column_used, kf, ki, nk, bf, bi, bx, back, h, ground):
     """The sub-step's contacts of bodies with the vertices of the whole-cloth solve, solved with it: after the
     contact pass, each vertex and body moved to where the sub-step's backward-Euler step puts them with the
     contacts as constraints (``work`` (u, 3) scratch).  The global solve's matrix ``A`` (module docstring) is the
@@ -296,9 +297,10 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
     pass moved while its neighbours stayed, a stiff sheet's pull on a body is many times its force (before this,
     ``(m (x - y) / h^2 - F) . n`` there: a 2 kg box resting on a 21 x 21 sheet pinned all round floated 6 cm
     above its rest and shook it at 0.5 m/s; now within 1 % of the sheet's and box's equilibrium).  Only contacts
-    with bodies the particles can move are solved here (the static ones need no force), the ``MAX_HELD``
-    deepest of them."""
-    held = _held_contacts(pf, slot, kf, ki, nk, bf, bi)
+    with bodies the particles can move are solved here (the static ones need no force), but those that pushed a
+    vertex the ground holds (``ground``, ``particle_contacts.ground_normals``: the body took those pushes whole),
+    the ``MAX_HELD`` deepest of them."""
+    held = _held_contacts(pf, slot, kf, ki, nk, bf, bi, ground)
     m = held.shape[0]
     if m == 0:
         return
@@ -345,7 +347,7 @@ def hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start
         point = (kf[c, K_POINT], kf[c, K_POINT + 1], kf[c, K_POINT + 2])
         push = mu[i] * h * h - given[i]
         push_body(bf, bi, bx, b, x_b, q_b, point, (-push * normal[i, 0], -push * normal[i, 1], -push * normal[i, 2]),
-                  h, True)
+                  h, True, 1.0)
 
 
 @njit
@@ -392,14 +394,17 @@ MAX_HELD = 96
 
 
 @njit
-def _held_contacts(pf, slot, kf, ki, nk, bf, bi):
+def _held_contacts(pf, slot, kf, ki, nk, bf, bi, ground):
     """The rows of the sub-step's contacts that :func:`hold_bodies` solves: of bodies the particles can move
-    with vertices of the whole-cloth solve, that removed an overlap; the ``MAX_HELD`` deepest."""
+    with vertices of the whole-cloth solve, that removed an overlap without pushing the vertex into what holds it
+    (``ground``: the body took that push whole, ``particle_contacts.separate``); the ``MAX_HELD`` deepest."""
     rows = []
     depth = []
     for c in range(min(nk, kf.shape[0])):
-        if ki[c, K_KIND] == KK_BODY and slot[ki[c, K_PARTICLE]] >= 0 and kf[c, K_DEPTH] > 0.0 \
-                and pushable(bf, bi, ki[c, K_OTHER]):
+        p = ki[c, K_PARTICLE]
+        n = (kf[c, K_NORMAL], kf[c, K_NORMAL + 1], kf[c, K_NORMAL + 2])
+        if ki[c, K_KIND] == KK_BODY and slot[p] >= 0 and kf[c, K_DEPTH] > 0.0 \
+                and pushable(bf, bi, ki[c, K_OTHER]) and not held_by_ground(pf, ground, p, n):
             rows.append(c)
             depth.append(kf[c, K_DEPTH])
     held = np.array(rows, dtype=np.int64) if rows else np.zeros(0, np.int64)
