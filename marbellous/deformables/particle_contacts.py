@@ -139,7 +139,7 @@ def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
 
 @njit
 def ground_normals(pf, bf, bi, kf, ki, nk, ground):
-    """Fill ``ground`` (n, 4) with what holds each particle from below in this sub-step: the sum of the unit
+    """Fill ``ground`` (n, 4) with what holds each particle in this sub-step: the sum of the unit
     normals of its contacts (``kf``/``ki``, ``nk`` of them) with shapes and bodies the particles cannot move
     (static, kinematic), and their count (0: nothing holds it)."""
     ground[:] = 0.0
@@ -248,13 +248,13 @@ def _shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candid
     overlaps removed, static friction; the contacts appended to ``kf`` / ``ki`` from row ``nk``.  First the
     shapes the particles cannot move (static and kinematic), whose contacts then fill ``ground``
     (:func:`ground_normals`); then the bodies they can move, which take the whole of a push that would move the
-    particle into what holds it, as velocity only what closes in the sub-step (the bodies' step had put a box
-    landing on a cloth that lies on the ground on the ground, through the cloth: split by the inverse masses,
-    the box pushed the vertices under it into the ground, 7 mm at 10 kg, 1 cm at 100 kg; given whole with its
-    velocity, the push out threw a 10 kg box up at 15 m/s).  A soft body's node also records the contacts it
-    merely touches (within ``SOFT_TOUCH`` of its radius: the implicit step held it on the surface), and its
-    friction counts the normal impulse that step gave it (``P_SUPPORT``) as well as its overlap.  Returns the new
-    count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
+    particle into what holds it, as velocity only what closes in the sub-step (the bodies' step, which does not
+    see the particles, stops a box landing on a cloth that lies on the ground on the ground itself: split by the
+    inverse masses, the box pushed the vertices under it into the ground, 7 mm at 10 kg, 1 cm at 100 kg; given
+    whole with its velocity, the push out threw a 10 kg box up at 15 m/s).  A soft body's node also records the
+    contacts it merely touches (within ``SOFT_TOUCH`` of its radius: the implicit step held it on the surface), and
+    its friction counts the normal impulse that step gave it (``P_SUPPORT``) as well as its overlap.  Returns the
+    new count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
     (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
     for movable in (False, True):
         if movable:
