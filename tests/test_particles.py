@@ -204,6 +204,27 @@ def test_particles_pressed_from_rest_by_their_user_force_land_on_a_mesh_and_a_he
 
 
 # --- two ways with bodies -------------------------------------------------------------------------------------
+@pytest.mark.parametrize("ball_mass, ball_radius, radius", [(1.0, 0.1, 0.01), (0.1, 0.05, 0.005)])
+def test_a_ball_dropped_on_a_layer_of_grains_on_the_ground_rests_on_it(ball_mass, ball_radius, radius):
+    # a square layer of touching 1 g grains on the plane, a grain under the ball's middle, and a ball dropped onto
+    # it from 20 cm: it rests on that grain, its bottom two grain radii up, the grains on the plane.  The bodies'
+    # step stops the ball on the plane itself, through the grains; split by the inverse masses, the grains took
+    # almost all of each push out and were pushed into the plane and out: the 1 kg ball went through to the plane
+    # and the grains flew up; the ground now holds the grains, so the ball takes the push whole
+    # (particle_contacts._shape_contacts)
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    g = np.arange(-0.5, 0.5 + 1e-9, 2.0 * radius)
+    x, z = np.meshgrid(g, g)
+    grains = w.add_particles(np.column_stack([x.ravel(), np.full(x.size, radius), z.ravel()]), mass=0.001,
+                             radius=radius, collide_particles=True)
+    ball = w.add_body(mb.Sphere(ball_radius), position=(0.0, 2.0 * radius + ball_radius + 0.2, 0.0), mass=ball_mass)
+    run(w, 3.0)
+    assert ball.position[1] - ball_radius == pytest.approx(2.0 * radius, abs=0.05 * radius)
+    assert abs(ball.velocity[1]) < 0.01
+    assert grains.positions[:, 1] == pytest.approx(radius, abs=0.05 * radius)
+
+
 def test_momentum_is_conserved_when_a_particle_hits_a_free_box():
     w = mb.World(gravity=(0.0, 0.0, 0.0))
     box = w.add_body(mb.Box((0.5, 0.5, 0.5)), position=(2.0, 0.3, 0.1), density=10.0)
