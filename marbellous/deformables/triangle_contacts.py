@@ -218,8 +218,7 @@ def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, inverse_masses, denominator)
     overlap ``depth`` (m) along ``n`` was just removed, on positions (Macklin et al. 2014): their relative
     motion across ``n`` in this sub-step, ``dx_t``, is undone if it is shorter than ``mu_s depth`` (static),
     else shortened by ``mu_d depth`` (sliding), split by the ``inverse_masses`` (of ``p a b c``) as the overlap
-    was.  The
-    coefficients: the geometric means of the point's and the triangle's."""
+    was.  The coefficients: the geometric means of the point's and the triangle's."""
     dx = [0.0, 0.0, 0.0]
     for j in range(3):
         dx[j] = (pf[p, P_POS + j] - pf[p, P_PREV + j]) - (b0 * (pf[a, P_POS + j] - pf[a, P_PREV + j])
