@@ -330,6 +330,52 @@ def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
     assert np.all(np.isfinite(c.positions)) and y[-1] > 0.5
 
 
+_CUBE = np.array([[x, y, z] for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05)])
+
+
+@pytest.mark.parametrize("shape", [mb.Box((0.05, 0.05, 0.05)), mb.ConvexHull(_CUBE)], ids=["box", "hull"])
+@pytest.mark.parametrize("self_collision", [True, False])
+def test_a_box_on_a_coarse_sheet_rests_on_its_triangles(shape, self_collision):
+    # a 10 cm cube dropped inside one triangle of a sheet of 3 x 3 vertices (legs of 0.5 m) held at every vertex:
+    # it meets no vertex, so it rests on the triangle (it fell through to the plane when bodies met only the
+    # vertices); its corners stay half the thickness above the sheet (each sub-step's overlap, g h^2 = 11 um at 16
+    # sub-steps, is taken out in that sub-step)
+    v, t = cloth_grid(1.0, 1.0, 3, 3)
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0), self_collision=self_collision)
+    c.pin(np.arange(9))
+    cube = w.add_body(shape, position=(0.2, 1.2, 0.1), mass=1.0)
+    for _ in range(120):
+        w.step(DT)
+    assert cube.position[1] - 0.05 == pytest.approx(1.0 + 0.5 * c.thickness, abs=1e-4)
+
+
+def test_a_corner_striking_a_free_sheet_conserves_momentum():
+    # no gravity, a free sheet of 3 x 3 vertices, a cube turned to strike it with one corner inside a triangle: the
+    # pushes between the corner and the triangle's vertices are equal and opposite, so the momentum of cube and
+    # sheet together stays what the cube brought (to rounding)
+    v, t = cloth_grid(1.0, 1.0, 3, 3)
+    w = mb.World(gravity=(0.0, 0.0, 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0), bend_stiffness=0.0)
+    # the cube's diagonal (1, 1, 1) turned onto -y: a corner points down
+    axis = np.cross((1.0, 1.0, 1.0), (0.0, -1.0, 0.0))
+    angle = math.acos(-1.0 / math.sqrt(3.0))
+    axis = axis / np.linalg.norm(axis) * math.sin(angle / 2)
+    cube = w.add_body(mb.Box((0.05, 0.05, 0.05)), position=(0.2, 1.1, 0.1), mass=1.0, velocity=(0.0, -2.0, 0.0),
+                      orientation=(math.cos(angle / 2), *axis))
+    brought = cube.mass * cube.velocity
+    lowest = np.inf
+    for _ in range(30):
+        w.step(DT)
+        lowest = min(lowest, cube.position[1])
+        total = cube.mass * cube.velocity + (c.mass[:, None] * c.velocities).sum(axis=0)
+        assert total == pytest.approx(brought, abs=1e-9)
+    # it struck the sheet and carried it along (the corner went no closer to the sheet's plane than its thickness)
+    assert lowest < 1.0 + 0.05 * math.sqrt(3.0)
+    assert np.mean(c.velocities[:, 1]) < -0.5
+
+
 @pytest.mark.parametrize("mass", [1.0, 3.0])
 def test_a_box_landing_on_a_whole_cloth_solve_sheet_brings_it_no_energy(mass):
     # the trampoline above, solved as a whole cloth (cloth_stretch_passes = 1), undamped, without bending: the

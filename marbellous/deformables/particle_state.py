@@ -77,6 +77,7 @@ class ParticleState:
         self.cloth_tables = None         # (tri, bend_f, bend_i, cloth_f) for the kernels; None: to be laid out
         self.triangle_pairs = np.zeros((64, 3), dtype=np.int64)
         self.edge_pairs = np.zeros((64, 3), dtype=np.int64)
+        self.corner_pairs = np.zeros((64, 3), dtype=np.int64)
         self.lf = np.zeros((LAYER_PUSHES, P.LF_COLS))     # a sub-step's pushes of cloth on cloth (layer_contacts.py)
         self.li = np.zeros((LAYER_PUSHES, P.LI_COLS), dtype=np.int64)
         self.tf = np.zeros((0, P.TF_COLS))
@@ -311,7 +312,8 @@ class ParticleState:
         adjacent_start, adjacent, cell_start, cell_entries, aabbs, bx = scratch
         return (self.params, self.pf, self.pi, self.n, self.ei, self.ne, tri, tri.shape[0], cloth_f, st.bf, st.bi,
                 st.sf, st.si, st.geom_f, st.geom_i, st.bodies.end, aabbs, bx, self.shape_pairs, self.particle_pairs,
-                self.triangle_pairs, self.edge_pairs, adjacent_start, adjacent, cell_start, cell_entries,
+                self.triangle_pairs, self.edge_pairs, self.corner_pairs, adjacent_start, adjacent, cell_start,
+                cell_entries,
                 self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s)
 
     def _stretch_system(self, bend_f, bend_i, h, passes):
@@ -327,14 +329,14 @@ class ParticleState:
     def _step_arguments(self, st, tri, bend_f, bend_i, cloth_f, scratch, counts, body_start, stretch):
         """The arguments of ``step_particles`` (``counts`` those ``find_candidates`` returned, ``stretch`` a
         ``StretchSystem``)."""
-        n_shape, n_pair, n_triangle, n_edge = counts
+        n_shape, n_pair, n_triangle, n_edge, n_corner = counts
         bx = scratch[-1]
         return (self.params, self.pf, self.pi, self.n, self.set_table(), len(self.sets), self.ef, self.ei, self.ne,
                 bend_f, bend_i, bend_f.shape[0], tri, cloth_f, *self.tethers, st.bf, st.bi, st.bodies.end, st.sf,
                 st.si, st.geom_f, st.geom_i, bx, self.shape_pairs, n_shape, self.particle_pairs, n_pair,
-                self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.kf, self.ki, self.scratch_f,
-                self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s, body_start,
-                self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
+                self.triangle_pairs, n_triangle, self.edge_pairs, n_edge, self.corner_pairs, n_corner, self.kf, self.ki,
+                self.scratch_f, self.scratch_i, self.sphere, self.vec[0], self.rot_a, self.vec[1], self.rot_s, self.q_s,
+                body_start, self.soft_table(), len(self.softs), self.tf, self.ti, SOFT_TOLERANCE, SOFT_MAX_ITERATIONS,
                 np.empty((self.nt, 9)), np.empty((9, self.n if self.nt else 0, 3)), *stretch.arrays, self.lf, self.li)
 
     def meeting(self):
@@ -358,7 +360,7 @@ class ParticleState:
         body_start = np.zeros((st.bodies.end, 9))
         candidates, step = self._kernels(st)
         no_stretch = StretchSystem(self.pf, self.pi, self.n, self.ef, self.ei, self.ne, bend_f, bend_i, 1.0, False)
-        return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0), body_start,
+        return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0, 0), body_start,
                                             no_stretch)),
                 (candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
 
@@ -378,14 +380,16 @@ class ParticleState:
         candidates, step = self._kernels(st)
         while True:
             counts = candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
-            n_shape, n_pair, n_triangle, n_edge = counts
+            n_shape, n_pair, n_triangle, n_edge, n_corner = counts
             if n_shape <= self.shape_pairs.shape[0] and n_pair <= self.particle_pairs.shape[0] \
-                    and n_triangle <= self.triangle_pairs.shape[0] and n_edge <= self.edge_pairs.shape[0]:
+                    and n_triangle <= self.triangle_pairs.shape[0] and n_edge <= self.edge_pairs.shape[0] \
+                    and n_corner <= self.corner_pairs.shape[0]:
                 break
             self.shape_pairs = _grown(self.shape_pairs, n_shape)
             self.particle_pairs = _grown(self.particle_pairs, n_pair)
             self.triangle_pairs = _grown(self.triangle_pairs, n_triangle)
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
+            self.corner_pairs = _grown(self.corner_pairs, n_corner)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
         self.broken, most, *soft_solve = step(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, counts,

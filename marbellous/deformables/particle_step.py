@@ -26,7 +26,8 @@ may meet in the step.  Each sub-step, in order:
     pins            again, where the edges have moved the bodies
     contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
                     removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
-                    particle_contacts.py); with cloth, the triangles and shapes twice; a body holding a
+                    particle_contacts.py); with cloth, the triangles and shapes twice, then the corners of
+                    boxes and hulls against the triangles (corner_contacts.py); a body holding a
                     vertex of the whole-cloth solve gets the contact's whole force (stretch_solve.py)
     velocities      v = (x - x_prev) / h
     velocity pass   dynamic friction and restitution of the sub-step's contacts; the soft bodies' nodes
@@ -48,6 +49,7 @@ from .._numba.jit import njit
 from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
+from .corner_contacts import corner_candidates, corner_contacts
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .layer_contacts import hold_layers
@@ -149,12 +151,14 @@ def _kernels(meeting, coverage):
     each)."""
     @njit
     def find_candidates(params, pf, pi, n_particles, ei, ne, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb,
-                        aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, adjacent_start, adjacent,
-                        cell_start, cell_entries, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+                        aabbs, bx, shape_pairs, particle_pairs, triangle_pairs, edge_pairs, corner_pairs,
+                        adjacent_start, adjacent, cell_start, cell_entries, scratch_f, scratch_i, sphere, pos_a, rot_a,
+                        pos_s, rot_s, q_s):
         """Once per step: the ``(particle, shape)`` candidates into ``shape_pairs``, the ``(particle, particle)``
-        candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs`` and the
-        ``(edge, edge, side)`` candidates into ``edge_pairs``; returns the four counts (a count past an array's
-        length: grow it and call again).  The reach: how far a
+        candidates into ``particle_pairs``, the ``(point, triangle, side)`` candidates into ``triangle_pairs``, the
+        ``(edge, edge, side)`` candidates into ``edge_pairs`` and the ``(shape, triangle, side)`` candidates of the
+        bodies' corners into ``corner_pairs``; returns the five counts (a count past an array's length: grow it and
+        call again).  The reach: how far a
         particle can fall in the step, ``|g| dt^2``, beyond its velocity's sweep (and, where particles meet, how
         far the fastest one may push it); how far two points may close: twice the fastest one's sweep (relative to
         the points' mean velocity) and reach."""
@@ -173,8 +177,10 @@ def _kernels(meeting, coverage):
         n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
                                    reach + pushed, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
                                    rot_s, q_s)
+        n_corner = corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_i, nb, aabbs, dt,
+                                     reach + pushed, corner_pairs)
         if not meeting:
-            return n_shape, 0, 0, 0
+            return n_shape, 0, 0, 0, n_corner
         # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
         # (a sheet falling as a whole then needs no wider cells than one at rest)
         mean = [0.0, 0.0, 0.0]
@@ -192,16 +198,16 @@ def _kernels(meeting, coverage):
         n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, reach, cell_start,
                                          adjacent_start, adjacent, triangle_pairs)
         n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, reach, cell_start, edge_pairs)
-        return n_shape, n_pair, n_triangle, n_edge
+        return n_shape, n_pair, n_triangle, n_edge, n_corner
 
     @njit
     def step_particles(params, pf, pi, n_particles, sets, n_sets, ef, ei, ne, bend_f, bend_i, n_bends, tri, cloth_f,
                        tether_p, tether_q, tether_length, bf, bi, nb, sf, si, geom_f, geom_i, bx, shape_pairs, n_shape,
-                       particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, kf, ki, scratch_f,
-                       scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies, n_soft, tf, ti,
-                       soft_tolerance, soft_iterations, soft_rot, soft_work, solved, stretch_edges, flat, hinges,
-                       weights, slot, rows, mass_h2, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
-                       u_diagonal, y, b, x, columns, column_of, column_unknown, column_used, lf, li):
+                       particle_pairs, n_pair, triangle_pairs, n_triangle, edge_pairs, n_edge, corner_pairs, n_corner,
+                       kf, ki, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, body_start, soft_bodies,
+                       n_soft, tf, ti, soft_tolerance, soft_iterations, soft_rot, soft_work, solved, stretch_edges,
+                       flat, hinges, weights, slot, rows, mass_h2, perm_r, perm_c, l_start, l_row, l_value, u_start,
+                       u_row, u_value, u_diagonal, y, b, x, columns, column_of, column_unknown, column_used, lf, li):
         """The particles' step (module docstring) over the candidates of :func:`find_candidates` (``body_start``
         (nb, 9): the bodies' positions, m, velocities, m/s, and user forces, N, before their step;
         ``soft_bodies`` .. ``soft_work`` the soft bodies' rows, elements, solver settings and scratch,
@@ -271,6 +277,8 @@ def _kernels(meeting, coverage):
                 triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, ground, lf, li, 0)
                 shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
+            corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, corner_pairs, n_corner, back, h,
+                            ground, slot)
             most = max(most, nk)
             if passes > 0:
                 hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
