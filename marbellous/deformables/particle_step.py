@@ -177,8 +177,8 @@ def _kernels(meeting, coverage):
         n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
                                    reach + pushed, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
                                    rot_s, q_s)
-        n_corner = corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_i, nb, aabbs, dt,
-                                     reach + pushed, corner_pairs)
+        n_corner = corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb, dt, reach,
+                                     corner_pairs)
         if not meeting:
             return n_shape, 0, 0, 0, n_corner
         # two points close no faster than twice the fastest one's speed relative to any common velocity: the mean
