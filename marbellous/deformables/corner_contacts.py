@@ -45,7 +45,7 @@ from .body_motion import body_pose, inverse_mass_along, point_velocity, push_bod
 from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_THICKNESS, P_FLAGS, P_FRICTION, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
                               P_STATIC_FRICTION, P_VEL, PP_PINNED, PP_SOFT, T_A, T_CLOTH)
-
+from .triangle_contacts import foot_weights
 
 
 @njit_inline
@@ -226,19 +226,9 @@ def _corner_triangle(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, x_c, t, side, h,
     if d >= half:
         return
     # barycentric weights of the corner's foot on the triangle's plane
-    u = (pf[bb, P_POS] - pf[a, P_POS], pf[bb, P_POS + 1] - pf[a, P_POS + 1], pf[bb, P_POS + 2] - pf[a, P_POS + 2])
-    v = (pf[c, P_POS] - pf[a, P_POS], pf[c, P_POS + 1] - pf[a, P_POS + 1], pf[c, P_POS + 2] - pf[a, P_POS + 2])
-    uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
-    uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-    vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-    wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2]
-    wv = w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
-    det = uu * vv - uv * uv
-    if det <= 0.0:
-        return
-    b1 = (vv * wu - uv * wv) / det
-    b2 = (uu * wv - uv * wu) / det
-    b0 = 1.0 - b1 - b2
+    b0, b1, b2 = foot_weights(
+        (pf[bb, P_POS] - pf[a, P_POS], pf[bb, P_POS + 1] - pf[a, P_POS + 1], pf[bb, P_POS + 2] - pf[a, P_POS + 2]),
+        (pf[c, P_POS] - pf[a, P_POS], pf[c, P_POS + 1] - pf[a, P_POS + 1], pf[c, P_POS + 2] - pf[a, P_POS + 2]), w)
     if b0 < 0.0 or b1 < 0.0 or b2 < 0.0:
         return
     # the corner's motion relative to the triangle's point under it in this sub-step: one that was behind the

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from .._numba.jit import njit
+from .._numba.jit import njit, njit_inline
 from .layer_contacts import record_push
 from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
@@ -78,6 +78,24 @@ def _side(pf, tri, t, p):
     d = ((pf[p, P_POS] - pf[a, P_POS]) * n[0] + (pf[p, P_POS + 1] - pf[a, P_POS + 1]) * n[1]
          + (pf[p, P_POS + 2] - pf[a, P_POS + 2]) * n[2])
     return 1 if d >= 0.0 else -1
+
+
+@njit_inline
+def foot_weights(u, v, w):
+    """The barycentric weights ``(b0, b1, b2)`` of the foot of the point ``a + w`` on the plane of the triangle
+    ``a, a + u, a + v`` (3-tuples, m): all ``>= 0`` where the foot lies in the triangle; ``-1`` each for a triangle
+    without area."""
+    uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+    uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+    vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+    wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2]
+    wv = w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
+    det = uu * vv - uv * uv
+    if det <= 0.0:
+        return -1.0, -1.0, -1.0
+    b1 = (vv * wu - uv * wv) / det
+    b2 = (uu * wv - uv * wu) / det
+    return 1.0 - b1 - b2, b1, b2
 
 
 @njit
@@ -169,18 +187,7 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, ground, lf, li, n_rec
         d = w[0] * n[0] + w[1] * n[1] + w[2] * n[2]
         if d >= gap or d < -gap:
             continue
-        # barycentric weights of the point's foot on the triangle's plane
-        uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
-        uv = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-        vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-        wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2]
-        wv = w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
-        det = uu * vv - uv * uv
-        if det <= 0.0:
-            continue
-        b1 = (vv * wu - uv * wv) / det
-        b2 = (uu * wv - uv * wu) / det
-        b0 = 1.0 - b1 - b2
+        b0, b1, b2 = foot_weights(u, v, w)
         if b0 < 0.0 or b1 < 0.0 or b2 < 0.0:
             continue
         # the same distance at the sub-step's start: an overlap already there is pushed out gradually
