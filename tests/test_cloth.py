@@ -330,6 +330,23 @@ def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
     assert np.all(np.isfinite(c.positions)) and y[-1] > 0.5
 
 
+def test_a_ball_dropped_on_a_sheet_held_at_every_vertex_rests_on_it():
+    # a held vertex still pushes the bodies it meets (it fell through the sheet to the plane): the 1 kg ball lies
+    # on the vertices under it, its surface their radius (half the thickness) from the nearest's centre, in the
+    # pocket between the four around (0.025, 0.025), which it rolls into from where it landed
+    v, t = cloth_grid(1.0, 1.0, 21, 21)
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0))
+    c.pin(np.arange(21 * 21))
+    ball = w.add_body(mb.Sphere(0.1), position=(0.01, 1.2, 0.02), mass=1.0)
+    for _ in range(120):
+        w.step(DT)
+    nearest = np.min(np.linalg.norm(c.positions - ball.position, axis=1))
+    assert nearest == pytest.approx(0.1 + 0.5 * c.thickness, abs=1e-4)
+    assert np.hypot(ball.position[0] - 0.025, ball.position[2] - 0.025) < 0.01
+
+
 _CUBE = np.array([[x, y, z] for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05)])
 
 

@@ -31,8 +31,9 @@ from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTI
                             STATIC_FRICTION, VEL)
 from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, pushable, to_world
 from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
-                              KK_BODY, KK_PARTICLE, P_FLAGS, P_FORCE, P_FRICTION, P_INV_MASS, P_POS, P_PREV, P_RADIUS,
-                              P_RESTITUTION, P_STATIC_FRICTION, P_SUPPORT, P_VEL, P_VEL0, PP_PINNED, PP_SOFT)
+                              KK_BODY, KK_PARTICLE, P_FLAGS, P_FORCE, P_FRICTION, P_INV_MASS, P_PIN_BODY, P_POS,
+                              P_PREV, P_RADIUS, P_RESTITUTION, P_STATIC_FRICTION, P_SUPPORT, P_VEL, P_VEL0, PP_PINNED,
+                              PP_SOFT)
 
 #: a soft body's node touches a shape within this fraction of its radius (shape_contacts)
 SOFT_TOUCH = 1e-3
@@ -74,22 +75,30 @@ def shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, pr
 @njit_inline
 def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
                       scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
-    """List ``(particle, shape)`` rows into ``out`` for every unpinned particle and shape that may touch in the
-    step: the particle's swept box meets the body's box (sensors left out), and the shape lies within the
-    particle's and its body's reach of the particle at the poses of the step's end (one exact query per pair
-    and step; the sub-steps query only these).  Returns how many there are (rows past ``out``'s end are not
-    written).  ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep (its user force
-    adds :func:`forced_reach`)."""
+    """List ``(particle, shape)`` rows into ``out`` for every particle and shape that may touch in the step (a
+    pinned particle: the shapes of bodies it can push, other than the one it is pinned to; none for a soft
+    body's): the particle's swept box meets the body's box (sensors left out), and the shape lies within the
+    particle's and its body's reach of the particle at the poses of the step's end (one exact query per pair and
+    step; the sub-steps query only these).  Returns how many there are (rows past ``out``'s end are not written).
+    ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep (its user force adds
+    :func:`forced_reach`)."""
     n = 0
     for p in range(n_particles):
-        if (pi[p, P_FLAGS] & PP_PINNED) != 0:
-            continue                        # (held: by the world, or as a point of a body)
+        # (a pinned particle, held by the world or as a point of a body, still pushes the other bodies it meets: a
+        # ball dropped on a sheet held at every vertex fell through it; not a soft body's pinned node, whose body
+        # meets the bodies through its free nodes' implicit step: pushing rigidly, the game's bumper, pinned at its
+        # base, threw the marble back at 0.29 m/s instead of 0.5)
+        pinned = (pi[p, P_FLAGS] & PP_PINNED) != 0
+        if pinned and (pi[p, P_FLAGS] & PP_SOFT) != 0:
+            continue
         own = reach + forced_reach(pf, p, dt)
         lo, hi = _swept_box(pf, p, dt, pf[p, P_RADIUS] + own)
         travel = math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2) * dt + own
         for b in range(nb):
             f = bi[b, FLAGS]
             if (f & F_ALIVE) == 0 or (f & F_SENSOR) != 0:
+                continue
+            if pinned and (pi[p, P_PIN_BODY] == b or not pushable(bf, bi, b)):
                 continue
             if aabbs[b, 0] > hi[0] or aabbs[b, 1] > hi[1] or aabbs[b, 2] > hi[2] \
                     or aabbs[b, 3] < lo[0] or aabbs[b, 4] < lo[1] or aabbs[b, 5] < lo[2]:
