@@ -302,6 +302,51 @@ def test_cloth_holds_on_cloth_below_the_friction_angle():
 
 
 # --- two ways with the bodies ---------------------------------------------------------------------------------
+def _box_on_a_cloth_slope(degrees, mu, steps, coarse=False):
+    """How far (m, down the slope) a 2 kg box of 20 x 20 cm resting on a sheet lying on a plane tilted by
+    ``degrees`` (plane, sheet and box all of friction ``mu``) and the sheet slide in ``steps`` steps: a 0.6 m sheet
+    of 15 x 15 vertices (the box rests on 25 of them), or with ``coarse`` a 1.2 m one of 3 x 3 (the box rests inside
+    a triangle, on its corners)."""
+    a = math.radians(degrees)
+    q = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+    down = np.array([-math.cos(a), -math.sin(a), 0.0])
+    normal = np.array([-math.sin(a), math.cos(a), 0.0])
+    w = mb.World()
+    w.add_static(mb.Plane(tuple(normal), 0.0), friction=mu)
+    v, t = cloth_grid(1.2, 1.2, 3, 3) if coarse else cloth_grid(0.6, 0.6, 15, 15)
+    sheet = w.add_cloth(v, t, mass=0.1, friction=mu, orientation=q, position=tuple(0.005 * normal))
+    at = 0.06 * normal + ((0.2 * -down + np.array([0.0, 0.0, 0.35])) if coarse else 0.0)
+    box = w.add_body(mb.Box((0.1, 0.05, 0.1)), position=tuple(at), orientation=q, mass=2.0, friction=mu)
+    box_start, sheet_start = box.position.copy(), sheet.positions.mean(axis=0)
+    for _ in range(steps):
+        w.step(DT)
+    return (box.position - box_start) @ down, (sheet.positions.mean(axis=0) - sheet_start) @ down
+
+
+@pytest.mark.parametrize("degrees", [10.0, 20.0])
+def test_a_box_on_a_cloth_on_a_slope_below_the_friction_angle_stays_put(degrees):
+    # tan 20 degrees = 0.36 < 0.5: neither the box nor the sheet under it moves down the slope in 3 s (the box crept
+    # 2 to 2.5 mm/s and the sheet under it 2 mm/s at 20 degrees while the sheet's vertices, pulled by the box and
+    # held by the ground, each met the box with a sliver of its weight)
+    box, sheet = _box_on_a_cloth_slope(degrees, 0.5, 180)
+    assert abs(box) < 5e-4
+    assert abs(sheet) < 5e-4
+
+
+@pytest.mark.parametrize("coarse", [False, True], ids=["vertices", "corners"])
+def test_a_box_on_a_cloth_on_a_slope_past_the_friction_angle_slides_with_it_by_coulombs_law(coarse):
+    # tan 30 degrees = 0.58 > 0.5: box and sheet slide down the plane together at a = g (sin - mu cos), taken from
+    # the distances at 0.4 and 0.8 s, d(2T) - 2 d(T) = a T^2 (which cancels the speed they start with as the sheet
+    # settles under the box); the sub-steps' semi-implicit Euler adds a fraction 1 / (48 x 16) of it.  (Resting on
+    # its corners, the box stood still while the sheet slid away under it: its friction took the triangle's corners
+    # that the ground held as not moving at all.)
+    a = math.radians(30.0)
+    expected = 9.81 * (math.sin(a) - 0.5 * math.cos(a))
+    at_t = np.array(_box_on_a_cloth_slope(30.0, 0.5, 24, coarse))
+    at_2t = np.array(_box_on_a_cloth_slope(30.0, 0.5, 48, coarse))
+    assert (at_2t - 2.0 * at_t) / 0.4 ** 2 == pytest.approx([expected, expected], rel=0.005)
+
+
 def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
     n = 21
     v, t = cloth_grid(1.0, 1.0, n, n)

@@ -30,8 +30,9 @@ step while its particles pulled it back over the sub-steps: at rest on a spring 
 1 % of its weight.  Bodies held by contacts or joints in their own step move at ``v_end`` throughout.
 
 The table ``bx`` holds, per body row: ``D`` (3), ``Theta`` (3), ``dv`` (3), ``domega`` (3), whether it was
-touched (pushed bodies that were asleep wake), ``a`` (3) and whether it falls freely.  Static and kinematic
-bodies are never pushed: they move the particles and take nothing back.
+touched (pushed bodies that were asleep wake), ``a`` (3), whether it falls freely, and its load in the sub-step:
+the overlaps it was pushed out of by particles that the ground holds (m; ``particle_contacts._shape_pair``).
+Static and kinematic bodies are never pushed: they move the particles and take nothing back.
 """
 import math
 
@@ -48,7 +49,8 @@ BX_DW = 9
 BX_TOUCHED = 12
 BX_ACCEL = 13
 BX_FALLING = 16
-BX_COLS = 17
+BX_LOAD = 17
+BX_COLS = 18
 
 #: how far a body's velocity after its step may be from free fall's (as a fraction of ``|a| dt``) for the
 #: body to count as falling freely (a contact that holds it takes it all)
@@ -90,8 +92,9 @@ def start_motion(bf, bi, bx, nb, start, dt, gravity):
 @njit
 def drift(bf, bx, nb, h):
     """The pushed and the falling bodies go on moving with their extra velocities for a sub-step of ``h``
-    seconds, the falling ones damped and accelerated first (module docstring)."""
+    seconds, the falling ones damped and accelerated first (module docstring); no load yet in the sub-step."""
     for i in range(nb):
+        bx[i, BX_LOAD] = 0.0
         if bx[i, BX_FALLING] != 0.0:
             keep = math.exp(-bf[i, LINEAR_DAMPING] * h)
             for k in range(3):

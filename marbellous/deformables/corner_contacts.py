@@ -291,7 +291,11 @@ def _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, al
 def _friction(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, n, depth, h):
     """Coulomb friction of the corner on the triangle whose overlap ``depth`` (m) along ``n`` was just removed
     (module docstring)."""
-    motion = _relative_motion(pf, bf, bi, bx, b, x_b, x_c, corners, weights, inverse_masses, h)
+    # (the motion of every corner counts: the ground holds a corner against the normal only, and a sheet sliding
+    # on it carries the body; counting only the movable ones, a box stood still on a sheet sliding down a 30 degree
+    # slope under it)
+    motion = _relative_motion(pf, bf, bi, bx, b, x_b, x_c, corners, weights,
+                              (pf[corners[0], P_INV_MASS], pf[corners[1], P_INV_MASS], pf[corners[2], P_INV_MASS]), h)
     along = motion[0] * n[0] + motion[1] * n[1] + motion[2] * n[2]
     tangent = (motion[0] - along * n[0], motion[1] - along * n[1], motion[2] - along * n[2])
     slip = math.sqrt(tangent[0] ** 2 + tangent[1] ** 2 + tangent[2] ** 2)

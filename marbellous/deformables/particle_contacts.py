@@ -29,7 +29,7 @@ from ..math3d import quat_product, quat_to_matrix
 from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, RESTITUTION, S_BODY, S_LOCAL_POS,
                             S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
                             STATIC_FRICTION, VEL)
-from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, pushable, to_world
+from .body_motion import BX_LOAD, body_pose, inverse_mass_along, point_velocity, push_body, pushable, to_world
 from .particle_layout import (K_DEPTH, K_E, K_KIND, K_MU, K_NORMAL, K_OTHER, K_PARTICLE, K_POINT, K_STUCK, K_VN0,
                               KK_BODY, KK_PARTICLE, P_FLAGS, P_FORCE, P_FRICTION, P_INV_MASS, P_PIN_BODY, P_POS,
                               P_PREV, P_RADIUS, P_RESTITUTION, P_STATIC_FRICTION, P_SUPPORT, P_VEL, P_VEL0, PP_PINNED,
@@ -148,16 +148,20 @@ def relative_velocity(pf, bf, bi, bx, kind, p, other, x_b, point):
 
 @njit
 def ground_normals(pf, bf, bi, kf, ki, nk, ground):
-    """Fill ``ground`` (n, 4) with what holds each particle in this sub-step: the sum of the unit
+    """Fill ``ground`` (n, 5) with what holds each particle in this sub-step: the sum of the unit
     normals of its contacts (``kf``/``ki``, ``nk`` of them) with shapes and bodies the particles cannot move
-    (static, kinematic), and their count (0: nothing holds it)."""
+    (static, kinematic), their count (0: nothing holds it), and the largest static friction coefficient of
+    those whose static friction held it in place (0: none did; :func:`anchored_by_ground`)."""
     ground[:] = 0.0
     for c in range(min(nk, kf.shape[0])):
-        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, ki[c, K_OTHER]):
+        b = ki[c, K_OTHER]
+        if ki[c, K_KIND] == KK_BODY and not pushable(bf, bi, b):
             p = ki[c, K_PARTICLE]
             for k in range(3):
                 ground[p, k] += kf[c, K_NORMAL + k]
             ground[p, 3] += 1.0
+            if kf[c, K_STUCK] != 0.0:
+                ground[p, 4] = max(ground[p, 4], math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION]))
 
 
 @njit_inline
@@ -166,6 +170,14 @@ def held_by_ground(pf, ground, p, along):
     (:func:`ground_normals`)."""
     return pf[p, P_INV_MASS] > 0.0 and ground[p, 3] > 0.0 \
         and ground[p, 0] * along[0] + ground[p, 1] * along[1] + ground[p, 2] * along[2] < 0.0
+
+
+@njit_inline
+def anchored_by_ground(pf, ground, p, along):
+    """The static friction coefficient with which the ground anchors particle ``p`` under a body whose push
+    along ``along`` (a unit 3-tuple) it holds (:func:`held_by_ground`), if the ground's static friction held the
+    particle in place in this sub-step; 0.0 if not."""
+    return ground[p, 4] if held_by_ground(pf, ground, p, along) else 0.0
 
 
 @njit_inline
@@ -210,10 +222,11 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
 
 
 @njit_inline
-def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h):
+def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h, anchored):
     """Static friction of a contact whose overlap ``depth`` (m) was just removed along ``n``: undo the
-    particle's motion across the surface in this sub-step if it is shorter than ``mu_s depth``; returns
-    1.0 if it held."""
+    particle's motion across the surface in this sub-step if it is shorter than ``mu_s depth`` (the other side
+    moving the whole way when ``anchored``: the ground holds the particle in place, :func:`anchored_by_ground`);
+    returns 1.0 if it held."""
     if kind == KK_PARTICLE:
         u = ((pf[other, P_POS] - pf[other, P_PREV]) / h, (pf[other, P_POS + 1] - pf[other, P_PREV + 1]) / h,
              (pf[other, P_POS + 2] - pf[other, P_PREV + 2]) / h)
@@ -228,7 +241,7 @@ def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s
         return 0.0
     if slip > 0.0:
         separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (-t[0] / slip, -t[1] / slip, -t[2] / slip),
-                 slip, h, True, False, 1.0)
+                 slip, h, True, anchored, 1.0)
     return 1.0
 
 
@@ -304,8 +317,24 @@ def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, b
             held = held_by_ground(pf, ground, p, n)
             share = min(1.0, max(0.0, -vn0) * h / depth) if held else 1.0
             separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True, held, share)
+            if held:
+                bx[b, BX_LOAD] += depth
         mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
-        stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, grip, mu_s, h)
+        # a particle the ground holds in place holds the body as well as the ground holds the particle: the body
+        # takes the whole of its static friction (split by the inverse masses, a box on a cloth lying on a slope
+        # dragged the light vertices under it down the slope and the ground pulled them back, each sub-step, and
+        # the cloth slid down a 20 degree slope at 2 mm/s under a 2 kg box, mu_s 0.5).  Its bound is the body's
+        # load on all the particles under it: its approach in the sub-step, or the overlaps they have pushed it out
+        # of so far (BX_LOAD), if more.  Each particle takes only a sliver of the load (the first one's push lifts
+        # the body off the others), and with each one's own sliver as its bound none held: the box crept down a
+        # 10 degree slope at 2 mm/s.  (Once one of them holds, little is left to slip for the others.)
+        ground_mu = anchored_by_ground(pf, ground, p, n)
+        anchored = ground_mu > 0.0
+        hold = grip
+        if anchored:
+            mu_s = min(mu_s, ground_mu)
+            hold = max(grip, -vn0 * h, bx[b, BX_LOAD])
+        stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, hold, mu_s, h, anchored)
         moved0 += pf[p, P_POS] - before[0]
         moved1 += pf[p, P_POS + 1] - before[1]
         moved2 += pf[p, P_POS + 2] - before[2]

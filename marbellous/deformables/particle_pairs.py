@@ -153,7 +153,7 @@ def particle_contacts(pf, bf, bi, bx, pairs, n_pairs, h, kf, ki, nk):
         separate(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth, h, True, False, 1.0)
         mu_s = math.sqrt(pf[a, P_STATIC_FRICTION] * pf[b, P_STATIC_FRICTION])
         stuck = hold_or_slip(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth,
-                             mu_s, h)
+                             mu_s, h, False)
         nk = record_contact(kf, ki, nk, a, b, KK_PARTICLE, n, point, depth, vn0,
                             math.sqrt(pf[a, P_FRICTION] * pf[b, P_FRICTION]),
                             max(pf[a, P_RESTITUTION], pf[b, P_RESTITUTION]), stuck)

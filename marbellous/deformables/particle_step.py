@@ -225,7 +225,7 @@ def _kernels(meeting, coverage):
         clear_edge_forces(ef, ei, ne)
         most = soft_most = 0
         soft_residual = 0.0
-        ground = np.zeros((n_particles, 4))
+        ground = np.zeros((n_particles, 5))
         for step in range(substeps):
             back = dt - (step + 1) * h
             drift(bf, bx, nb, h)
