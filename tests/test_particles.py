@@ -237,6 +237,28 @@ def test_momentum_is_conserved_when_a_particle_hits_a_free_box():
     assert np.linalg.norm(box.angular_velocity) > 0.0          # hit off its centre: it turns
 
 
+@pytest.mark.parametrize("e, offset", [(0.0, 0.0), (1.0, 0.0), (0.0, 0.03)])
+def test_a_ball_striking_a_particle_pinned_to_a_box_strikes_the_box(e, offset):
+    # no gravity: a 1 kg ball at 1 m/s strikes a 1 g particle pinned to the face of a free 1 kg box; the particle is
+    # a point of the box, so it is the box the ball strikes.  Momentum is kept; head on, the two leave with
+    # restitution's closed forms (e = 0: together at 0.5 m/s; e = 1: the ball stops, the box takes its 1 m/s);
+    # off the line of centres the box turns too.  (The box stayed at rest and the ball bounced off the particle as
+    # off a wall at 0.95 m/s: the particle took the push by its own mass and was put back on the box.)
+    w = mb.World(gravity=(0.0, 0.0, 0.0))
+    box = w.add_body(mb.Box((0.05, 0.05, 0.05)), mass=1.0)
+    p = w.add_particles([(0.1, 0.0, 0.0)], mass=0.001, radius=0.02)
+    p.pin([0], body=box)
+    ball = w.add_body(mb.Sphere(0.05), position=(0.4, offset, 0.0), mass=1.0, velocity=(-1.0, 0.0, 0.0),
+                      restitution=e)
+    run(w, 1.0)
+    assert box.velocity + ball.velocity == pytest.approx((-1.0, 0.0, 0.0), abs=1e-9)
+    if offset == 0.0:
+        assert box.velocity == pytest.approx((-(1.0 + e) / 2.0, 0.0, 0.0), abs=1e-6)
+        assert ball.velocity == pytest.approx((-(1.0 - e) / 2.0, 0.0, 0.0), abs=1e-6)
+    else:
+        assert abs(box.angular_velocity[2]) > 0.1
+
+
 @pytest.mark.parametrize("box_mass", [5.0, 50.0])
 def test_a_box_hangs_from_a_rope_of_particles(box_mass):
     # a rope of 10 rods (beads of 50 g) pinned to the world at the top and to a box at the bottom: the box

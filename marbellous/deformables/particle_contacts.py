@@ -190,13 +190,25 @@ def held_inverse_mass(pf, ground, p, along):
 
 
 @njit_inline
-def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move, held, share):
+def pinned_to(pi, p):
+    """The body row particle row ``p`` is pinned to (a point of it), or -1."""
+    return pi[p, P_PIN_BODY] if (pi[p, P_FLAGS] & PP_PINNED) != 0 else -1
+
+
+@njit_inline
+def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move, held, share, carrier, back):
     """Move particle row ``p`` and the other side apart by ``amount`` along the unit ``u`` (positions and
     velocities when ``move``, velocities only (``amount`` a velocity, m/s) otherwise), split by their
-    generalised inverse masses (the particle's taken as 0 when ``held`` and the other side can move); a body
-    pushed by position gets ``share`` of the push as velocity (``body_motion.push_body``).  Returns what the
-    particle moved (m or m/s)."""
+    generalised inverse masses (the particle's taken as 0 when ``held`` and the other side can move; a particle
+    pinned to body row ``carrier`` (>= 0) is a point of that body, which it moves, and has its generalised inverse
+    mass there, at its pose ``back`` s before the step's end); a body pushed by position gets ``share`` of the
+    push as velocity (``body_motion.push_body``).  Returns what the particle moved (m or m/s)."""
     wp = pf[p, P_INV_MASS]
+    at = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
+    x_c, q_c = x_b, q_b
+    if carrier >= 0:
+        x_c, q_c = body_pose(bf, bi, bx, carrier, back)
+        wp = inverse_mass_along(bf, bi, carrier, x_c, q_c, at, u)
     if kind == KK_PARTICLE:
         wo = pf[other, P_INV_MASS]
     else:
@@ -210,11 +222,14 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
     column = P_POS if move else P_VEL
     for k in range(3):
         pf[p, column + k] += wp * dlambda * u[k]
+    scale = 1.0 if move else h      # (push_body takes positional impulses)
+    if carrier >= 0:
+        push_body(bf, bi, bx, carrier, x_c, q_c, at, (dlambda * u[0] * scale, dlambda * u[1] * scale,
+                                                       dlambda * u[2] * scale), h, move, 1.0)
     if kind == KK_PARTICLE:
         for k in range(3):
             pf[other, column + k] -= wo * dlambda * u[k]
     else:
-        scale = 1.0 if move else h      # (push_body takes positional impulses)
         push_body(bf, bi, bx, other, x_b, q_b, point,
                   (-dlambda * u[0] * scale, -dlambda * u[1] * scale, -dlambda * u[2] * scale), h, move,
                   share if move else 1.0)
@@ -222,11 +237,11 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
 
 
 @njit_inline
-def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h, anchored):
+def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s, h, anchored, carrier, back):
     """Static friction of a contact whose overlap ``depth`` (m) was just removed along ``n``: undo the
     particle's motion across the surface in this sub-step if it is shorter than ``mu_s depth`` (the other side
-    moving the whole way when ``anchored``: the ground holds the particle in place, :func:`anchored_by_ground`);
-    returns 1.0 if it held."""
+    moving the whole way when ``anchored``: the ground holds the particle in place, :func:`anchored_by_ground`;
+    ``carrier``, ``back`` as for :func:`separate`); returns 1.0 if it held."""
     if kind == KK_PARTICLE:
         u = ((pf[other, P_POS] - pf[other, P_PREV]) / h, (pf[other, P_POS + 1] - pf[other, P_PREV + 1]) / h,
              (pf[other, P_POS + 2] - pf[other, P_PREV + 2]) / h)
@@ -241,7 +256,7 @@ def hold_or_slip(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, n, depth, mu_s
         return 0.0
     if slip > 0.0:
         separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (-t[0] / slip, -t[1] / slip, -t[2] / slip),
-                 slip, h, True, anchored, 1.0)
+                 slip, h, True, anchored, 1.0, carrier, back)
     return 1.0
 
 
@@ -296,6 +311,7 @@ def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, b
     """:func:`_shape_contacts` of particle ``p`` and shape row ``s`` (of body row ``b``); returns the new count."""
     soft = (pi[p, P_FLAGS] & PP_SOFT) != 0
     touch = SOFT_TOUCH * pf[p, P_RADIUS] if soft else 0.0
+    carrier = pinned_to(pi, p)
     m, x_b, q_b = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, touch, scratch_f,
                               scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
     moved0, moved1, moved2 = 0.0, 0.0, 0.0
@@ -316,7 +332,7 @@ def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, b
             # held: the body takes the push, as velocity the part its approach closed in the sub-step
             held = held_by_ground(pf, ground, p, n)
             share = min(1.0, max(0.0, -vn0) * h / depth) if held else 1.0
-            separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True, held, share)
+            separate(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, depth, h, True, held, share, carrier, back)
             if held:
                 bx[b, BX_LOAD] += depth
         mu_s = math.sqrt(pf[p, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
@@ -334,7 +350,8 @@ def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, b
         if anchored:
             mu_s = min(mu_s, ground_mu)
             hold = max(grip, -vn0 * h, bx[b, BX_LOAD])
-        stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, hold, mu_s, h, anchored)
+        stuck = hold_or_slip(pf, bf, bi, bx, KK_BODY, p, b, x_b, q_b, point, n, hold, mu_s, h, anchored, carrier,
+                             back)
         moved0 += pf[p, P_POS] - before[0]
         moved1 += pf[p, P_POS + 1] - before[1]
         moved2 += pf[p, P_POS + 2] - before[2]
@@ -434,10 +451,10 @@ def quat_product_into(q_b, sf, s, out):
 
 
 @njit
-def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed, ground):
+def velocity_pass(pf, pi, bf, bi, bx, kf, ki, nk, back, h, resting_speed, ground):
     """Dynamic friction and restitution of the sub-step's contacts ``0 .. nk - 1`` (module docstring), on
     the velocities taken from the positions (a body takes the whole of a contact's change where the position
-    pass gave it the push: ``ground``)."""
+    pass gave it the push: ``ground``; a particle pinned to a body moves that body)."""
     for c in range(min(nk, kf.shape[0])):
         p, other, kind = ki[c, K_PARTICLE], ki[c, K_OTHER], ki[c, K_KIND]
         n = (kf[c, K_NORMAL], kf[c, K_NORMAL + 1], kf[c, K_NORMAL + 2])
@@ -462,4 +479,4 @@ def velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, resting_speed, ground):
         if size > 0.0:
             held = kind == KK_BODY and held_by_ground(pf, ground, p, n)
             separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, (dv[0] / size, dv[1] / size, dv[2] / size),
-                     size, h, False, held, 1.0)
+                     size, h, False, held, 1.0, pinned_to(pi, p) if kind == KK_BODY else -1, back)

@@ -150,10 +150,11 @@ def particle_contacts(pf, bf, bi, bx, pairs, n_pairs, h, kf, ki, nk):
                  pf[b, P_POS + 2] + n[2] * pf[b, P_RADIUS])
         vn0 = ((pf[a, P_VEL0] - pf[b, P_VEL0]) * n[0] + (pf[a, P_VEL0 + 1] - pf[b, P_VEL0 + 1]) * n[1]
                + (pf[a, P_VEL0 + 2] - pf[b, P_VEL0 + 2]) * n[2])
-        separate(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth, h, True, False, 1.0)
+        separate(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth, h, True, False, 1.0,
+                 -1, 0.0)
         mu_s = math.sqrt(pf[a, P_STATIC_FRICTION] * pf[b, P_STATIC_FRICTION])
         stuck = hold_or_slip(pf, bf, bi, bx, KK_PARTICLE, a, b, none, (1.0, 0.0, 0.0, 0.0), point, n, depth,
-                             mu_s, h, False)
+                             mu_s, h, False, -1, 0.0)
         nk = record_contact(kf, ki, nk, a, b, KK_PARTICLE, n, point, depth, vn0,
                             math.sqrt(pf[a, P_FRICTION] * pf[b, P_FRICTION]),
                             max(pf[a, P_RESTITUTION], pf[b, P_RESTITUTION]), stuck)

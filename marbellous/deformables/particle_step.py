@@ -285,7 +285,7 @@ def _kernels(meeting, coverage):
                             u_diagonal, x, columns, column_of, column_unknown, column_used, kf, ki, nk, bf, bi, bx,
                             back, h, ground)
             _velocities(pf, n_particles, h)
-            velocity_pass(pf, bf, bi, bx, kf, ki, nk, back, h, g * h, ground)
+            velocity_pass(pf, pi, bf, bi, bx, kf, ki, nk, back, h, g * h, ground)
             if meeting and n_soft > 0:
                 record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
         write_back(bf, bi, bx, nb)
