@@ -200,15 +200,15 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
     """Move particle row ``p`` and the other side apart by ``amount`` along the unit ``u`` (positions and
     velocities when ``move``, velocities only (``amount`` a velocity, m/s) otherwise), split by their
     generalised inverse masses (the particle's taken as 0 when ``held`` and the other side can move; a particle
-    pinned to body row ``carrier`` (>= 0) is a point of that body, which it moves, and has its generalised inverse
-    mass there, at its pose ``back`` s before the step's end); a body pushed by position gets ``share`` of the
-    push as velocity (``body_motion.push_body``).  Returns what the particle moved (m or m/s)."""
+    pinned to body row ``carrier`` (>= 0) is a part of that body, which it moves, pushed at the contact's
+    ``point`` with the body's generalised inverse mass there, at its pose ``back`` s before the step's end); a body
+    pushed by position gets ``share`` of the push as velocity (``body_motion.push_body``).  Returns what the
+    particle moved (m or m/s)."""
     wp = pf[p, P_INV_MASS]
-    at = (pf[p, P_POS], pf[p, P_POS + 1], pf[p, P_POS + 2])
     x_c, q_c = x_b, q_b
     if carrier >= 0:
         x_c, q_c = body_pose(bf, bi, bx, carrier, back)
-        wp = inverse_mass_along(bf, bi, carrier, x_c, q_c, at, u)
+        wp = inverse_mass_along(bf, bi, carrier, x_c, q_c, point, u)
     if kind == KK_PARTICLE:
         wo = pf[other, P_INV_MASS]
     else:
@@ -223,9 +223,9 @@ def separate(pf, bf, bi, bx, kind, p, other, x_b, q_b, point, u, amount, h, move
     for k in range(3):
         pf[p, column + k] += wp * dlambda * u[k]
     scale = 1.0 if move else h      # (push_body takes positional impulses)
-    if carrier >= 0:
-        push_body(bf, bi, bx, carrier, x_c, q_c, at, (dlambda * u[0] * scale, dlambda * u[1] * scale,
-                                                       dlambda * u[2] * scale), h, move, 1.0)
+    if carrier >= 0 and wp > 0.0:
+        push_body(bf, bi, bx, carrier, x_c, q_c, point, (dlambda * u[0] * scale, dlambda * u[1] * scale,
+                                                          dlambda * u[2] * scale), h, move, 1.0)
     if kind == KK_PARTICLE:
         for k in range(3):
             pf[other, column + k] -= wo * dlambda * u[k]
