@@ -323,12 +323,14 @@ def _box_on_a_cloth_slope(degrees, mu, steps, coarse=False):
     return (box.position - box_start) @ down, (sheet.positions.mean(axis=0) - sheet_start) @ down
 
 
+@pytest.mark.parametrize("coarse", [False, True], ids=["vertices", "corners"])
 @pytest.mark.parametrize("degrees", [10.0, 20.0])
-def test_a_box_on_a_cloth_on_a_slope_below_the_friction_angle_stays_put(degrees):
+def test_a_box_on_a_cloth_on_a_slope_below_the_friction_angle_stays_put(degrees, coarse):
     # tan 20 degrees = 0.36 < 0.5: neither the box nor the sheet under it moves down the slope in 3 s (the box crept
     # 2 to 2.5 mm/s and the sheet under it 2 mm/s at 20 degrees while the sheet's vertices, pulled by the box and
-    # held by the ground, each met the box with a sliver of its weight)
-    box, sheet = _box_on_a_cloth_slope(degrees, 0.5, 180)
+    # held by the ground, each met the box with a sliver of its weight).  On its corners the box crept 0.9 mm/s,
+    # turning on the sheet at 0.016 rad/s: one pass over its corners left each sub-step's last pushes to turn it
+    box, sheet = _box_on_a_cloth_slope(degrees, 0.5, 180, coarse)
     assert abs(box) < 5e-4
     assert abs(sheet) < 5e-4
 
@@ -411,6 +413,25 @@ def test_a_box_on_a_coarse_sheet_rests_on_its_triangles(shape, self_collision):
     for _ in range(120):
         w.step(DT)
     assert cube.position[1] - 0.05 == pytest.approx(1.0 + 0.5 * c.thickness, abs=1e-4)
+
+
+@pytest.mark.parametrize("restitution", [0.0, 0.5, 1.0])
+def test_a_box_striking_a_held_sheet_flat_on_its_corners_bounces_by_its_restitution(restitution):
+    # no gravity, the 10 cm cube of the test above at 2 m/s onto the sheet held at every vertex, flat, its four
+    # lower corners inside one triangle: it leaves at e times 2 m/s, straight back and without a turn, to within
+    # what eight passes over its corners leave (one pass gave the first corner the whole bounce and the cube spun at
+    # 8 rad/s; the friction's corrections summed as lengths sent it sideways at 2 cm/s); the sheet did not bounce a
+    # box at all before its corners' contacts had a velocity pass
+    v, t = cloth_grid(1.0, 1.0, 3, 3)
+    w = mb.World(gravity=(0.0, 0.0, 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0))
+    c.pin(np.arange(9))
+    cube = w.add_body(mb.Box((0.05, 0.05, 0.05)), position=(0.2, 1.25, 0.1), mass=1.0, restitution=restitution,
+                      velocity=(0.0, -2.0, 0.0))
+    for _ in range(30):
+        w.step(DT)
+    assert cube.velocity == pytest.approx((0.0, 2.0 * restitution, 0.0), abs=1e-3)
+    assert np.linalg.norm(cube.angular_velocity) < 0.01
 
 
 def test_a_corner_striking_a_free_sheet_conserves_momentum():

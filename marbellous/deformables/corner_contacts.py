@@ -18,8 +18,17 @@ is left alone (it was never over the triangle from the front).  A triangle corne
 part of a push into the ground (``particle_contacts.held_inverse_mass``); when all three are held the body takes
 the whole push, as velocity only what its own motion closed in the sub-step (as ``particle_contacts._shape_pair``
 does).  Coulomb friction across ``n``, on positions: the corner's motion relative to the triangle in the
-sub-step is undone when shorter than ``mu_s C``, else shortened by ``mu_d C`` (the geometric means of the body's
-and the cloth's coefficients).
+sub-step is undone while the sum of the friction's corrections stays within ``mu_s`` times the overlap removed,
+else that sum is cut to ``mu_d`` times it (:func:`_friction`; the geometric means of the body's and the cloth's
+coefficients).
+
+A sub-step's corner contacts are found first, then solved together, ``CORNER_PASSES`` passes over them, each
+contact's push summed over the passes and kept ``>= 0`` (a later pass takes back what an earlier one pushed too
+far, never more): a box rests on four corners or more, and each corner's push turns it under the others.  Solved
+one pass, as each was found, the last pushes of each sub-step were left standing: a box resting on a coarse
+sheet's corners turned on it at 0.016 rad/s and crept down a 10 degree slope at 0.9 mm/s; at 20 degrees two
+passes left 0.12 mm/s, four 0.06, eight 2 um/s.  Then :func:`corner_velocity_pass`, on the velocities, solved the same
+way: what is left of the corners' approach is stopped and a body bounces by its restitution.
 
 Candidates, once per step: the (shape, triangle) pairs where the path of one of the shape's corners over the
 step comes within half the thickness of the triangle's box swept over the step (ten 10 cm cubes lying on a 50 x 50
@@ -38,14 +47,35 @@ from .._numba.jit import njit, njit_inline
 from ..collision.hull.hull_layout import counts
 from ..collision.shape_types import BOX, HULL
 from ..math3d import quat_product, quat_step, rotated
-from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, POS, QUAT, S_BODY, S_LOCAL_POS,
-                            S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT, SHAPE_START,
-                            STATIC_FRICTION, VEL)
+from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, POS, QUAT, RESTITUTION, S_BODY,
+                            S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT,
+                            SHAPE_START, STATIC_FRICTION, VEL)
 from .body_motion import body_pose, inverse_mass_along, point_velocity, push_body, to_world
 from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_THICKNESS, P_FLAGS, P_FRICTION, P_INV_MASS, P_PIN_BODY, P_POS, P_PREV,
-                              P_STATIC_FRICTION, P_VEL, PP_PINNED, PP_SOFT, T_A, T_CLOTH)
+                              P_RESTITUTION, P_STATIC_FRICTION, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, T_A, T_CLOTH)
 from .triangle_contacts import foot_weights
+
+
+#: passes over a sub-step's corner contacts (module docstring)
+CORNER_PASSES = 8
+
+# a corner contact of the sub-step: floats ``cf``
+C_WEIGHTS = 0    # the corner's foot's barycentric weights on the triangle, 3
+C_NORMAL = 3     # unit normal from the triangle to the corner, 3
+C_LOCAL = 6      # the corner in its body's frame (m), 3
+C_INV_MASS = 9   # the triangle corners' inverse masses in the contact (0: held by the ground), 1/kg, 3
+C_DEPTH = 12     # overlap removed so far in the sub-step (m)
+C_VN0 = 13       # normal velocity of the corner relative to the triangle at the sub-step's start (m/s)
+C_SHARE = 14     # the part of the normal push its body gets as velocity
+C_HALF = 15      # half the cloth's thickness (m)
+C_FRICTION = 16  # the sum of the friction's corrections so far in the sub-step (m), 3
+C_DV_N = 19      # the velocity pass's normal change so far (m/s)
+C_COLS = 20
+# and ints ``ci``: the body row, then the triangle's corners' particle rows
+C_BODY = 0
+C_CORNERS = 1
+C_INT_COLS = 4
 
 
 @njit_inline
@@ -187,10 +217,24 @@ def _meets(pi, tri, t, b):
 
 
 @njit
-def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs, n_pairs, back, h, ground, slot):
+def corner_capacity(sf, si, geom_i, pairs, n_pairs):
+    """How many corner contacts the candidate pairs can make in a sub-step (each corner against each of its
+    shape's candidate triangles)."""
+    total = 0
+    for k in range(min(n_pairs, pairs.shape[0])):
+        total += corner_count(sf, si, geom_i, pairs[k, 0])
+    return total
+
+
+@njit
+def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs, n_pairs, back, h, ground, slot, cf,
+                    ci):
     """The position pass over the candidate ``(shape, triangle, side)`` pairs (module docstring) in the sub-step
     of ``h`` s ending ``back`` s before the step's end, with the particles that the ground holds (``ground``,
-    ``particle_contacts.ground_normals``)."""
+    ``particle_contacts.ground_normals``): the corners that touch their triangles are found, recorded in ``cf`` /
+    ``ci`` (``C_*`` columns; ``corner_capacity`` rows) and solved in ``CORNER_PASSES`` passes; returns how many
+    there are."""
+    nc = 0
     for k in range(n_pairs):
         s, t, side = pairs[k, 0], pairs[k, 1], pairs[k, 2]
         if slot[tri[t, T_A]] >= 0 or slot[tri[t, T_A + 1]] >= 0 or slot[tri[t, T_A + 2]] >= 0:
@@ -204,60 +248,109 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
                          + (centre[2] - pf[a, P_POS + 2]) * normal[2])
         if not ok or height >= sf[s, S_RADIUS] + 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS]:
             continue
-        q_s = quat_product(q_b, (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2],
-                                 sf[s, S_LOCAL_QUAT + 3]))
+        local_q = (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2], sf[s, S_LOCAL_QUAT + 3])
         for j in range(corner_count(sf, si, geom_i, s)):
-            r = rotated(q_s, corner(sf, si, geom_f, s, j))
-            _corner_triangle(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b,
-                             (centre[0] + r[0], centre[1] + r[1], centre[2] + r[2]), t, side, h, ground)
+            r = rotated(local_q, corner(sf, si, geom_f, s, j))
+            local = (sf[s, S_LOCAL_POS] + r[0], sf[s, S_LOCAL_POS + 1] + r[1], sf[s, S_LOCAL_POS + 2] + r[2])
+            nc = _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground, cf, ci, nc)
+    n_contacts = min(nc, cf.shape[0])
+    for _ in range(CORNER_PASSES):
+        for c in range(n_contacts):
+            _solve(pf, bf, bi, bx, cf, ci, c, back, h)
+    return n_contacts
 
 
 @njit_inline
-def _corner_triangle(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, x_c, t, side, h, ground):
-    """Corner ``x_c`` (m, world) of body row ``b`` (posed ``x_b``, ``q_b``) against triangle ``t`` from side
-    ``side``: the push out and the friction of the module docstring."""
+def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground, cf, ci, nc):
+    """Record in row ``nc`` of ``cf`` / ``ci`` the contact of the corner at ``local`` (m, in the frame of body row
+    ``b``, posed ``x_b``, ``q_b``) with triangle ``t`` from side ``side``, if it touches it (module docstring);
+    returns the new count."""
     a, bb, c, normal, ok = _triangle_frame(pf, tri, t)
-    if not ok:
-        return
+    if not ok or nc >= cf.shape[0]:
+        return nc
     n = (side * normal[0], side * normal[1], side * normal[2])
     half = 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS]
+    x_c = to_world(x_b, q_b, local)
     w = (x_c[0] - pf[a, P_POS], x_c[1] - pf[a, P_POS + 1], x_c[2] - pf[a, P_POS + 2])
     d = w[0] * n[0] + w[1] * n[1] + w[2] * n[2]
     if d >= half:
-        return
+        return nc
     # barycentric weights of the corner's foot on the triangle's plane
     b0, b1, b2 = foot_weights(
         (pf[bb, P_POS] - pf[a, P_POS], pf[bb, P_POS + 1] - pf[a, P_POS + 1], pf[bb, P_POS + 2] - pf[a, P_POS + 2]),
         (pf[c, P_POS] - pf[a, P_POS], pf[c, P_POS + 1] - pf[a, P_POS + 1], pf[c, P_POS + 2] - pf[a, P_POS + 2]), w)
     if b0 < 0.0 or b1 < 0.0 or b2 < 0.0:
-        return
+        return nc
     # the corner's motion relative to the triangle's point under it in this sub-step: one that was behind the
     # triangle at the sub-step's start is left alone
     motion = _relative_motion(pf, bf, bi, bx, b, x_b, x_c, (a, bb, c), (b0, b1, b2),
                               (pf[a, P_INV_MASS], pf[bb, P_INV_MASS], pf[c, P_INV_MASS]), h)
     if d - (motion[0] * n[0] + motion[1] * n[1] + motion[2] * n[2]) < -half:
-        return
+        return nc
     back_n = (-n[0], -n[1], -n[2])
     wc = inverse_mass_along(bf, bi, b, x_b, q_b, x_c, n)
     wa, wb, wcc = held_inverse_mass(pf, ground, a, back_n), held_inverse_mass(pf, ground, bb, back_n), \
         held_inverse_mass(pf, ground, c, back_n)
-    cloth_w = b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc
     share = 1.0
-    if cloth_w <= 0.0 and wc > 0.0:
+    if b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0 and wc > 0.0:
         # (the ground holds the triangle: the body takes the push, as velocity the part its own motion closed in the
         # sub-step)
         u = point_velocity(bf, bi, bx, b, x_b, x_c)
         closing = -(u[0] * n[0] + u[1] * n[1] + u[2] * n[2]) * h
         share = min(1.0, max(0.0, closing) / (half - d))
-    elif cloth_w <= 0.0:
+    elif b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0:
         wa, wb, wcc = pf[a, P_INV_MASS], pf[bb, P_INV_MASS], pf[c, P_INV_MASS]
-        cloth_w = b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc
-    denominator = wc + cloth_w
+    u = point_velocity(bf, bi, bx, b, x_b, x_c)
+    vn0 = 0.0
+    for k in range(3):
+        vn0 += (u[k] - b0 * pf[a, P_VEL0 + k] - b1 * pf[bb, P_VEL0 + k] - b2 * pf[c, P_VEL0 + k]) * n[k]
+    for k in range(3):
+        cf[nc, C_WEIGHTS + k] = (b0, b1, b2)[k]
+        cf[nc, C_NORMAL + k] = n[k]
+        cf[nc, C_LOCAL + k] = local[k]
+        cf[nc, C_INV_MASS + k] = (wa, wb, wcc)[k]
+    cf[nc, C_DEPTH] = 0.0
+    cf[nc, C_VN0] = vn0
+    cf[nc, C_SHARE] = share
+    cf[nc, C_HALF] = half
+    for k in range(3):
+        cf[nc, C_FRICTION + k] = 0.0
+    ci[nc, C_BODY] = b
+    ci[nc, C_CORNERS] = a
+    ci[nc, C_CORNERS + 1] = bb
+    ci[nc, C_CORNERS + 2] = c
+    return nc + 1
+
+
+@njit_inline
+def _solve(pf, bf, bi, bx, cf, ci, c, back, h):
+    """One pass over corner contact ``c`` (module docstring): its overlap, as it is now, removed, the push out
+    summed over the passes kept ``>= 0``; then its friction, bounded by the pushes so far."""
+    b = ci[c, C_BODY]
+    x_b, q_b = body_pose(bf, bi, bx, b, back)
+    x_c = to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2]))
+    corners = (ci[c, C_CORNERS], ci[c, C_CORNERS + 1], ci[c, C_CORNERS + 2])
+    weights = (cf[c, C_WEIGHTS], cf[c, C_WEIGHTS + 1], cf[c, C_WEIGHTS + 2])
+    inverse_masses = (cf[c, C_INV_MASS], cf[c, C_INV_MASS + 1], cf[c, C_INV_MASS + 2])
+    n = (cf[c, C_NORMAL], cf[c, C_NORMAL + 1], cf[c, C_NORMAL + 2])
+    d = 0.0
+    for k in range(3):
+        foot = 0.0
+        for q in range(3):
+            foot += weights[q] * pf[corners[q], P_POS + k]
+        d += (x_c[k] - foot) * n[k]
+    denominator = inverse_mass_along(bf, bi, b, x_b, q_b, x_c, n)
+    for q in range(3):
+        denominator += weights[q] * weights[q] * inverse_masses[q]
     if denominator <= 0.0:
         return
-    dlambda = (half - d) / denominator
-    _move(pf, bf, bi, bx, b, x_b, q_b, x_c, (a, bb, c), (b0, b1, b2), (wa, wb, wcc), n, dlambda, h, share)
-    _friction(pf, bf, bi, bx, b, x_b, q_b, x_c, (a, bb, c), (b0, b1, b2), (wa, wb, wcc), n, half - d, h)
+    # (the push of this pass: the overlap left, or back by what earlier passes pushed too far, never to a pull)
+    push = max(cf[c, C_HALF] - d, -cf[c, C_DEPTH])
+    if push != 0.0:
+        _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, n, push / denominator, h,
+              cf[c, C_SHARE])
+        cf[c, C_DEPTH] += push
+    _friction(pf, bf, bi, bx, cf, c, b, x_b, q_b, x_c, corners, weights, inverse_masses, n, h)
 
 
 @njit_inline
@@ -288,26 +381,110 @@ def _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, al
 
 
 @njit_inline
-def _friction(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, n, depth, h):
-    """Coulomb friction of the corner on the triangle whose overlap ``depth`` (m) along ``n`` was just removed
-    (module docstring)."""
+def _friction(pf, bf, bi, bx, cf, c, b, x_b, q_b, x_c, corners, weights, inverse_masses, n, h):
+    """Coulomb friction of corner contact ``c`` (module docstring) on the corner's slip ``s`` across ``n`` in the
+    sub-step, with ``F`` the sum of the friction's corrections so far and ``D`` the overlap removed so far:
+
+        F' = F - s                            if |F - s| <= mu_s D    (it holds: the slip is undone)
+        F' = (F - s) mu_d D / |F - s|         else                    (it slides)
+
+    and the contact moved by ``F' - F``.  (Summed as a vector, a later pass takes back what an earlier one did
+    against a slip that the other corners' pushes have since undone: summed as lengths, a cube striking a held
+    sheet flat on its corners left it sideways at 2 cm/s.)"""
     # (the motion of every corner counts: the ground holds a corner against the normal only, and a sheet sliding
     # on it carries the body; counting only the movable ones, a box stood still on a sheet sliding down a 30 degree
     # slope under it)
     motion = _relative_motion(pf, bf, bi, bx, b, x_b, x_c, corners, weights,
                               (pf[corners[0], P_INV_MASS], pf[corners[1], P_INV_MASS], pf[corners[2], P_INV_MASS]), h)
     along = motion[0] * n[0] + motion[1] * n[1] + motion[2] * n[2]
-    tangent = (motion[0] - along * n[0], motion[1] - along * n[1], motion[2] - along * n[2])
-    slip = math.sqrt(tangent[0] ** 2 + tangent[1] ** 2 + tangent[2] ** 2)
-    if slip <= 0.0:
-        return
+    wanted = [cf[c, C_FRICTION + k] - (motion[k] - along * n[k]) for k in range(3)]
+    size = math.sqrt(wanted[0] ** 2 + wanted[1] ** 2 + wanted[2] ** 2)
     a = corners[0]
     mu_s = math.sqrt(pf[a, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
-    mu_d = math.sqrt(pf[a, P_FRICTION] * bf[b, FRICTION])
-    undo = slip if slip < mu_s * depth else min(slip, mu_d * depth)
-    back = (-tangent[0] / slip, -tangent[1] / slip, -tangent[2] / slip)
-    denominator = inverse_mass_along(bf, bi, b, x_b, q_b, x_c, back)
+    if size > mu_s * cf[c, C_DEPTH]:
+        scale = math.sqrt(pf[a, P_FRICTION] * bf[b, FRICTION]) * cf[c, C_DEPTH] / size
+        for k in range(3):
+            wanted[k] *= scale
+    change = (wanted[0] - cf[c, C_FRICTION], wanted[1] - cf[c, C_FRICTION + 1], wanted[2] - cf[c, C_FRICTION + 2])
+    length = math.sqrt(change[0] ** 2 + change[1] ** 2 + change[2] ** 2)
+    if length <= 0.0:
+        return
+    unit = (change[0] / length, change[1] / length, change[2] / length)
+    denominator = inverse_mass_along(bf, bi, b, x_b, q_b, x_c, unit)
     for q in range(3):
         denominator += weights[q] * weights[q] * inverse_masses[q]
     if denominator > 0.0:
-        _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, back, undo / denominator, h, 1.0)
+        _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, unit, length / denominator, h, 1.0)
+        for k in range(3):
+            cf[c, C_FRICTION + k] = wanted[k]
+
+
+@njit
+def corner_velocity_pass(pf, bf, bi, bx, cf, ci, n_contacts, back, h, resting_speed):
+    """The velocity pass of the sub-step's corner contacts (rows ``0 .. n_contacts - 1`` of ``cf`` / ``ci``), on
+    the particles' velocities taken from their positions and the bodies' velocities, at the bodies' poses ``back``
+    s before the step's end: sequential impulses, ``CORNER_PASSES`` passes.  With ``v_n`` the normal velocity of
+    the corner relative to the triangle's point under it, each contact's is brought to
+
+        v_n' = -e v_n0     if the corner struck at ``v_n0 < -resting_speed``, else 0,
+
+    by impulses whose sum over the passes only pushes: ``dv_n / (w_c + sum_i b_i^2 w_i)`` (the generalised inverse
+    masses of the position pass), the body's part at the corner (body_motion.push_body) and ``-w_i b_i`` times it to
+    each triangle corner's velocity.  The position pass gives a body only the part of a push that its own motion
+    closed as velocity, and what is left of a corner's approach is stopped here.  A box with restitution struck flat
+    on its four corners took the whole bounce at the first of them in one pass over them: it spun at 8 rad/s.  No
+    friction here: the position pass has both static and dynamic friction, and a second, dynamic friction here kept
+    a 1 kg box on the corner-held trampoline bobbing by 3 mm after 12 s, 9 mm higher on the sheet."""
+    n_contacts = min(n_contacts, cf.shape[0])
+    for c in range(n_contacts):
+        cf[c, C_DV_N] = 0.0
+    for _ in range(CORNER_PASSES):
+        for c in range(n_contacts):
+            b, a = ci[c, C_BODY], ci[c, C_CORNERS]
+            n = (cf[c, C_NORMAL], cf[c, C_NORMAL + 1], cf[c, C_NORMAL + 2])
+            v = _corner_velocity(pf, bf, bi, bx, cf, ci, c, back)
+            vn = v[0] * n[0] + v[1] * n[1] + v[2] * n[2]
+            vn0 = cf[c, C_VN0]
+            target = -max(pf[a, P_RESTITUTION], bf[b, RESTITUTION]) * vn0 if vn0 < -resting_speed else 0.0
+            total = max(cf[c, C_DV_N] + target - vn, 0.0)
+            _change_velocity(pf, bf, bi, bx, cf, ci, c, back, n, total - cf[c, C_DV_N])
+            cf[c, C_DV_N] = total
+
+
+@njit_inline
+def _corner_velocity(pf, bf, bi, bx, cf, ci, c, back):
+    """The velocity (m/s, a 3-tuple) of corner contact ``c``'s corner relative to the triangle's point under it."""
+    b = ci[c, C_BODY]
+    x_b, q_b = body_pose(bf, bi, bx, b, back)
+    u = point_velocity(bf, bi, bx, b, x_b, to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2])))
+    v = [u[0], u[1], u[2]]
+    for q in range(3):
+        p, weight = ci[c, C_CORNERS + q], cf[c, C_WEIGHTS + q]
+        for k in range(3):
+            v[k] -= weight * pf[p, P_VEL + k]
+    return v[0], v[1], v[2]
+
+
+@njit_inline
+def _change_velocity(pf, bf, bi, bx, cf, ci, c, back, along, dv):
+    """Change corner contact ``c``'s relative velocity (:func:`_corner_velocity`) by ``dv`` (m/s) along the unit
+    ``along`` with an impulse between the body and the triangle's corners (:func:`corner_velocity_pass`)."""
+    if dv == 0.0:
+        return
+    b = ci[c, C_BODY]
+    x_b, q_b = body_pose(bf, bi, bx, b, back)
+    point = to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2]))
+    denominator = inverse_mass_along(bf, bi, b, x_b, q_b, point, along)
+    for q in range(3):
+        weight = cf[c, C_WEIGHTS + q]
+        denominator += weight * weight * cf[c, C_INV_MASS + q]
+    if denominator <= 0.0:
+        return
+    dlambda = dv / denominator
+    # (an impulse, kg m/s: push_body's positional impulse over a time of 1 s)
+    push_body(bf, bi, bx, b, x_b, q_b, point, (dlambda * along[0], dlambda * along[1], dlambda * along[2]), 1.0,
+              False, 1.0)
+    for q in range(3):
+        p = ci[c, C_CORNERS + q]
+        for k in range(3):
+            pf[p, P_VEL + k] -= cf[c, C_INV_MASS + q] * cf[c, C_WEIGHTS + q] * dlambda * along[k]

@@ -30,8 +30,9 @@ may meet in the step.  Each sub-step, in order:
                     boxes and hulls against the triangles (corner_contacts.py); a body holding a
                     vertex of the whole-cloth solve gets the contact's whole force (stretch_solve.py)
     velocities      v = (x - x_prev) / h
-    velocity pass   dynamic friction and restitution of the sub-step's contacts; the soft bodies' nodes
-                    note their contacts' normals for the next sub-step's implicit step
+    velocity pass   dynamic friction and restitution of the sub-step's contacts, then of the bodies' corners on
+                    the triangles; the soft bodies' nodes note their contacts' normals for the next sub-step's
+                    implicit step
 
 and at the end the pushed bodies' poses and velocities are written back, the edges whose force of the step
 passed their breaking force break, and the user forces are cleared.
@@ -49,7 +50,8 @@ from .._numba.jit import njit
 from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
-from .corner_contacts import corner_candidates, corner_contacts
+from .corner_contacts import (C_COLS, C_INT_COLS, corner_candidates, corner_capacity, corner_contacts,
+                              corner_velocity_pass)
 from .edge_constraints import break_edges, clear_edge_forces, solve_edges
 from .edge_contacts import edge_candidates, edge_contacts
 from .layer_contacts import hold_layers
@@ -226,6 +228,8 @@ def _kernels(meeting, coverage):
         most = soft_most = 0
         soft_residual = 0.0
         ground = np.zeros((n_particles, 5))
+        n_corner_rows = corner_capacity(sf, si, geom_i, corner_pairs, n_corner)
+        cf, ci = np.empty((n_corner_rows, C_COLS)), np.empty((n_corner_rows, C_INT_COLS), np.int64)
         for step in range(substeps):
             back = dt - (step + 1) * h
             drift(bf, bx, nb, h)
@@ -277,8 +281,8 @@ def _kernels(meeting, coverage):
                 triangle_contacts(pf, tri, cloth_f, triangle_pairs, n_triangle, h, ground, lf, li, 0)
                 shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, shape_pairs, n_shape, back, h,
                                kf, ki, nk, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s, ground)
-            corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, corner_pairs, n_corner, back, h,
-                            ground, slot)
+            n_corners = corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, corner_pairs, n_corner,
+                                        back, h, ground, slot, cf, ci)
             most = max(most, nk)
             if passes > 0:
                 hold_bodies(pf, slot, rows, perm_r, perm_c, l_start, l_row, l_value, u_start, u_row, u_value,
@@ -286,6 +290,7 @@ def _kernels(meeting, coverage):
                             back, h, ground)
             _velocities(pf, n_particles, h)
             velocity_pass(pf, pi, bf, bi, bx, kf, ki, nk, back, h, g * h, ground)
+            corner_velocity_pass(pf, bf, bi, bx, cf, ci, n_corners, back, h, g * h)
             if meeting and n_soft > 0:
                 record_contact_normals(pf, pi, n_particles, bf, kf, ki, nk)
         write_back(bf, bi, bx, nb)
