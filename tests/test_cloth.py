@@ -378,9 +378,10 @@ def test_a_box_dropped_on_a_cloth_trampoline_bounces_and_comes_to_rest_on_it():
 
 
 def test_a_ball_dropped_on_a_sheet_held_at_every_vertex_rests_on_it():
-    # a held vertex still pushes the bodies it meets (it fell through the sheet to the plane): the 1 kg ball lies
-    # on the vertices under it, its surface their radius (half the thickness) from the nearest's centre, in the
-    # pocket between the four around (0.025, 0.025), which it rolls into from where it landed
+    # held vertices and triangles still push the bodies they meet (it fell through the sheet to the plane): the
+    # 1 kg ball lies on the sheet where it landed, its lowest point half the thickness above the sheet's plane
+    # (meeting the vertices alone, it lay on them and rolled into the pocket between the four around
+    # (0.025, 0.025), 0.7 mm lower)
     v, t = cloth_grid(1.0, 1.0, 21, 21)
     w = mb.World()
     w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
@@ -389,9 +390,42 @@ def test_a_ball_dropped_on_a_sheet_held_at_every_vertex_rests_on_it():
     ball = w.add_body(mb.Sphere(0.1), position=(0.01, 1.2, 0.02), mass=1.0)
     for _ in range(120):
         w.step(DT)
-    nearest = np.min(np.linalg.norm(c.positions - ball.position, axis=1))
-    assert nearest == pytest.approx(0.1 + 0.5 * c.thickness, abs=1e-4)
-    assert np.hypot(ball.position[0] - 0.025, ball.position[2] - 0.025) < 0.01
+    assert ball.position == pytest.approx((0.01, 1.0 + 0.1 + 0.5 * c.thickness, 0.02), abs=1e-4)
+
+
+def _round_body_on_a_coarse_sheet(shape, orientation=(1.0, 0.0, 0.0, 0.0), velocity=(0.0, 0.0, 0.0), steps=120):
+    """A 1 kg body of ``shape`` dropped from 1.3 m inside one triangle of a 1 m sheet of 3 x 3 vertices held at
+    every vertex at 1 m (legs of 0.5 m, a plane under it); returns the body and the sheet after ``steps``."""
+    v, t = cloth_grid(1.0, 1.0, 3, 3)
+    w = mb.World()
+    w.add_static(mb.Plane((0.0, 1.0, 0.0), 0.0))
+    c = w.add_cloth(v, t, mass=0.2, position=(0.0, 1.0, 0.0))
+    c.pin(np.arange(9))
+    body = w.add_body(shape, position=(0.2, 1.3, 0.1), orientation=orientation, velocity=velocity, mass=1.0)
+    for _ in range(steps):
+        w.step(DT)
+    return body, c
+
+
+@pytest.mark.parametrize("kind", ["sphere", "capsule"])
+def test_a_round_body_on_a_coarse_sheet_rests_on_its_triangle(kind):
+    # a ball (radius 10 cm) or a capsule lying down (radius 5 cm) on a triangle of legs 0.5 m: it meets no vertex,
+    # so it rests on the triangle, its lowest point half the thickness above it (both fell through to the plane
+    # when round bodies met only the vertices)
+    down = (math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4))
+    shape, orientation, radius = {"sphere": (mb.Sphere(0.1), (1.0, 0.0, 0.0, 0.0), 0.1),
+                                  "capsule": (mb.Capsule(0.05, 0.1), down, 0.05)}[kind]
+    body, c = _round_body_on_a_coarse_sheet(shape, orientation)
+    assert body.position == pytest.approx((0.2, 1.0 + radius + 0.5 * c.thickness, 0.1), abs=1e-4)
+
+
+def test_a_ball_sliding_onto_a_coarse_sheet_rolls_at_five_sevenths_of_its_speed():
+    # dropped at 0.3 m/s across the held triangle, the ball's friction on it spins it up until it rolls without
+    # slipping: a solid ball keeps 5/7 of its speed (the friction's impulse J takes J/m off the speed and gives
+    # J r / (2/5 m r^2) of spin, equal when v0 - J/m = 5 J / (2 m)), and then omega r = v
+    ball, _ = _round_body_on_a_coarse_sheet(mb.Sphere(0.1), velocity=(0.3, 0.0, 0.0), steps=40)
+    assert ball.velocity == pytest.approx((0.3 * 5.0 / 7.0, 0.0, 0.0), abs=1e-4)
+    assert ball.angular_velocity == pytest.approx((0.0, 0.0, -0.3 * 5.0 / 7.0 / 0.1), abs=1e-3)
 
 
 _CUBE = np.array([[x, y, z] for x in (-0.05, 0.05) for y in (-0.05, 0.05) for z in (-0.05, 0.05)])

@@ -1,12 +1,14 @@
-"""The corners of bodies against cloth triangles: a box or a hull on a cloth rests on its triangles, not only on
-its vertices.
+"""The corners of bodies against cloth triangles: a box, a hull, a ball or a capsule on a cloth rests on its
+triangles, not only on its vertices.
 
 The particles' contacts with the shapes (particle_contacts.py) are the vertices' spheres against the shapes, so a
 sharp body met a cloth only at its vertices: a 10 cm cube dropped inside one triangle of a coarse sheet (legs of
-0.5 m) fell through it to the ground.  Here each corner ``x_c`` of a box or hull is a point against the cloth's
-triangles, as a cloth's vertex is in triangle_contacts.py: on the side ``s = +-1`` of the triangle that the
-shape's centre was on at the step's start, no closer to its plane than half the cloth's thickness ``t``, where
-its foot lies inside the triangle (barycentric weights ``b_i >= 0``):
+0.5 m) fell through it to the ground, and so did a 10 cm ball.  Here each corner ``x_c`` of a box or hull is a
+point against the cloth's triangles (of a sphere, its centre, and of a capsule, its segment's ends, each moved
+out by the radius ``r`` towards the triangle: ``x_c = c - r s n``), as a cloth's vertex is in
+triangle_contacts.py: on the side ``s = +-1`` of the triangle that the shape's centre was on at the step's start,
+no closer to its plane than half the cloth's thickness ``t``, where its foot lies inside the triangle
+(barycentric weights ``b_i >= 0``):
 
     C = s n . (x_c - sum_i b_i x_i) - t / 2 >= 0
     grad_c = s n,   grad_i = -b_i s n,   dlambda = -C / (w_c + sum_i b_i^2 w_i)
@@ -39,13 +41,13 @@ whole-cloth solve (stretch_solve.py), whose contacts with bodies are solved with
 1 kg box landing on its trampoline left the box and sheet with 65 % more energy than the box brought.  Not
 handled: a body's edge through a triangle with both ends outside it (pushing the point of the edge over the
 triangle's edge out along the triangle's normal kept a 1 kg box on the spring-at-a-time trampoline from coming
-to rest), and spheres and capsules (their round faces meet the vertices first on a sheet finer than they are).
+to rest), and so a capsule's middle lying across a triangle whose corners are all beyond its ends.
 """
 import math
 
 from .._numba.jit import njit, njit_inline
 from ..collision.hull.hull_layout import counts
-from ..collision.shape_types import BOX, HULL
+from ..collision.shape_types import BOX, CAPSULE, HULL, SPHERE
 from ..math3d import quat_product, quat_step, rotated
 from ..state.layout import (F_ALIVE, F_SENSOR, FLAGS, FRICTION, OMEGA, POS, QUAT, RESTITUTION, S_BODY,
                             S_LOCAL_POS, S_LOCAL_QUAT, S_OFF_F, S_OFF_I, S_PARAMS, S_RADIUS, S_TYPE, SHAPE_COUNT,
@@ -71,7 +73,8 @@ C_SHARE = 14     # the part of the normal push its body gets as velocity
 C_HALF = 15      # half the cloth's thickness (m)
 C_FRICTION = 16  # the sum of the friction's corrections so far in the sub-step (m), 3
 C_DV_N = 19      # the velocity pass's normal change so far (m/s)
-C_COLS = 20
+C_RADIUS = 20    # how far (m) the body's surface lies out from the corner (a sphere's, a capsule's radius)
+C_COLS = 21
 # and ints ``ci``: the body row, then the triangle's corners' particle rows
 C_BODY = 0
 C_CORNERS = 1
@@ -80,21 +83,39 @@ C_INT_COLS = 4
 
 @njit_inline
 def corner_count(sf, si, geom_i, s):
-    """How many corners shape row ``s`` has: 8 for a box, its vertices for a hull, 0 for a round shape."""
+    """How many corners shape row ``s`` has: 8 for a box, its vertices for a hull, 1 for a sphere (its centre),
+    2 for a capsule (its segment's ends), 0 for the others."""
     kind = si[s, S_TYPE]
     if kind == BOX:
         return 8
     if kind == HULL:
         return counts(geom_i, si[s, S_OFF_I])[0]
+    if kind == SPHERE:
+        return 1
+    if kind == CAPSULE:
+        return 2
     return 0
 
 
 @njit_inline
+def corner_radius(sf, si, s):
+    """How far (m) shape row ``s``'s surface lies out from its corners: a sphere's or capsule's radius, else 0."""
+    kind = si[s, S_TYPE]
+    return sf[s, S_PARAMS] if kind == SPHERE or kind == CAPSULE else 0.0
+
+
+@njit_inline
 def corner(sf, si, geom_f, s, k):
-    """Corner ``k`` of shape row ``s`` in the shape's frame (m): a box's ``(+-hx, +-hy, +-hz)``, a hull's vertex."""
-    if si[s, S_TYPE] == BOX:
+    """Corner ``k`` of shape row ``s`` in the shape's frame (m): a box's ``(+-hx, +-hy, +-hz)``, a hull's vertex, a
+    sphere's centre, a capsule's segment's ends ``(0, +-half_height, 0)``."""
+    kind = si[s, S_TYPE]
+    if kind == BOX:
         return (sf[s, S_PARAMS] * (1.0 if k & 1 else -1.0), sf[s, S_PARAMS + 1] * (1.0 if k & 2 else -1.0),
                 sf[s, S_PARAMS + 2] * (1.0 if k & 4 else -1.0))
+    if kind == SPHERE:
+        return 0.0, 0.0, 0.0
+    if kind == CAPSULE:
+        return 0.0, sf[s, S_PARAMS + 1] * (1.0 if k & 1 else -1.0), 0.0
     o = si[s, S_OFF_F] + 3 * k
     return geom_f[o], geom_f[o + 1], geom_f[o + 2]
 
@@ -125,6 +146,9 @@ def corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_
     if n_tri == 0:
         return 0
     lo_all, hi_all = _swept_bounds(pf, tri, n_tri, dt)
+    thickest = 0.0
+    for t in range(n_tri):
+        thickest = max(thickest, 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS])
     n = 0
     for b in range(nb):
         f = bi[b, FLAGS]
@@ -141,7 +165,8 @@ def corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_
             grow = sf[s, S_RADIUS] + reach
             box_lo = (min(start[0], end[0]) - grow, min(start[1], end[1]) - grow, min(start[2], end[2]) - grow)
             box_hi = (max(start[0], end[0]) + grow, max(start[1], end[1]) + grow, max(start[2], end[2]) + grow)
-            if not _overlap(box_lo, box_hi, lo_all, hi_all, 0.0):
+            # (within half the thickest cloth's thickness: a ball resting on a sheet is no nearer)
+            if not _overlap(box_lo, box_hi, lo_all, hi_all, thickest):
                 continue
             q_end = quat_product((bf[b, QUAT], bf[b, QUAT + 1], bf[b, QUAT + 2], bf[b, QUAT + 3]),
                                  (sf[s, S_LOCAL_QUAT], sf[s, S_LOCAL_QUAT + 1], sf[s, S_LOCAL_QUAT + 2],
@@ -163,7 +188,8 @@ def corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_
                     x0 = (start[0] + r0[0], start[1] + r0[1], start[2] + r0[2])
                     x1 = (end[0] + r1[0], end[1] + r1[1], end[2] + r1[2])
                     if _overlap((min(x0[0], x1[0]), min(x0[1], x1[1]), min(x0[2], x1[2])),
-                                (max(x0[0], x1[0]), max(x0[1], x1[1]), max(x0[2], x1[2])), lo, hi, half + reach):
+                                (max(x0[0], x1[0]), max(x0[1], x1[1]), max(x0[2], x1[2])), lo, hi,
+                                half + reach + corner_radius(sf, si, s)):
                         near = True
                         break
                 if not near:
@@ -252,7 +278,8 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
         for j in range(corner_count(sf, si, geom_i, s)):
             r = rotated(local_q, corner(sf, si, geom_f, s, j))
             local = (sf[s, S_LOCAL_POS] + r[0], sf[s, S_LOCAL_POS + 1] + r[1], sf[s, S_LOCAL_POS + 2] + r[2])
-            nc = _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground, cf, ci, nc)
+            nc = _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, corner_radius(sf, si, s), t, side, h,
+                        ground, cf, ci, nc)
     n_contacts = min(nc, cf.shape[0])
     for _ in range(CORNER_PASSES):
         for c in range(n_contacts):
@@ -261,16 +288,17 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
 
 
 @njit_inline
-def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground, cf, ci, nc):
+def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, radius, t, side, h, ground, cf, ci, nc):
     """Record in row ``nc`` of ``cf`` / ``ci`` the contact of the corner at ``local`` (m, in the frame of body row
-    ``b``, posed ``x_b``, ``q_b``) with triangle ``t`` from side ``side``, if it touches it (module docstring);
-    returns the new count."""
+    ``b``, posed ``x_b``, ``q_b``; its surface ``radius`` m out from it) with triangle ``t`` from side ``side``, if
+    it touches it (module docstring); returns the new count."""
     a, bb, c, normal, ok = _triangle_frame(pf, tri, t)
     if not ok or nc >= cf.shape[0]:
         return nc
     n = (side * normal[0], side * normal[1], side * normal[2])
     half = 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS]
     x_c = to_world(x_b, q_b, local)
+    x_c = (x_c[0] - radius * n[0], x_c[1] - radius * n[1], x_c[2] - radius * n[2])
     w = (x_c[0] - pf[a, P_POS], x_c[1] - pf[a, P_POS + 1], x_c[2] - pf[a, P_POS + 2])
     d = w[0] * n[0] + w[1] * n[1] + w[2] * n[2]
     if d >= half:
@@ -309,6 +337,7 @@ def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground,
         cf[nc, C_NORMAL + k] = n[k]
         cf[nc, C_LOCAL + k] = local[k]
         cf[nc, C_INV_MASS + k] = (wa, wb, wcc)[k]
+    cf[nc, C_RADIUS] = radius
     cf[nc, C_DEPTH] = 0.0
     cf[nc, C_VN0] = vn0
     cf[nc, C_SHARE] = share
@@ -323,12 +352,21 @@ def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, t, side, h, ground,
 
 
 @njit_inline
+def _contact_point(cf, c, x_b, q_b):
+    """The point (m, world) of corner contact ``c``'s body, posed ``x_b``, ``q_b``, that touches the triangle: its
+    corner, out by its radius towards the triangle."""
+    x = to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2]))
+    r = cf[c, C_RADIUS]
+    return x[0] - r * cf[c, C_NORMAL], x[1] - r * cf[c, C_NORMAL + 1], x[2] - r * cf[c, C_NORMAL + 2]
+
+
+@njit_inline
 def _solve(pf, bf, bi, bx, cf, ci, c, back, h):
     """One pass over corner contact ``c`` (module docstring): its overlap, as it is now, removed, the push out
     summed over the passes kept ``>= 0``; then its friction, bounded by the pushes so far."""
     b = ci[c, C_BODY]
     x_b, q_b = body_pose(bf, bi, bx, b, back)
-    x_c = to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2]))
+    x_c = _contact_point(cf, c, x_b, q_b)
     corners = (ci[c, C_CORNERS], ci[c, C_CORNERS + 1], ci[c, C_CORNERS + 2])
     weights = (cf[c, C_WEIGHTS], cf[c, C_WEIGHTS + 1], cf[c, C_WEIGHTS + 2])
     inverse_masses = (cf[c, C_INV_MASS], cf[c, C_INV_MASS + 1], cf[c, C_INV_MASS + 2])
@@ -456,7 +494,7 @@ def _corner_velocity(pf, bf, bi, bx, cf, ci, c, back):
     """The velocity (m/s, a 3-tuple) of corner contact ``c``'s corner relative to the triangle's point under it."""
     b = ci[c, C_BODY]
     x_b, q_b = body_pose(bf, bi, bx, b, back)
-    u = point_velocity(bf, bi, bx, b, x_b, to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2])))
+    u = point_velocity(bf, bi, bx, b, x_b, _contact_point(cf, c, x_b, q_b))
     v = [u[0], u[1], u[2]]
     for q in range(3):
         p, weight = ci[c, C_CORNERS + q], cf[c, C_WEIGHTS + q]
@@ -473,7 +511,7 @@ def _change_velocity(pf, bf, bi, bx, cf, ci, c, back, along, dv):
         return
     b = ci[c, C_BODY]
     x_b, q_b = body_pose(bf, bi, bx, b, back)
-    point = to_world(x_b, q_b, (cf[c, C_LOCAL], cf[c, C_LOCAL + 1], cf[c, C_LOCAL + 2]))
+    point = _contact_point(cf, c, x_b, q_b)
     denominator = inverse_mass_along(bf, bi, b, x_b, q_b, point, along)
     for q in range(3):
         weight = cf[c, C_WEIGHTS + q]
