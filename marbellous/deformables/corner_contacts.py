@@ -141,8 +141,8 @@ def corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_
     back over the step along the body's velocity (the particles' sub-steps take the bodies back that way,
     body_motion.py), grown by ``reach`` (m), how far a particle may fall in the step beyond its velocity's sweep;
     a pair is kept where the path of one of its corners over the step (turned back along the body's angular
-    velocity) comes as near the triangle's box; its side of a triangle: the one its centre is on at the step's
-    start."""
+    velocity) comes as near the triangle's box, and a round shape's radius nearer; its side of a triangle: the one
+    its centre is on at the step's start."""
     if n_tri == 0:
         return 0
     lo_all, hi_all = _swept_bounds(pf, tri, n_tri, dt)
@@ -319,16 +319,16 @@ def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, radius, t, side, h,
     wc = inverse_mass_along(bf, bi, b, x_b, q_b, x_c, n)
     wa, wb, wcc = held_inverse_mass(pf, ground, a, back_n), held_inverse_mass(pf, ground, bb, back_n), \
         held_inverse_mass(pf, ground, c, back_n)
-    share = 1.0
-    if b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0 and wc > 0.0:
-        # (the ground holds the triangle: the body takes the push, as velocity the part its own motion closed in the
-        # sub-step)
-        u = point_velocity(bf, bi, bx, b, x_b, x_c)
-        closing = -(u[0] * n[0] + u[1] * n[1] + u[2] * n[2]) * h
-        share = min(1.0, max(0.0, closing) / (half - d))
-    elif b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0:
-        wa, wb, wcc = pf[a, P_INV_MASS], pf[bb, P_INV_MASS], pf[c, P_INV_MASS]
     u = point_velocity(bf, bi, bx, b, x_b, x_c)
+    share = 1.0
+    if b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0:
+        if wc > 0.0:
+            # (the ground holds the triangle: the body takes the push, as velocity the part its own motion closed in
+            # the sub-step)
+            closing = -(u[0] * n[0] + u[1] * n[1] + u[2] * n[2]) * h
+            share = min(1.0, max(0.0, closing) / (half - d))
+        else:
+            wa, wb, wcc = pf[a, P_INV_MASS], pf[bb, P_INV_MASS], pf[c, P_INV_MASS]
     vn0 = 0.0
     for k in range(3):
         vn0 += (u[k] - b0 * pf[a, P_VEL0 + k] - b1 * pf[bb, P_VEL0 + k] - b2 * pf[c, P_VEL0 + k]) * n[k]

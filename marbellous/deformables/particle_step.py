@@ -27,12 +27,12 @@ may meet in the step.  Each sub-step, in order:
     contacts        overlaps with other particles, with cloth triangles, of cloth edges and with the shapes
                     removed; static friction (particle_pairs.py, triangle_contacts.py, edge_contacts.py,
                     particle_contacts.py); with cloth, the triangles and shapes twice, then the corners of
-                    boxes and hulls against the triangles (corner_contacts.py); a body holding a
+                    boxes, hulls, balls and capsules against the triangles (corner_contacts.py); a body holding a
                     vertex of the whole-cloth solve gets the contact's whole force (stretch_solve.py)
     velocities      v = (x - x_prev) / h
-    velocity pass   dynamic friction and restitution of the sub-step's contacts, then of the bodies' corners on
-                    the triangles; the soft bodies' nodes note their contacts' normals for the next sub-step's
-                    implicit step
+    velocity pass   dynamic friction and restitution of the sub-step's contacts, then the restitution of the
+                    bodies' corners on the triangles; the soft bodies' nodes note their contacts' normals for the
+                    next sub-step's implicit step
 
 and at the end the pushed bodies' poses and velocities are written back, the edges whose force of the step
 passed their breaking force break, and the user forces are cleared.
