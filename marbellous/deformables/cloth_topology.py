@@ -50,6 +50,21 @@ def _edge_occurrences(triangles):
     return vertices, corners, keys, order
 
 
+def border_edges(triangles):
+    """Per triangle, the bits ``1 << k`` of its edges on the border of the mesh (held by no other triangle), edge
+    ``k`` the one opposite its corner ``k``."""
+    _, corners, keys, order = _edge_occurrences(triangles)
+    k = keys[order]
+    same = np.all(k[1:] == k[:-1], axis=1)
+    alone = np.ones(k.shape[0], dtype=bool)
+    alone[1:] &= ~same
+    alone[:-1] &= ~same
+    border = np.zeros(triangles.shape[0], dtype=np.int64)
+    occurrence = order[alone]              # directed edge 3 t + j runs from corner j to corner j + 1: opposite j + 2
+    np.bitwise_or.at(border, occurrence // 3, 1 << ((occurrence % 3 + 2) % 3))
+    return border
+
+
 def _shared(keys, order):
     """Pairs ``(i, j)`` of occurrences of the same undirected edge, for edges held by exactly two triangles."""
     k = keys[order]

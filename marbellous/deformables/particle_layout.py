@@ -69,7 +69,9 @@ EB_BROKEN = 1
 # --- cloth: triangles (int table tri), bends (float table bend_f, int table bend_i), cloths (float table cl) --
 T_A = 0              # particle rows of the triangle's corners, 3, counter-clockwise seen from its front
 T_CLOTH = 3          # row of the triangle's cloth in the cloth table
-TRI_COLS = 4
+T_BORDER = 4         # bit k set: the triangle's edge opposite its corner k is on the cloth's border (no other
+#                      triangle has it)
+TRI_COLS = 5
 
 BN_ANGLE = 0         # rest dihedral angle (rad), signed
 BN_COMPLIANCE = 1    # 1 / bending stiffness of the hinge (1 / (N m per rad^2))

@@ -10,6 +10,7 @@ import numpy as np
 
 from . import particle_layout as P
 from .body_motion import BX_COLS
+from .cloth_topology import border_edges
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
 from .particle_step import KERNELS
 from .stretch_solve import StretchSystem
@@ -260,12 +261,14 @@ class ParticleState:
             for j, s in enumerate(self.softs):
                 k, start = len(self.cloths) + j, s.set.start
                 self.pi[start:start + s.set.count, P.P_CLOTH] = k
-                tri.append(np.column_stack([s.surface + start, np.full(s.surface.shape[0], k)]))
+                tri.append(np.column_stack([s.surface + start, np.full(s.surface.shape[0], k),
+                                            border_edges(s.surface)]))
                 cloth_f[k, P.CL_THICKNESS] = 2.0 * self.pf[start, P.P_RADIUS]
             for k, c in enumerate(self.cloths):
                 start = c.set.start
                 self.pi[start:start + c.set.count, P.P_CLOTH] = k
-                tri.append(np.column_stack([c.triangles + start, np.full(c.triangles.shape[0], k)]))
+                tri.append(np.column_stack([c.triangles + start, np.full(c.triangles.shape[0], k),
+                                            border_edges(c.triangles)]))
                 bend_f.append(c.hinge_f)
                 bend_i.append(c.hinges + start)
                 cloth_f[k, P.CL_THICKNESS] = c.thickness

@@ -228,7 +228,7 @@ def _kernels(meeting, coverage):
         most = soft_most = 0
         soft_residual = 0.0
         ground = np.zeros((n_particles, 5))
-        n_corner_rows = corner_capacity(sf, si, geom_i, corner_pairs, n_corner)
+        n_corner_rows = corner_capacity(sf, si, geom_i, tri, corner_pairs, n_corner)
         cf, ci = np.empty((n_corner_rows, C_COLS)), np.empty((n_corner_rows, C_INT_COLS), np.int64)
         for step in range(substeps):
             back = dt - (step + 1) * h
