@@ -468,6 +468,18 @@ def push_bundles(wide_f, wide_i, first, last, sb, pb, h, rate, max_push, depth, 
 
 
 @njit
+def deepest_overlap(wide_f, bundles):
+    """The largest overlap ``-s`` (m) of the lanes of the bundles ``0 .. bundles - 1`` at their separations now
+    (``load_bundle_bodies``); a pad lane counts as touching (0), a lane with a gap as a negative overlap."""
+    deepest = 0.0
+    for bundle in range(bundles):
+        at = _at(bundle, WB_SEPARATION)
+        for lane in range(LANES):
+            deepest = max(deepest, -wide_f[at + lane])
+    return deepest
+
+
+@njit
 def accumulate_bundles(wide_f, bundles):
     """After each sub-step: add the sub-step's impulses to the step's totals (normal, and friction as a
     world vector)."""

@@ -29,7 +29,7 @@ from .._numba.wide import LANES
 from ..collision.broadphase import GRID, find_pairs
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, COVERAGES
 from ..dynamics.breaking import break_overloaded
-from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity,
+from ..dynamics.contact_bundles import (MIN_BUNDLED_CONTACTS, accumulate_bundles, bundle_capacity, deepest_overlap,
                                         load_bundle_bodies, refresh_bundle_masses, store_bundles, warm_start_bundles)
 from ..dynamics.contact_cache import keep_resting_contacts, mark_resting, match_contacts, solved_rows
 from ..dynamics.contact_regions import bundle_regions, order_contacts, solve_bundle_pass
@@ -703,6 +703,18 @@ def _push_pass(ctx, tier, contacts, first_pass, joints):
 
 
 @njit_inline
+def _pushes_nothing(ctx, tier):
+    """True if the first push pass is known to push nothing without running it: only bundled contacts (no joints,
+    no overflow), none overlapping deeper than the solve passes open softly.  From zero pseudo-velocities a lane's
+    push is ``max(m_n target, 0)``, and its target is positive only for an overlap deeper than that
+    (``contact_bundles.push_bundles``); the scan costs a few loads per bundle, the pass a solve pass's work."""
+    if tier != FULL or not ctx.bundled or ctx.n_overflow > 0 or ctx.nk > 0:
+        return False
+    rate = ctx.soft[0, 0]
+    return rate <= 0.0 or deepest_overlap(ctx.wide_f, ctx.bundles) <= soft_depth(rate, ctx.params_f[PF_MAX_PUSH])
+
+
+@njit_inline
 def _push_out(ctx, tier, contacts):
     """The position correction by split impulses (``contact_solver``) of the contacts (when ``contacts``)
     and the joints (``joint_rows.push_rigid_joints``): push passes on the pseudo-velocities, from zero,
@@ -711,9 +723,11 @@ def _push_out(ctx, tier, contacts):
     its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs the solver bodies
     of the poses just integrated.  A first pass that pushes nothing (no overlap deeper than the velocity
     passes take, no joint apart, the usual case) leaves every pseudo-velocity zero, and so would the
-    rest: then it is the only one."""
+    rest: then it is the only one, and with bundled contacts alone it is not even run (:func:`_pushes_nothing`)."""
     contacts = contacts and ctx.nc > 0
     if not contacts and ctx.nk == 0:
+        return
+    if contacts and _pushes_nothing(ctx, tier):
         return
     clear_push(ctx.push_bodies, ctx.nb)
     change = _push_pass(ctx, tier, contacts, True, True)
