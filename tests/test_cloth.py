@@ -990,6 +990,17 @@ def test_the_trampoline_example_bounces_lower_each_time_and_rests_on_the_sheet()
     assert fastest < 0.5
 
 
+def test_the_strip_example_rests_the_plank_and_the_log_on_the_strips_edges():
+    """examples/cloth_strip.py after 2 s: the plank and the log lie across their strips, held by the strips' edges
+    with their undersides half the cloth's thickness above them, still."""
+    example = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "cloth_strip.py"))
+    r = example["run"]()
+    rest = example["HEIGHT"] + 0.5 * r["thickness"]
+    assert r["plank_height"] == pytest.approx(rest + example["PLANK_HALF"][1], abs=1e-4)
+    assert r["log_height"] == pytest.approx(rest + example["LOG_RADIUS"], abs=1e-4)
+    assert r["plank_speed"] < 1e-3 and r["log_speed"] < 1e-3
+
+
 def test_the_hang_example_swings_and_folds_without_stretching():
     """examples/cloth_hang.py: the 50 x 50 sheet hung by two corners, solved at once with its contacts with itself,
     swings down and folds for 2 s with every edge within a tenth of its length, hangs below its pins by no more
