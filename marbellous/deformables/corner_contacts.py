@@ -259,9 +259,9 @@ def corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_
                                 (max(x0[0], x1[0]), max(x0[1], x1[1]), max(x0[2], x1[2])), lo, hi, grow_corner):
                         near = True
                         break
-                # (or an edge's path: the box of its ends' paths; a plank lying across a narrow strip has none of its
-                # corners over the strip)
-                for j in range(edge_count(si, geom_i, s)):
+                # (or, for a triangle on the cloth's border, an edge's path: the box of its ends' paths; a plank lying
+                # across a narrow strip has none of its corners over the strip)
+                for j in range(edge_count(si, geom_i, s) if tri[t, T_BORDER] != 0 else 0):
                     if near:
                         break
                     j0, j1 = edge_corners(si, geom_i, s, j)
