@@ -158,6 +158,7 @@ class World:
                  "_accumulator", "_time_stepping",
                  "_retroactive", "_max_halvings", "_last", "_stepped", "_gone", "_living_particles",
                  "_living_networks", "_living_cloths", "_living_softs", "_living_fluids", "_particle_substeps",
+                 "_particle_substeps_auto",
                  "_cloth_stretch_passes",
                  "__weakref__")
 
@@ -183,7 +184,7 @@ class World:
         self._living_cloths = {}       # live Cloth handles in creation order
         self._living_softs = {}        # live SoftBody handles in creation order
         self._living_fluids = {}       # fluids stepped with the world, in the order they were added
-        self._particle_substeps = DEFAULT_PARTICLE_SUBSTEPS
+        self.particle_substeps = None
         self._cloth_stretch_passes = DEFAULT_CLOTH_STRETCH_PASSES
         self._accumulator = 0.0
         self.gravity = gravity
@@ -477,13 +478,23 @@ class World:
 
     @property
     def particle_substeps(self) -> int:
-        """Sub-steps of the particles' step per world step (default 16, 1 to 1000): more make springs and
-        rods stiffer and contacts tighter, at proportional cost (deformables/particle_step.py)."""
+        """Sub-steps of the particles' step per world step (1 to 1000): more make springs and rods stiffer and
+        contacts tighter, at proportional cost (deformables/particle_step.py).  Set to None (the default) for 16,
+        or more while a heavy body rests on light particles, so that it does not sink through them (up to 128,
+        deformables/load_substeps.py; :attr:`particle_substeps_taken` tells how many the last step took); a
+        number given here is taken exactly."""
         return self._particle_substeps
 
     @particle_substeps.setter
-    def particle_substeps(self, value: int) -> None:
-        self._particle_substeps = as_int("particle_substeps", value, lo=1, hi=1000)
+    def particle_substeps(self, value: int | None) -> None:
+        self._particle_substeps = (DEFAULT_PARTICLE_SUBSTEPS if value is None
+                                   else as_int("particle_substeps", value, lo=1, hi=1000))
+        self._particle_substeps_auto = value is None
+
+    @property
+    def particle_substeps_taken(self) -> int:
+        """Sub-steps the particles' last step took (0 before the first, or without particles)."""
+        return self._state.particles.substeps_taken
 
     @property
     def cloth_stretch_passes(self) -> int:
@@ -1033,7 +1044,7 @@ class World:
             self._last = None
         if body_start is not None:
             self._state.particles.step(self._state, dt, self._gravity, self._particle_substeps,
-                                      self._cloth_stretch_passes, body_start)
+                                      self._particle_substeps_auto, self._cloth_stretch_passes, body_start)
         for fluid in self._living_fluids:
             place_obstacles(fluid, self.bodies)
             fluid._advance(dt)

@@ -26,7 +26,7 @@ def test_the_particle_kernels_are_typed_ahead_as_the_step_calls_them():
     vertices, triangles = mb.cloth_grid(1.0, 1.0, 3, 3)
     w.add_cloth(vertices, triangles, mass=0.1, position=(0.0, 1.0, 0.0))
     work = w._state.particles.kernel_work(w._state)
-    assert len(work) == 2
+    assert len(work) == 3
     w.step(1 / 60)
     for kernel, arguments in work:
         assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures

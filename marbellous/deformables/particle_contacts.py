@@ -73,15 +73,17 @@ def shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, back, pr
 
 
 @njit_inline
-def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
-                      scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
-    """List ``(particle, shape)`` rows into ``out`` for every particle and shape that may touch in the step (a
+def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up,
+                      out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
+    """List ``(particle, shape, under)`` rows into ``out`` for every particle and shape that may touch in the step (a
     pinned particle: the shapes of bodies it can push, other than the one it is pinned to; none for a soft
     body's): the particle's swept box meets the body's box (sensors left out), and the shape lies within the
     particle's and its body's reach of the particle at the poses of the step's end (one exact query per pair and
     step; the sub-steps query only these).  Returns how many there are (rows past ``out``'s end are not written).
     ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep (its user force adds
-    :func:`forced_reach`)."""
+    :func:`forced_reach`).  ``under`` is 1 where the particle may hold the shape up, against gravity: the normal of
+    one of their contacts from the particle to the shape, the body at its pose at the step's start, within
+    ``UNDER_ANGLE`` of ``up`` (the unit vector against gravity; zero without it), load_substeps.py."""
     n = 0
     for p in range(n_particles):
         # (a pinned particle, held by the world or as a point of a body, still pushes the other bodies it meets: a
@@ -112,8 +114,24 @@ def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f,
                                          travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
                                          pos_s, rot_s, q_s)
                 if rows > 0:
+                    if n < out.shape[0]:
+                        # (under: seen from the body's pose at the step's start, before the bodies' step moved it
+                        # through what it lands on)
+                        rows, _, _ = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, dt,
+                                                 travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
+                                                 pos_s, rot_s, q_s)
+                        out[n, 2] = 0
+                        for j in range(rows):
+                            if scratch_f[j, 3] * up[0] + scratch_f[j, 4] * up[1] + scratch_f[j, 5] * up[2] > UNDER_COS:
+                                out[n, 2] = 1
                     n = append_pair(out, n, p, s)
     return n
+
+
+#: how far (rad) from straight up the normal from a particle to a shape may turn for the particle to be under the
+#: shape, holding it up (``_shape_candidates``): a box tilted by 60 degrees on a sheet still lies on it
+UNDER_ANGLE = math.radians(60.0)
+UNDER_COS = math.cos(UNDER_ANGLE)
 
 
 @njit_inline
@@ -363,42 +381,42 @@ def _shape_pair(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, p, s, b, b
 
 # --- the shape passes of each coverage: a world compiles the ones of its own ------------------------------------
 @njit
-def shape_candidates_spheres(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+def shape_candidates_spheres(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up, out,
                              scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """:func:`shape_candidates` of a world of coverage ``COVER_SPHERES``."""
     return _shape_candidates(COVER_SPHERES, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
-                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                             reach, up, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
 
 
 @njit
-def shape_candidates_meshes(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+def shape_candidates_meshes(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up, out,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """:func:`shape_candidates` of a world of coverage ``COVER_MESHES``."""
     return _shape_candidates(COVER_MESHES, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
-                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                             reach, up, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
 
 
 @njit
-def shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+def shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up, out,
                             scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """:func:`shape_candidates` with every sphere pair test (height fields and hulls too)."""
     return _shape_candidates(COVER_GROUND, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
-                             reach, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                             reach, up, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
 
 
 @njit_inline
-def shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
+def shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up, out,
                      scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s):
     """:func:`_shape_candidates` compiled for ``coverage`` (``COVER_SPHERES``, ``COVER_MESHES`` or ``COVER_GROUND``,
     a constant where this is inlined)."""
     if coverage == COVER_SPHERES:
         return shape_candidates_spheres(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
-                                        out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                                        up, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
     if coverage == COVER_MESHES:
         return shape_candidates_meshes(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach,
-                                       out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
-    return shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, out,
-                                   scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+                                       up, out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
+    return shape_candidates_ground(pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt, reach, up,
+                                   out, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s, rot_s, q_s)
 
 
 @njit

@@ -12,6 +12,7 @@ from . import particle_layout as P
 from .body_motion import BX_COLS
 from .cloth_topology import border_edges
 from .cloth_state import CLOTH_TABLES, check_cloths, cloth_tables, load_cloths, tear, torn_pairs
+from .load_substeps import load_substeps
 from .particle_step import KERNELS
 from .stretch_solve import StretchSystem
 from .soft_state import SOFT_TABLES, check_soft_bodies, load_soft_bodies, soft_tables
@@ -59,7 +60,7 @@ class ParticleState:
         self.networks = []               # Group records of the live networks, in row order
         self.serial = 0
         self.params = np.zeros(P.Q_LEN)
-        self.shape_pairs = np.zeros((64, 2), dtype=np.int64)
+        self.shape_pairs = np.zeros((64, 3), dtype=np.int64)   # (particle, shape, under)
         self.particle_pairs = np.zeros((64, 2), dtype=np.int64)
         self.kf = np.zeros((64, P.KF_COLS))
         self.ki = np.zeros((64, P.KI_COLS), dtype=np.int64)
@@ -71,6 +72,7 @@ class ParticleState:
         self.rot_s = np.zeros((3, 3))
         self.q_s = np.zeros(4)
         self.broken = 0                  # edges broken in the last step
+        self.substeps_taken = 0          # sub-steps of the last step (none before the first)
         self.tethers = None              # (particles, pins, lengths) of tethers.py; None: to be found again
         self.stretch = None              # the cloths' factored stretch (StretchSystem) ...
         self.stretch_key = None          # ... for these tethers (found again on the same changes), h and passes
@@ -365,21 +367,27 @@ class ParticleState:
         no_stretch = StretchSystem(self.pf, self.pi, self.n, self.ef, self.ei, self.ne, bend_f, bend_i, 1.0, False)
         return [(step, self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, (0, 0, 0, 0, 0), body_start,
                                             no_stretch)),
-                (candidates, self._candidate_arguments(st, tri, cloth_f, scratch))]
+                (candidates, self._candidate_arguments(st, tri, cloth_f, scratch)),
+                (load_substeps, self._load_arguments(st, (0, 0, 0, 0, 0), 1.0, 1.0, False, 1))]
 
-    def step(self, st, dt, gravity, substeps, stretch_passes, body_start):
-        """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``;
+    def _load_arguments(self, st, counts, dt, g, whole, least):
+        """The arguments of ``load_substeps`` (``counts`` those ``find_candidates`` returned)."""
+        return (self.pf, self.pi, self.n, st.bf, st.bi, st.si, self.shape_pairs, counts[0], st.bodies.end, dt, g,
+                whole, least)
+
+    def step(self, st, dt, gravity, substeps, automatic, stretch_passes, body_start):
+        """The particles' step of ``dt`` s after the bodies' (``st`` the world's ``WorldState``; ``substeps`` the
+        sub-steps, or with ``automatic`` the least, raised for heavy bodies on the particles, load_substeps.py;
         ``stretch_passes`` the global passes of the cloths' stretch per sub-step, stretch_solve.py;
         ``body_start`` (nb, 9) the bodies' positions, m, velocities, m/s, and user forces, N, before theirs)."""
         if self.n == 0:
+            self.substeps_taken = 0
             return
         q = self.params
         q[P.Q_DT] = dt
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
-        q[P.Q_SUBSTEPS] = substeps
         q[P.Q_STRETCH_PASSES] = stretch_passes
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
-        stretch = self._stretch_system(bend_f, bend_i, dt / substeps, stretch_passes)
         candidates, step = self._kernels(st)
         while True:
             counts = candidates(*self._candidate_arguments(st, tri, cloth_f, scratch))
@@ -393,6 +401,11 @@ class ParticleState:
             self.triangle_pairs = _grown(self.triangle_pairs, n_triangle)
             self.edge_pairs = _grown(self.edge_pairs, n_edge)
             self.corner_pairs = _grown(self.corner_pairs, n_corner)
+        if automatic:
+            substeps = load_substeps(*self._load_arguments(st, counts, dt, float(np.linalg.norm(gravity)),
+                                                           stretch_passes > 0, substeps))
+        q[P.Q_SUBSTEPS] = self.substeps_taken = substeps
+        stretch = self._stretch_system(bend_f, bend_i, dt / substeps, stretch_passes)
         self.kf = _grown(self.kf, 2 * (n_shape + n_pair) + 16)
         self.ki = _grown(self.ki, self.kf.shape[0])
         self.broken, most, *soft_solve = step(*self._step_arguments(st, tri, bend_f, bend_i, cloth_f, scratch, counts,

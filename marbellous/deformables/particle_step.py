@@ -176,8 +176,10 @@ def _kernels(meeting, coverage):
             for p in range(n_particles):
                 pushed = max(pushed, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2) * dt
                              + forced_reach(pf, p, dt))
+        up = (-params[Q_GRAVITY] / g, -params[Q_GRAVITY + 1] / g, -params[Q_GRAVITY + 2] / g) if g > 0.0 \
+            else (0.0, 0.0, 0.0)
         n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
-                                   reach + pushed, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
+                                   reach + pushed, up, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
                                    rot_s, q_s)
         n_corner = corner_candidates(pf, pi, tri, n_tri, cloth_f, bf, bi, sf, si, geom_f, geom_i, nb, dt, reach,
                                      corner_pairs)
