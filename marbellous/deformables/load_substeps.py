@@ -22,7 +22,9 @@ soft bodies' nodes (their implicit step carries a load, soft_step.py), and cloth
 (``World.cloth_stretch_passes``: its solve hands a load to the pins within the sub-step); nor a body held by a
 cloth's triangles or border edges alone, no vertex under it (corner_contacts.py).  Small bodies (a 0.15 m
 box of 2 kg, a 0.2 m ball of 2 kg on the 0.2 kg sheet) go through between the vertices whatever the count: more
-sub-steps do not help them.
+sub-steps do not help them.  The rule has no term yet for the sheet's resolution: on a finer sheet the load crosses
+more springs to the pins, and a 41 x 41 sheet of 0.2 kg lets a 30 kg box through at 72 sub-steps, a 61 x 61 one
+the 10 kg box at 42.
 """
 import math
 
