@@ -227,27 +227,40 @@ def grid_obj(path, n):
         np.savetxt(fh, tri + 1, fmt="f %d %d %d")
 
 
+def pb_deformable_world(p, kw):
+    """Set PyBullet's client ``kw`` up as a deformable world at 60 Hz in ``PB_SUBSTEPS`` sub-steps with a ground
+    plane of friction ``FRICTION`` (the docstring's settings); returns the plane's id."""
+    p.resetSimulation(p.RESET_USE_DEFORMABLE_WORLD, **kw)
+    p.setGravity(*to_peer((0.0, -G, 0.0)), **kw)
+    p.setPhysicsEngineParameter(fixedTimeStep=DT, numSubSteps=PB_SUBSTEPS, sparseSdfVoxelSize=PB_VOXEL, **kw)
+    ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
+    p.changeDynamics(ground, -1, lateralFriction=FRICTION, **kw)
+    return ground
+
+
+def pb_cloth(p, kw, n, position, mass):
+    """The ``n`` x ``n`` sheet loaded into PyBullet's client ``kw`` as the docstring's mass-spring cloth of ``mass``
+    (kg), flat at ``position`` (m, Marbellous axes); returns its id."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "cloth.obj")
+        grid_obj(path, n)
+        return p.loadSoftBody(path, basePosition=list(to_peer(position)), scale=1.0, mass=mass,
+                              useNeoHookean=0, useMassSpring=1, useBendingSprings=1,
+                              springElasticStiffness=PB_STRETCH, springDampingStiffness=PB_DAMPING,
+                              springDampingAllDirections=1, springBendingStiffness=pb_bending(n),
+                              useSelfCollision=1, useFaceContact=1, collisionMargin=PB_MARGIN,
+                              frictionCoeff=FRICTION, **kw)
+
+
 def run_pybullet(n):
     import pybullet as p
     kw = {"physicsClientId": p.connect(p.DIRECT)}
     try:
-        p.resetSimulation(p.RESET_USE_DEFORMABLE_WORLD, **kw)
-        p.setGravity(*to_peer((0.0, -G, 0.0)), **kw)
-        p.setPhysicsEngineParameter(fixedTimeStep=DT, numSubSteps=PB_SUBSTEPS, sparseSdfVoxelSize=PB_VOXEL, **kw)
-        ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
+        pb_deformable_world(p, kw)
         ball = p.createMultiBody(0, p.createCollisionShape(p.GEOM_SPHERE, radius=RADIUS, **kw),
                                  basePosition=list(to_peer(CENTRE)), **kw)
-        for b in (ground, ball):
-            p.changeDynamics(b, -1, lateralFriction=FRICTION, **kw)
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, "cloth.obj")
-            grid_obj(path, n)
-            cloth = p.loadSoftBody(path, basePosition=list(to_peer((0.0, HEIGHT, 0.0))), scale=1.0, mass=MASS,
-                                   useNeoHookean=0, useMassSpring=1, useBendingSprings=1,
-                                   springElasticStiffness=PB_STRETCH, springDampingStiffness=PB_DAMPING,
-                                   springDampingAllDirections=1, springBendingStiffness=pb_bending(n),
-                                   useSelfCollision=1, useFaceContact=1, collisionMargin=PB_MARGIN,
-                                   frictionCoeff=FRICTION, **kw)
+        p.changeDynamics(ball, -1, lateralFriction=FRICTION, **kw)
+        cloth = pb_cloth(p, kw, n, (0.0, HEIGHT, 0.0), MASS)
 
         def positions():
             return from_peer(p.getMeshData(cloth, -1, flags=p.MESH_DATA_SIMULATION_MESH, **kw)[1])

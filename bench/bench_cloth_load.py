@@ -25,7 +25,6 @@ Run:  python bench/bench_cloth_load.py [--engines ...] [--json out.json]
 import json
 import os
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -35,8 +34,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, ROOT)
 
 import marbellous as mb  # noqa: E402
-from bench.bench_cloth import (PB_DAMPING, PB_MARGIN, PB_STRETCH, PB_SUBSTEPS, PB_VOXEL, grid_obj,  # noqa: E402
-                               pb_bending)
+from bench.bench_cloth import FRICTION, pb_cloth, pb_deformable_world  # noqa: E402
 from bench.machine import describe  # noqa: E402
 from bench.peers import version  # noqa: E402
 from bench.peers.axes import from_peer, to_peer  # noqa: E402
@@ -49,7 +47,7 @@ STEPS = 360                 # 6 s
 N, SIZE, SHEET_MASS, HEIGHT = 21, 1.0, 0.2, 1.0
 HALF, DROP = (0.15, 0.05, 0.15), 0.5
 MASSES = (1.0, 3.0, 10.0, 30.0)
-FRICTION, THICKNESS = 0.5, 0.01
+THICKNESS = 0.01
 CORNERS = (0, N - 1, N * (N - 1), N * N - 1)
 START = np.array([0.0, HEIGHT + HALF[1] + DROP, 0.0])
 
@@ -95,24 +93,12 @@ def run_pybullet(mass):
     import pybullet as p
     kw = {"physicsClientId": p.connect(p.DIRECT)}
     try:
-        p.resetSimulation(p.RESET_USE_DEFORMABLE_WORLD, **kw)
-        p.setGravity(*to_peer((0.0, -G, 0.0)), **kw)
-        p.setPhysicsEngineParameter(fixedTimeStep=DT, numSubSteps=PB_SUBSTEPS, sparseSdfVoxelSize=PB_VOXEL, **kw)
-        ground = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, **kw), **kw)
+        pb_deformable_world(p, kw)
         box = p.createMultiBody(mass, p.createCollisionShape(p.GEOM_BOX, halfExtents=list(np.abs(to_peer(HALF))),
                                                              **kw),
                                 basePosition=list(to_peer(START)), **kw)
-        for b in (ground, box):
-            p.changeDynamics(b, -1, lateralFriction=FRICTION, **kw)
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, "cloth.obj")
-            grid_obj(path, N)
-            cloth = p.loadSoftBody(path, basePosition=list(to_peer((0.0, HEIGHT, 0.0))), scale=1.0,
-                                   mass=SHEET_MASS, useNeoHookean=0, useMassSpring=1, useBendingSprings=1,
-                                   springElasticStiffness=PB_STRETCH, springDampingStiffness=PB_DAMPING,
-                                   springDampingAllDirections=1, springBendingStiffness=pb_bending(N),
-                                   useSelfCollision=1, useFaceContact=1, collisionMargin=PB_MARGIN,
-                                   frictionCoeff=FRICTION, **kw)
+        p.changeDynamics(box, -1, lateralFriction=FRICTION, **kw)
+        cloth = pb_cloth(p, kw, N, (0.0, HEIGHT, 0.0), SHEET_MASS)
         for k in CORNERS:
             p.createSoftBodyAnchor(cloth, k, -1, -1, **kw)
 

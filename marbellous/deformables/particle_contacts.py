@@ -116,14 +116,16 @@ def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f,
                 if rows > 0:
                     if n < out.shape[0]:
                         # (under: seen from the body's pose at the step's start, before the bodies' step moved it
-                        # through what it lands on)
-                        rows, _, _ = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, dt,
-                                                 travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a, rot_a,
-                                                 pos_s, rot_s, q_s)
+                        # through what it lands on; only a body the particles can move lies on them)
                         out[n, 2] = 0
-                        for j in range(rows):
-                            if scratch_f[j, 3] * up[0] + scratch_f[j, 4] * up[1] + scratch_f[j, 5] * up[2] > UNDER_COS:
-                                out[n, 2] = 1
+                        if pushable(bf, bi, b) and (up[0] != 0.0 or up[1] != 0.0 or up[2] != 0.0):
+                            rows, _, _ = shape_query(coverage, pf, bf, bi, bx, sf, si, geom_f, geom_i, p, s, dt,
+                                                     travel + v_b * dt + turn, scratch_f, scratch_i, sphere, pos_a,
+                                                     rot_a, pos_s, rot_s, q_s)
+                            for j in range(rows):
+                                if scratch_f[j, 3] * up[0] + scratch_f[j, 4] * up[1] + scratch_f[j, 5] * up[2] \
+                                        > UNDER_COS:
+                                    out[n, 2] = 1
                     n = append_pair(out, n, p, s)
     return n
 
