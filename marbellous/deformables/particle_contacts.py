@@ -83,7 +83,7 @@ def _shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f,
     ``reach`` (m): how far a particle may fall in the step beyond its velocity's sweep (its user force adds
     :func:`forced_reach`).  ``under`` is 1 where the particle may hold the shape up, against gravity: the normal of
     one of their contacts from the particle to the shape, the body at its pose at the step's start, within
-    ``UNDER_ANGLE`` of ``up`` (the unit vector against gravity; zero without it), load_substeps.py."""
+    ``UNDER_ANGLE`` of ``up`` (the unit vector against gravity; zero: not asked, all 0), load_substeps.py."""
     n = 0
     for p in range(n_particles):
         # (a pinned particle, held by the world or as a point of a body, still pushes the other bodies it meets: a

@@ -130,4 +130,6 @@ Q_DT = 0             # the step (s)
 Q_GRAVITY = 1        # 3 (m/s^2)
 Q_SUBSTEPS = 4       # sub-steps per step (a whole number)
 Q_STRETCH_PASSES = 5  # local-global passes of the cloths' stretch per sub-step (stretch_solve.py); 0: none
-Q_LEN = 6
+Q_LOADS = 6          # 1: the sub-steps follow the bodies' loads, the candidates say which lie on particles
+                     # (load_substeps.py); 0: the sub-steps are set
+Q_LEN = 7

@@ -387,6 +387,7 @@ class ParticleState:
         q[P.Q_DT] = dt
         q[P.Q_GRAVITY:P.Q_GRAVITY + 3] = gravity
         q[P.Q_STRETCH_PASSES] = stretch_passes
+        q[P.Q_LOADS] = 1.0 if automatic else 0.0
         tri, bend_f, bend_i, cloth_f, scratch = self._step_scratch(st)
         candidates, step = self._kernels(st)
         while True:

@@ -57,7 +57,7 @@ from .edge_contacts import edge_candidates, edge_contacts
 from .layer_contacts import hold_layers
 from .particle_contacts import forced_reach, shape_candidates, shape_contacts, velocity_pass
 from .particle_layout import (P_DAMPING, P_FLAGS, P_FORCE, P_INV_MASS, P_MASS, P_PIN, P_PIN_BODY, P_POS,
-                              P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_STRETCH_PASSES,
+                              P_PREV, P_VEL, P_VEL0, PP_PINNED, PP_SOFT, Q_DT, Q_GRAVITY, Q_LOADS, Q_STRETCH_PASSES,
                               Q_SUBSTEPS,
                               SET_COUNT, SET_START)
 from .particle_pairs import edge_adjacency, particle_candidates, particle_contacts
@@ -176,8 +176,9 @@ def _kernels(meeting, coverage):
             for p in range(n_particles):
                 pushed = max(pushed, math.sqrt(pf[p, P_VEL] ** 2 + pf[p, P_VEL + 1] ** 2 + pf[p, P_VEL + 2] ** 2) * dt
                              + forced_reach(pf, p, dt))
-        up = (-params[Q_GRAVITY] / g, -params[Q_GRAVITY + 1] / g, -params[Q_GRAVITY + 2] / g) if g > 0.0 \
-            else (0.0, 0.0, 0.0)
+        # (up: against gravity, for the candidates that hold a body up; only while the sub-steps follow the loads)
+        up = (-params[Q_GRAVITY] / g, -params[Q_GRAVITY + 1] / g, -params[Q_GRAVITY + 2] / g) \
+            if g > 0.0 and params[Q_LOADS] != 0.0 else (0.0, 0.0, 0.0)
         n_shape = shape_candidates(coverage, pf, pi, n_particles, bf, bi, bx, sf, si, geom_f, geom_i, nb, aabbs, dt,
                                    reach + pushed, up, shape_pairs, scratch_f, scratch_i, sphere, pos_a, rot_a, pos_s,
                                    rot_s, q_s)
