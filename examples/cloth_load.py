@@ -2,11 +2,12 @@
 
 A 1 m sheet of 21 x 21 vertices and 0.2 kg is held at its four corners 1 m up, and a 10 kg crate (0.3 x 0.1 x
 0.3 m) falls onto it from 0.5 m: fifty times the sheet's mass.  Each sub-step solves the sheet's springs one pass at
-a time, and a pass hands on a share of a contact's push that shrinks with the mass ratio: at the default 16
-sub-steps the sheet carries about 15 times its own mass, and this crate would go through it within a fifth of a
-second.  Left automatic (``World.particle_substeps`` is None by default), the step counts the crate lying on the
-sheet and takes ``dt sqrt(g r / LOAD_SAG)`` sub-steps for a mass ratio ``r`` (42 here;
-``deformables/load_substeps.py``): the crate bounces on the sheet and comes to rest on it.
+a time, and a contact hands the crate a share of its push that shrinks with the ratio of the crate's mass to that
+of the vertices under it: the crate presses into them by ``g h^2 r`` at sub-steps of ``h``, and at the default 16
+this crate would go through the sheet within a fifth of a second.  Left automatic (``World.particle_substeps`` is
+None by default), the step finds the crate lying on the sheet and takes ``dt sqrt(g r / LOAD_SAG)`` sub-steps (57
+once it rests, up to 128 for a step as it lands on an edge; ``deformables/load_substeps.py``): the crate bounces
+on the sheet and comes to rest on it.
 
 The script prints the sub-steps taken and where the crate rests; ``--show`` opens the viewer, ``--record out.mp4``
 writes a video.

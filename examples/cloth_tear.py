@@ -2,7 +2,7 @@
 corners tears off its pins.
 
 Two 1 m sheets of 20 x 20 vertices (0.2 kg, stretch stiffness 1e4 N/m, ``tear_strain=0.1``: an edge tears once
-stretched by 10 %) are held 1 m up, and a 5 kg ball falls on each from 0.5 m.  The first is pinned all along
+stretched by 10 %) are held 1 m up, and a 5 kg ball falls on each from 1 m.  The first is pinned all along
 its border: the ball stretches the middle until its edges tear, the mesh splits along the tears, and the ball
 drops through the hole with a few scraps.  The second hangs by its four corners: the edges at the corners carry
 the whole load, their cracks run in from the border, and the sheet tears off its pins and falls with the ball,
@@ -25,7 +25,7 @@ DT = 1.0 / 60.0
 #: vertices per side, side (m), mass (kg), height (m) and tear strain of the sheet; the ball's radius (m), mass
 #: (kg) and drop above the sheet (m)
 N, SIDE, SHEET_MASS, HEIGHT, TEAR = 20, 1.0, 0.2, 1.0, 0.1
-RADIUS, BALL_MASS, DROP = 0.1, 5.0, 0.5
+RADIUS, BALL_MASS, DROP = 0.1, 5.0, 1.0
 
 
 def build(hold):
