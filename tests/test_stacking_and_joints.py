@@ -38,6 +38,28 @@ def test_pyramid_stands_falls_asleep_and_wakes_when_hit():
     assert np.linalg.norm(top.position - end[-1]) > 0.1
 
 
+def test_a_world_at_rest_runs_no_sub_step_until_something_moves():
+    # every box asleep: no contact to solve and no body to move, so the step skips its sub-steps (no velocity
+    # iteration, no time in their stages); a kinematic pusher set moving runs them again and wakes what it meets
+    w, boxes = box_pyramid(base=4)
+    pusher = w.add_kinematic(mb.Box((0.2, 0.5, 2.0)), position=(-4.0, 0.5, 0.0))
+    for _ in range(120):
+        w.step(DT)
+    assert all(b.is_sleeping for b in boxes)
+    w.profiling = True
+    for _ in range(10):
+        w.step(DT)
+    p = w.profile
+    assert p.iterations == 0 and p.seconds["integrate_velocities"] == 0.0 and p.seconds["solve"] == 0.0
+    start = boxes[0].position.copy()
+    pusher.velocity = (2.0, 0.0, 0.0)
+    w.reset_profile()
+    for _ in range(60):
+        w.step(DT)
+    assert w.profile.iterations > 0 and w.profile.seconds["integrate_positions"] > 0.0
+    assert np.linalg.norm(boxes[0].position - start) > 0.1
+
+
 def test_a_pile_of_a_thousand_spheres_with_rolling_and_torsional_friction_falls_asleep_once_settled():
     # Spheres without rolling or torsional friction keep rolling and spinning on each other, so a pile never
     # comes quite to rest; with a centimetre of each it is asleep within 10 s of settling (here: of its

@@ -65,6 +65,7 @@ FIELDS = TABLE_FIELDS + (
     ("n_resting", types.int64),     # resting pairs' contacts kept from the cache, after the nc rows
     ("kept", types.boolean),        # no new contact and every cached one resting: the cache stays as it is
     ("constrained", types.boolean),  # the step has contacts or constraints (else the solver rests)
+    ("at_rest", types.boolean),     # nothing moves and nothing is solved: the sub-steps are skipped
     ("bundled", types.boolean),      # contacts solved in coloured bundles (chosen once, by prepare)
     ("regions", types.int64),       # regions of the contact passes (1 unless threads)
     ("bundles", types.int64),       # bundles of the step
@@ -151,6 +152,7 @@ def pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
     t.h, t.substeps, t.n_pairs, t.nc, t.constrained, t.bundled = 0.0, 1, 0, 0, False, False
     t.n_resting = 0
     t.kept = False
+    t.at_rest = False
     t.regions, t.bundles, t.n_overflow, t.iterations, t.clock = 1, 0, 0, 0, 0
     t.iteration_cap = 1
     t.turning, t.n_supported, t.n_static = False, 0, 0

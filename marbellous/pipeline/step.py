@@ -418,6 +418,15 @@ def turning_substeps(bf, bi, sf, si, nb, dt, substeps, most):
 
 
 @njit_inline
+def _nothing_moves(bf, bi, nb):
+    """True if no body is awake and dynamic, nor a kinematic body in motion: the sub-steps would move nothing."""
+    for i in range(nb):
+        if is_moving(bi, i) or is_driven(bf, bi, i):
+            return False
+    return True
+
+
+@njit_inline
 def _rescale_warm_start(ctx):
     """The impulses the contacts and joints start from (the last sub-step's) scaled to this step's sub-step
     length, when it differs: the same forces are impulses in proportion to it.  (The intervals of a step
@@ -460,6 +469,7 @@ def _prepare(ctx, tier, may_bundle, may_turn, shock):
             bf[i, DTHETA + k] = 0.0
     # Without contacts and rods/cables the solver has nothing to do: its body rows are not even filled.
     ctx.constrained = nc > 0 or nk > 0
+    ctx.at_rest = not ctx.constrained and _nothing_moves(bf, bi, nb)
     sb = ctx.solver_bodies
     if ctx.constrained:
         prepare_solver_bodies(bf, bi, nb, sb)
@@ -917,6 +927,15 @@ def stage_sum_impulses_lean(ctx):
     _sum_impulses(ctx, LEAN)
 
 
+@njit_inline
+def rest_substeps(ctx):
+    """The sub-steps of a world at rest (``ctx.at_rest``, stage prepare: no contact or constraint to solve and
+    no body that moves), skipped: they would integrate, warm-start, solve and relax nothing.  What they would
+    leave behind is the sub-step length, for the next step's warm start (as :func:`_sum_impulses` does)."""
+    if ctx.at_rest:
+        ctx.ws[W_PREV_DT] = ctx.h
+
+
 # --- end of step -----------------------------------------------------------------------------------------------
 @njit_inline
 def _restitution(ctx, tier, on_body_table):
@@ -1037,13 +1056,14 @@ def step_sequential_impulse(ctx, coverage):
         return status
     stage_match_and_wake(ctx)
     stage_prepare(ctx, may_bundle=True, may_turn=True, shock=True)
-    for _ in range(ctx.substeps):
+    for _ in range(0 if ctx.at_rest else ctx.substeps):
         stage_integrate_velocities(ctx, penalty=False)
         stage_warm_start(ctx)
         stage_solve(ctx, contacts=True)
         stage_integrate_positions(ctx)
         stage_relax(ctx, contacts=True)
         stage_sum_impulses(ctx)
+    rest_substeps(ctx)
     stage_restitution(ctx, on_body_table=False)
     stage_store_impulses(ctx)
     stage_break_constraints(ctx)
@@ -1062,13 +1082,14 @@ def step_lean(ctx, coverage):
         return status
     stage_match_and_wake(ctx)
     stage_prepare_lean(ctx)
-    for _ in range(ctx.substeps):
+    for _ in range(0 if ctx.at_rest else ctx.substeps):
         stage_integrate_velocities_lean(ctx)
         stage_warm_start_lean(ctx)
         stage_solve_lean(ctx)
         stage_integrate_positions_lean(ctx)
         stage_relax_lean(ctx)
         stage_sum_impulses_lean(ctx)
+    rest_substeps(ctx)
     stage_restitution_lean(ctx)
     stage_store_impulses_lean(ctx)
     stage_islands_and_sleep(ctx)
