@@ -35,6 +35,7 @@ import numpy as np
 from .._numba.jit import njit
 from ..dynamics.forces import is_dynamic
 from ..state.layout import INV_MASS, S_BODY
+from .body_motion import pushable
 from .particle_layout import P_CLOTH, P_FLAGS, P_MASS, PP_PINNED, PP_SOFT
 
 #: the overlap ``g h^2 r`` (m) a body ``r`` times the mass of the particles under it may press into them: about half
@@ -73,7 +74,7 @@ def load_substeps(pf, pi, n_particles, bf, bi, si, shape_pairs, n_shape, nb, dt,
         carried[b] = carried[b] or held[p]
     n = least
     for b in range(nb):
-        if under[b] <= 0.0 or carried[b] or not is_dynamic(bi, b) or bf[b, INV_MASS] <= 0.0:
+        if under[b] <= 0.0 or carried[b] or not pushable(bf, bi, b):
             continue
         need = dt * math.sqrt(g / (bf[b, INV_MASS] * under[b] * LOAD_SAG))
         if need > n:
