@@ -56,9 +56,10 @@ from .forces import is_moving
 RIGID_JOINT_RATE = 0.5
 #: ``det K`` below this fraction of the product of its diagonal: the block's rows are treated as dependent
 SINGULAR = 1e-6
-# columns of a row in the rows scratch: the Jacobian (l_a, k_a, l_b, k_b), C and the row's kind
-R_LA, R_KA, R_LB, R_KB, R_C, R_KIND = 0, 3, 6, 9, 12, 13
-ROW_COLS = 14
+# columns of a row in the rows scratch: the Jacobian (l_a, k_a, l_b, k_b), C, the row's kind, its line of its
+# block's solve matrix (``x = S rhs``, :func:`_block_inverse`) and its effective mass's inverse ``K_rr``
+R_LA, R_KA, R_LB, R_KB, R_C, R_KIND, R_S, R_K = 0, 3, 6, 9, 12, 13, 14, 17
+ROW_COLS = 18
 # kinds of row
 OFF = 0         # not used by this joint (its stored impulse is dropped)
 EQUAL = 1       # C = 0 (soft)
@@ -268,14 +269,17 @@ def apply_row(sb, kf, c, a, b, rows, r, lam):
 
 
 @njit
-def fill_joint_rows(bf, kf, ki, nk, cache):
+def fill_joint_rows(bf, kf, ki, nk, sb, cache):
     """Every ball, hinge, slider and fixed joint's rows at the bodies' current poses into ``cache[c]`` (``nk``
-    x ``JOINT_ROWS`` x ``ROW_COLS``).  A joint's rows depend on the poses only, which no velocity pass moves:
-    filled once where the poses change (the warm start, after the position update), they serve every pass
-    until then."""
+    x ``JOINT_ROWS`` x ``ROW_COLS``), with their blocks' solve matrices and effective masses on the solver bodies
+    ``sb`` (:func:`_fill_masses`).  A joint's rows depend on the poses only, which no velocity pass moves, and
+    its masses on the solver bodies' inertia, which only a position update turns: filled once where the poses
+    change (the warm start, after the position update), they serve every pass until then."""
     for c in range(nk):
         if is_rigid_joint(ki, c):
-            fill_rows(bf, kf, ki, c, cache[c])
+            rows = cache[c]
+            fill_rows(bf, kf, ki, c, rows)
+            _fill_masses(sb, ki[c, K_BODY_A], ki[c, K_BODY_B], rows)
 
 
 @njit
@@ -283,18 +287,23 @@ def warm_start_rigid_joints(bf, kf, ki, nk, sb, cache):
     """The rows at the poses of the sub-step's start into ``cache`` (:func:`fill_joint_rows`), and each joint
     row's impulse of the last sub-step applied along its Jacobian (a row the joint no longer uses forgets its
     impulse)."""
-    fill_joint_rows(bf, kf, ki, nk, cache)
+    fill_joint_rows(bf, kf, ki, nk, sb, cache)
     for c in range(nk):
         if not is_rigid_joint(ki, c):
             continue
         rows = cache[c]
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in range(JOINT_ROWS):
-            lam = kf[c, K_ROW_IMPULSE + r]
             if rows[r, R_KIND] == OFF:
                 kf[c, K_ROW_IMPULSE + r] = 0.0
-            elif lam != 0.0:
+        for r in (DRIVE, LOWER, UPPER):
+            lam = kf[c, K_ROW_IMPULSE + r]
+            if lam != 0.0:
                 apply_row(sb, kf, c, a, b, rows, r, lam)
+        for r0 in (ANGULAR, LINEAR):
+            if rows[r0, R_KIND] != OFF:
+                lam = (kf[c, K_ROW_IMPULSE + r0], kf[c, K_ROW_IMPULSE + r0 + 1], kf[c, K_ROW_IMPULSE + r0 + 2])
+                _apply_block(sb, kf, c, a, b, rows, r0, 3 if rows[r0 + 2, R_KIND] != OFF else 2, lam)
 
 
 @njit
@@ -309,72 +318,180 @@ def scale_joint_impulses(kf, ki, nk, scale):
 
 
 @njit
-def _block_entry(sb, a, b, rows, r0, n, i, j):
-    """Entry ``(i, j)`` of the block's ``K``, padded to 3 x 3 with the identity when ``n`` is 2."""
-    if i < n and j < n:
-        return coupling(sb, a, b, rows, r0 + i, r0 + j)
-    return 1.0 if i == j else 0.0
+def _jacobian_side(rows, r, n, col_l, col_k):
+    """``(l, k)`` of row ``r`` in columns ``col_l``, ``col_k`` (zeros when ``r`` is past the block's ``n`` rows,
+    ``n`` < 0)."""
+    if n < 0:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    return ((rows[r, col_l], rows[r, col_l + 1], rows[r, col_l + 2]),
+            (rows[r, col_k], rows[r, col_k + 1], rows[r, col_k + 2]))
 
 
 @njit
-def _block_rhs(sb, a, b, rows, r0, n, i, use_bias, soft, max_push):
-    """``-(J v + bias)`` of the block's row ``i`` (0 past ``n``); the bias is ``bias_rate C`` within
-    +-``max_push`` when ``use_bias``."""
-    if i >= n:
-        return 0.0
-    bias = min(max(soft[0] * rows[r0 + i, R_C], -max_push), max_push) if use_bias else 0.0
-    return -(_rate(sb, SB_V, SB_W, a, b, rows, r0 + i) + bias)
+def _tensor_times(ii, k):
+    """``I_w^-1 k`` (``ii``: the 3 x 3 as a 9-tuple by rows)."""
+    return (ii[0] * k[0] + ii[1] * k[1] + ii[2] * k[2], ii[3] * k[0] + ii[4] * k[1] + ii[5] * k[2],
+            ii[6] * k[0] + ii[7] * k[1] + ii[8] * k[2])
 
 
 @njit
-def _block_solution(sb, a, b, rows, r0, n, rhs):
-    """``(x, K_ii)``: ``x = K^-1 rhs`` for the block of rows ``r0 .. r0 + n - 1`` (n = 2 or 3) by Cramer's
-    rule on the symmetric positive (semi)definite ``K``, and its diagonal.  When ``det K`` is below
-    ``SINGULAR`` times the product of the diagonal (Hadamard's bound, reached by orthogonal rows), the rows
-    are solved each alone (``x_i = rhs_i / K_ii``; 0 for a row no body can move)."""
-    k00, k11, k22 = (_block_entry(sb, a, b, rows, r0, n, 0, 0), _block_entry(sb, a, b, rows, r0, n, 1, 1),
-                     _block_entry(sb, a, b, rows, r0, n, 2, 2))
-    k01 = k10 = _block_entry(sb, a, b, rows, r0, n, 0, 1)
-    k02 = k20 = _block_entry(sb, a, b, rows, r0, n, 0, 2)
-    k12 = k21 = _block_entry(sb, a, b, rows, r0, n, 1, 2)
-    c00, c01, c02 = k11 * k22 - k12 * k21, k12 * k20 - k10 * k22, k10 * k21 - k11 * k20
+def _body_block(body, rows, r0, n, col_l, col_k):
+    """One body's part ``(K_00, K_11, K_22, K_01, K_02, K_12)`` of the block's ``K``, ``l_r . l_s / m + k_r .
+    I_w^-1 k_s`` (``body``: its :func:`_body`; its Jacobian in columns ``col_l``, ``col_k``; 0 past ``n``)."""
+    im, ii = body
+    l0, k0 = _jacobian_side(rows, r0, 2, col_l, col_k)
+    l1, k1 = _jacobian_side(rows, r0 + 1, 2, col_l, col_k)
+    l2, k2 = _jacobian_side(rows, r0 + 2, n - 3, col_l, col_k)
+    ik0, ik1, ik2 = _tensor_times(ii, k0), _tensor_times(ii, k1), _tensor_times(ii, k2)
+    return (im * _dot(l0, l0) + _dot(k0, ik0), im * _dot(l1, l1) + _dot(k1, ik1), im * _dot(l2, l2) + _dot(k2, ik2),
+            im * _dot(l0, l1) + _dot(k0, ik1), im * _dot(l0, l2) + _dot(k0, ik2), im * _dot(l1, l2) + _dot(k1, ik2))
+
+
+@njit
+def _set_solve_line(rows, r, s0, s1, s2, k):
+    rows[r, R_S] = s0
+    rows[r, R_S + 1] = s1
+    rows[r, R_S + 2] = s2
+    rows[r, R_K] = k
+
+
+@njit
+def _block_inverse(sb, a, b, rows, r0, n):
+    """The solve matrix ``S`` of the block of rows ``r0 .. r0 + n - 1`` (n = 2 or 3) into their ``R_S`` columns,
+    and ``K``'s diagonal into ``R_K``: ``S = K^-1`` (the adjugate over the determinant) of the symmetric positive
+    (semi)definite ``K = J M^-1 J^T``, padded with the identity to 3 x 3 when ``n`` is 2.  When ``det K`` is below
+    ``SINGULAR`` times the product of the diagonal (Hadamard's bound, reached by orthogonal rows), the rows are
+    solved each alone: ``S = diag(1 / K_ii)``, 0 for a row no body can move."""
+    ka = _body_block(_body(sb, a), rows, r0, n, R_LA, R_KA)
+    kb = _body_block(_body(sb, b), rows, r0, n, R_LB, R_KB)
+    k00, k11, k01 = ka[0] + kb[0], ka[1] + kb[1], ka[3] + kb[3]
+    k22, k02, k12 = (ka[2] + kb[2], ka[4] + kb[4], ka[5] + kb[5]) if n == 3 else (1.0, 0.0, 0.0)
+    c00, c01, c02 = k11 * k22 - k12 * k12, k12 * k02 - k01 * k22, k01 * k12 - k11 * k02
     det = k00 * c00 + k01 * c01 + k02 * c02
     if not det > SINGULAR * k00 * k11 * k22:
         # (nearly) dependent rows, e.g. a hinge turned a quarter turn off its axis: each row alone, and a
         # row whose Jacobian has (nearly) vanished (K_ii below SINGULAR of the block's largest) not at all
         big = SINGULAR * max(k00, k11, k22 if n == 3 else 0.0)
-        return ((rhs[0] / k00 if k00 > big else 0.0, rhs[1] / k11 if k11 > big else 0.0,
-                 rhs[2] / k22 if k22 > big and n == 3 else 0.0), (k00, k11, k22))
+        _set_solve_line(rows, r0, 1.0 / k00 if k00 > big else 0.0, 0.0, 0.0, k00)
+        _set_solve_line(rows, r0 + 1, 0.0, 1.0 / k11 if k11 > big else 0.0, 0.0, k11)
+        if n == 3:
+            _set_solve_line(rows, r0 + 2, 0.0, 0.0, 1.0 / k22 if k22 > big else 0.0, k22)
+        return
     inv = 1.0 / det
-    x = (inv * (c00 * rhs[0] + (k02 * k21 - k01 * k22) * rhs[1] + (k01 * k12 - k02 * k11) * rhs[2]),
-         inv * (c01 * rhs[0] + (k00 * k22 - k02 * k20) * rhs[1] + (k02 * k10 - k00 * k12) * rhs[2]),
-         inv * (c02 * rhs[0] + (k01 * k20 - k00 * k21) * rhs[1] + (k00 * k11 - k01 * k10) * rhs[2]))
-    return x, (k00, k11, k22)
+    s01 = inv * (k02 * k12 - k01 * k22)
+    s02 = inv * (k01 * k12 - k02 * k11)
+    s12 = inv * (k02 * k01 - k00 * k12)
+    _set_solve_line(rows, r0, inv * c00, s01, s02, k00)
+    _set_solve_line(rows, r0 + 1, s01, inv * (k00 * k22 - k02 * k02), s12, k11)
+    if n == 3:
+        _set_solve_line(rows, r0 + 2, s02, s12, inv * (k00 * k11 - k01 * k01), k22)
+
+
+@njit
+def _fill_masses(sb, a, b, rows):
+    """The solve matrices of the orientation or hinge-axis block and the point or across block
+    (:func:`_block_inverse`), and each limit's and motor's ``K_rr``, on the solver bodies ``sb``."""
+    for r0 in (ANGULAR, LINEAR):
+        if rows[r0, R_KIND] != OFF:
+            _block_inverse(sb, a, b, rows, r0, 3 if rows[r0 + 2, R_KIND] != OFF else 2)
+    for r in (DRIVE, LOWER, UPPER):
+        if rows[r, R_KIND] != OFF:
+            rows[r, R_K] = coupling(sb, a, b, rows, r, r)
+
+
+@njit
+def _block_solution(rows, r0, n, rhs):
+    """``x = S rhs`` for the block of rows ``r0 .. r0 + n - 1`` (``S`` from :func:`_block_inverse`; 0 past
+    ``n``)."""
+    x0 = rows[r0, R_S] * rhs[0] + rows[r0, R_S + 1] * rhs[1] + rows[r0, R_S + 2] * rhs[2]
+    x1 = rows[r0 + 1, R_S] * rhs[0] + rows[r0 + 1, R_S + 1] * rhs[1] + rows[r0 + 1, R_S + 2] * rhs[2]
+    if n < 3:
+        return x0, x1, 0.0
+    r2 = r0 + 2
+    return x0, x1, rows[r2, R_S] * rhs[0] + rows[r2, R_S + 1] * rhs[1] + rows[r2, R_S + 2] * rhs[2]
+
+
+@njit
+def _block_kick(sb, u, cv, cw, i, rows, r0, n, col_l, col_k, x):
+    """Body ``i``'s velocities in ``u`` (as :func:`_rate`) after the impulses ``x`` along the block's rows: one
+    linear and one angular impulse, ``sum_j x_j l_j`` and ``sum_j x_j k_j``, each applied once; returns them."""
+    lx = ly = lz = kx = ky = kz = 0.0
+    for j in range(n):
+        r = r0 + j
+        lx += x[j] * rows[r, col_l]
+        ly += x[j] * rows[r, col_l + 1]
+        lz += x[j] * rows[r, col_l + 2]
+        kx += x[j] * rows[r, col_k]
+        ky += x[j] * rows[r, col_k + 1]
+        kz += x[j] * rows[r, col_k + 2]
+    if i >= 0 and sb[i, SB_ISO] != 0.0:
+        im = sb[i, SB_INV_MASS]
+        u[i, cv] += im * lx
+        u[i, cv + 1] += im * ly
+        u[i, cv + 2] += im * lz
+        for k in range(3):
+            u[i, cw + k] += sb[i, SB_INV_I + 3 * k] * kx + sb[i, SB_INV_I + 3 * k + 1] * ky \
+                + sb[i, SB_INV_I + 3 * k + 2] * kz
+    return (lx, ly, lz), (kx, ky, kz)
+
+
+@njit
+def _apply_block(sb, kf, c, a, b, rows, r0, n, lam):
+    """Apply the impulses ``lam`` along the block's rows (as :func:`apply_row` does one row's)."""
+    linear, angular = _block_kick(sb, sb, SB_V, SB_W, a, rows, r0, n, R_LA, R_KA, lam)
+    _block_kick(sb, sb, SB_V, SB_W, b, rows, r0, n, R_LB, R_KB, lam)
+    for k in range(3):
+        kf[c, K_SUM_LINEAR + k] += linear[k]
+        kf[c, K_SUM_ANGULAR + k] += angular[k]
+
+
+@njit
+def _block_rhs(u, cv, cw, a, b, rows, r0, n, i, bias):
+    """``-(J v + bias)`` of the block's row ``i`` on the velocities in ``u`` (0 past ``n``)."""
+    if i >= n:
+        return 0.0
+    return -(_rate(u, cv, cw, a, b, rows, r0 + i) + bias)
+
+
+@njit
+def _solve_bias(rows, r, use_bias, soft, max_push):
+    """The solve passes' bias of equality row ``r``: ``bias_rate C`` within +-``max_push`` when ``use_bias``."""
+    return min(max(soft[0] * rows[r, R_C], -max_push), max_push) if use_bias else 0.0
+
+
+@njit
+def _block_delta(kf, c, r, x, mass_scale, impulse_scale):
+    """Row ``r``'s impulse change ``mass_scale x - impulse_scale lambda``, added to its ``lambda``."""
+    slot = K_ROW_IMPULSE + r
+    delta = mass_scale * x - impulse_scale * kf[c, slot]
+    kf[c, slot] += delta
+    return delta
 
 
 @njit
 def _solve_block(sb, kf, c, a, b, rows, r0, n, use_bias, soft, max_push):
     """Rows ``r0 .. r0 + n - 1`` (n = 2 or 3, all EQUAL) as one block:
     ``delta = -mass_scale K^-1 (J v + bias) - impulse_scale lambda``; returns the largest velocity change."""
-    rhs = (_block_rhs(sb, a, b, rows, r0, n, 0, use_bias, soft, max_push),
-           _block_rhs(sb, a, b, rows, r0, n, 1, use_bias, soft, max_push),
-           _block_rhs(sb, a, b, rows, r0, n, 2, use_bias, soft, max_push))
-    x, diagonal = _block_solution(sb, a, b, rows, r0, n, rhs)
+    rhs = (_block_rhs(sb, SB_V, SB_W, a, b, rows, r0, n, 0, _solve_bias(rows, r0, use_bias, soft, max_push)),
+           _block_rhs(sb, SB_V, SB_W, a, b, rows, r0, n, 1, _solve_bias(rows, r0 + 1, use_bias, soft, max_push)),
+           _block_rhs(sb, SB_V, SB_W, a, b, rows, r0, n, 2,
+                      _solve_bias(rows, r0 + 2, use_bias, soft, max_push) if n == 3 else 0.0))
+    x = _block_solution(rows, r0, n, rhs)
     mass_scale, impulse_scale = (soft[1], soft[2]) if use_bias else (1.0, 0.0)
+    delta = (_block_delta(kf, c, r0, x[0], mass_scale, impulse_scale),
+             _block_delta(kf, c, r0 + 1, x[1], mass_scale, impulse_scale),
+             _block_delta(kf, c, r0 + 2, x[2], mass_scale, impulse_scale) if n == 3 else 0.0)
     largest = 0.0
     for i in range(n):
-        slot = K_ROW_IMPULSE + r0 + i
-        delta = mass_scale * x[i] - impulse_scale * kf[c, slot]
-        kf[c, slot] += delta
-        apply_row(sb, kf, c, a, b, rows, r0 + i, delta)
-        largest = max(largest, abs(delta) * diagonal[i])
+        largest = max(largest, abs(delta[i]) * rows[r0 + i, R_K])
+    _apply_block(sb, kf, c, a, b, rows, r0, n, delta)
     return largest
 
 
 @njit
 def _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push):
     """A LIMIT or MOTOR row alone; returns the velocity change along it."""
-    k = coupling(sb, a, b, rows, r, r)
+    k = rows[r, R_K]
     if not k > 0.0:
         return 0.0
     slot = K_ROW_IMPULSE + r
@@ -422,13 +539,9 @@ def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache):
 
 
 @njit
-def _push_rhs(pb, a, b, rows, r0, n, i, h, max_push):
-    """``-(J v_p + C / h)`` of the block's row ``i`` on the pseudo-velocities (0 past ``n``), with ``C / h``
-    no faster than ``max_push`` (m/s, or rad/s)."""
-    if i >= n:
-        return 0.0
-    closing = min(max(rows[r0 + i, R_C] / h, -max_push), max_push)
-    return -(_rate(pb, PB_V, PB_W, a, b, rows, r0 + i) + closing)
+def _closing(rows, r, h, max_push):
+    """``C / h`` of row ``r``, no faster than ``max_push`` (m/s, or rad/s)."""
+    return min(max(rows[r, R_C] / h, -max_push), max_push)
 
 
 @njit
@@ -448,7 +561,7 @@ def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache):
         a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
         for r in (LOWER, UPPER):
             if rows[r, R_KIND] == LIMIT and rows[r, R_C] < 0.0:
-                k = coupling(sb, a, b, rows, r, r)
+                k = rows[r, R_K]
                 if k > 0.0:
                     d = max(-(_rate(pb, PB_V, PB_W, a, b, rows, r) + max(rows[r, R_C] / h, -max_push)) / k, 0.0)
                     _kick_both(sb, pb, PB_V, PB_W, a, b, rows, r, d)
@@ -457,13 +570,15 @@ def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache):
             if rows[r0, R_KIND] == OFF:
                 continue
             n = 3 if rows[r0 + 2, R_KIND] != OFF else 2
-            rhs = (_push_rhs(pb, a, b, rows, r0, n, 0, h, max_push),
-                   _push_rhs(pb, a, b, rows, r0, n, 1, h, max_push),
-                   _push_rhs(pb, a, b, rows, r0, n, 2, h, max_push))
-            x, diagonal = _block_solution(sb, a, b, rows, r0, n, rhs)
+            rhs = (_block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 0, _closing(rows, r0, h, max_push)),
+                   _block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 1, _closing(rows, r0 + 1, h, max_push)),
+                   _block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 2,
+                              _closing(rows, r0 + 2, h, max_push) if n == 3 else 0.0))
+            x = _block_solution(rows, r0, n, rhs)
+            _block_kick(sb, pb, PB_V, PB_W, a, rows, r0, n, R_LA, R_KA, x)
+            _block_kick(sb, pb, PB_V, PB_W, b, rows, r0, n, R_LB, R_KB, x)
             for i in range(n):
-                _kick_both(sb, pb, PB_V, PB_W, a, b, rows, r0 + i, x[i])
-                largest = max(largest, abs(x[i]) * diagonal[i])
+                largest = max(largest, abs(x[i]) * rows[r0 + i, R_K])
     return largest
 
 

@@ -858,7 +858,8 @@ def _relax(ctx, tier, contacts):
     which move the poses and leave the velocities alone."""
     if tier == FULL:
         if ctx.nk > 0:
-            fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (the poses just integrated)
+            # (the poses just integrated)
+            fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
             _joint_pass(ctx, tier, False)
     if contacts and ctx.nc > 0:
         if tier == FULL:
@@ -891,7 +892,7 @@ def stage_relax_lcp(ctx):
     out by the split impulses of the sequential-impulse solver."""
     if ctx.nk > 0:
         _lcp_pass(ctx, False)
-        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.joint_cache)     # (for the push passes)
+        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)     # (for the push passes)
     _push_out(ctx, FULL, True)
     lap(ctx, ST_RELAX)
 
