@@ -1,8 +1,9 @@
 """``python -m bench``: Marbellous side by side with PyBullet, MuJoCo, Jolt and Rapier on the standard scenes.
 
-Every scene is built once in Marbellous (``marbellous.scenes``) and translated body by body into each
-peer (``bench/peers``), stepped at 60 Hz, timed over the ``step()`` calls only (best of the scene's
-repeats, which go round the engines in turn), and checked by a sanity measure (``bench/scenes.py``).
+Every scene is built once in Marbellous (``marbellous.scenes``; the ball-jointed chains, ``bench/chains.py``)
+and translated body by body and joint by joint into each peer (``bench/peers``), stepped at 60 Hz, timed
+over the ``step()`` calls only (best of the scene's repeats, which go round the engines in turn), and checked
+by a sanity measure (``bench/scenes.py``).
 ``jolt-wasm`` and ``rapier-wasm`` are Jolt Physics and Rapier compiled to WebAssembly, run by node (their
 npm packages are installed on first use into a cache outside the checkout, ``bench/peers/npm_cache.py``)
 and timed inside node around each engine step.  ``jolt-native`` and ``jolt-native-2t`` (two threads) are Jolt
@@ -84,7 +85,7 @@ def run_world_scene(name, engine, quick, cap, steps=None):
         world.threads = 2
     run = MarbellousRun(world, DT) if engine.startswith("marbellous") else make_peer(engine, world, DT)
     try:
-        res = timed_run(run, steps, time_cap=cap)
+        res = timed_run(run, steps, samples=spec.samples, time_cap=cap, orientations=spec.poses)
     finally:
         run.close()
     out = {"status": "ok" if res["steps"] == steps else f"partial: stopped after {res['steps']} of {steps} steps "

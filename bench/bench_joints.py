@@ -1,8 +1,9 @@
 """Chains of ball joints, side by side with PyBullet and MuJoCo: cost per step and how well the joints hold.
 
-The scene: ``chains`` chains of ``links`` boxes (0.2 kg, 8 cm long, 2 cm apart at their ends, so that
-neighbours never touch), each hanging from the world by a ball joint and joined to the next at the middle
-of the gap, let go at 0.5 rad from the vertical so that they swing; 60 Hz, gravity 9.81.
+The scene (``bench/chains.py``, also ``python -m bench --scenes chains``): ``chains`` chains of ``links``
+boxes (0.2 kg, 8 cm long, 2 cm apart at their ends, so that neighbours never touch), each hanging from the
+world by a ball joint and joined to the next at the middle of the gap, let go at 0.5 rad from the vertical so
+that they swing; 60 Hz, gravity 9.81.
 - Marbellous: ``add_ball_joint`` (sequential impulses, its defaults: 4 sub-steps, 4 iterations);
 - PyBullet: single-link multibodies (its default) joined by ``JOINT_POINT2POINT`` constraints (10 solver
   iterations, its default; the joined pairs' collisions switched off as Marbellous does);
@@ -17,7 +18,6 @@ Reported per engine: ms per step (the ``step()`` calls only, best of ``--repeats
     python bench/bench_joints.py [--quick] [--json FILE]
 """
 import json
-import math
 import os
 import sys
 import time
@@ -27,77 +27,18 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-import marbellous as mb  # noqa: E402
-from bench.peers.axes import from_peer, quat_to_peer, to_peer  # noqa: E402
+from bench.chains import HALF, MASS, PITCH, JointGaps, chain_joints, chain_world, layout  # noqa: E402
+from bench.peers.axes import from_peer, quat_from_peer, quat_to_peer, to_peer  # noqa: E402
 from bench.peers.mujoco_world import mjcf_numbers as _f  # noqa: E402
 from bench.peers.pybullet_world import direct_client  # noqa: E402
 from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noqa: E402
 
 DT = 1.0 / 60.0
-HALF = (0.02, 0.04, 0.02)       # a link's half extents (m): 8 cm along the chain
-PITCH = 0.1                     # link centres 10 cm apart; the joints halfway between the ends
-MASS = 0.2
-TILT = 0.5
-
-
-def layout(chains, links):
-    """For each chain and link: (centre, orientation) in Marbellous axes, and each joint's world anchor
-    (the first on the world)."""
-    s, c = math.sin(TILT), math.cos(TILT)
-    q = (math.cos(TILT / 2), 0.0, 0.0, math.sin(TILT / 2))
-    out = []
-    for n in range(chains):
-        top = np.array([0.0, 3.0, 0.5 * n])
-        down = np.array([s, -c, 0.0])
-        centres = [top + down * PITCH * (k + 0.5) for k in range(links)]
-        anchors = [top + down * PITCH * k for k in range(links)]
-        out.append((centres, q, anchors))
-    return out
-
-
-def gap_of(positions, orientations, anchors_local):
-    """Widest distance (m) between the two sides' anchors: ``anchors_local`` holds, per joint, (parent or -1,
-    parent-local anchor or world point, child, child-local anchor)."""
-    worst = 0.0
-    for parent, pa, child, ca in anchors_local:
-        world_c = positions[child] + _rot(orientations[child]) @ ca
-        world_p = pa if parent < 0 else positions[parent] + _rot(orientations[parent]) @ pa
-        worst = max(worst, float(np.linalg.norm(world_c - world_p)))
-    return worst
-
-
-def _rot(q):
-    w, x, y, z = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
-def _local_anchors(chains, links):
-    """(parent or -1, parent-local anchor (None for the world: filled in later), child, child-local anchor)
-    per joint: a link's local +y points up the chain, its joints at +-PITCH/2 along it."""
-    out = []
-    for n in range(chains):
-        for k in range(links):
-            child = n * links + k
-            top = np.array([0.0, PITCH / 2, 0.0])
-            if k == 0:
-                out.append((-1, None, child, top))
-            else:
-                out.append((child - 1, np.array([0.0, -PITCH / 2, 0.0]), child, top))
-    return out
 
 
 def run_marbellous(chains, links, steps):
-    w = mb.World(sleeping=False)
-    bodies, joints = [], []
-    for centres, q, anchors in layout(chains, links):
-        prev = None
-        for k in range(links):
-            b = w.add_body(mb.Box(HALF), mass=MASS, position=centres[k], orientation=q)
-            joints.append(w.add_ball_joint(b, prev, anchor=anchors[k]))
-            bodies.append(b)
-            prev = b
+    """Marbellous' ms per step and widest gap (m, its joints' own ``separation``, every step)."""
+    w, joints = chain_world(chains, links)
     w.step(DT)
     worst, seconds = 0.0, 0.0
     for _ in range(steps):
@@ -109,67 +50,47 @@ def run_marbellous(chains, links, steps):
 
 
 def run_pybullet(chains, links, steps):
+    """PyBullet's ms per step and widest gap (m, from its bodies' poses, every step)."""
     p, kw = direct_client(DT)
     shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=list(HALF), **kw)
-    ids, worlds = [], []
-    anchors = _local_anchors(chains, links)
-    for centres, q, world_anchors in layout(chains, links):
-        for k in range(links):
-            qp = quat_to_peer(q)
-            bid = p.createMultiBody(MASS, shape, basePosition=list(to_peer(centres[k])),
+    ids, centres, orientations = [], [], []
+    for chain_centres, q, _ in layout(chains, links):
+        qp = quat_to_peer(q)
+        for c in chain_centres:
+            bid = p.createMultiBody(MASS, shape, basePosition=list(to_peer(c)),
                                     baseOrientation=[qp[1], qp[2], qp[3], qp[0]], **kw)
             p.changeDynamics(bid, -1, linearDamping=0.0, angularDamping=0.0, **kw)
             ids.append(bid)
-        worlds += [to_peer(world_anchors[0])]
-    n_world = 0
-    for parent, pa, child, ca in anchors:
+            centres.append(c)
+            orientations.append(q)
+    joints = chain_joints(chains, links)
+    gaps = JointGaps(joints, centres, orientations)
+    for k, (child, parent, anchor) in enumerate(joints):
         if parent < 0:
             # (to the world: the body is the constraint's parent and the world point its child frame)
-            c = p.createConstraint(ids[child], -1, -1, -1, p.JOINT_POINT2POINT, [0, 0, 0], list(ca),
-                                   list(worlds[n_world]), **kw)
-            n_world += 1
+            c = p.createConstraint(ids[child], -1, -1, -1, p.JOINT_POINT2POINT, [0, 0, 0], list(gaps.local_a[k]),
+                                   list(to_peer(anchor)), **kw)
         else:
-            c = p.createConstraint(ids[parent], -1, ids[child], -1, p.JOINT_POINT2POINT, [0, 0, 0], list(pa),
-                                   list(ca), **kw)
+            c = p.createConstraint(ids[parent], -1, ids[child], -1, p.JOINT_POINT2POINT, [0, 0, 0],
+                                   list(gaps.local_b[k]), list(gaps.local_a[k]), **kw)
             p.setCollisionFilterPair(ids[parent], ids[child], -1, -1, 0, **kw)
         p.changeConstraint(c, maxForce=1e9, **kw)
-    world_points = [from_peer(wp) for wp in worlds]
     p.stepSimulation(**kw)
     worst, seconds = 0.0, 0.0
     for _ in range(steps):
         t = time.perf_counter()
         p.stepSimulation(**kw)
         seconds += time.perf_counter() - t
-        pos, orn = [], []
-        for bid in ids:
-            x, r = p.getBasePositionAndOrientation(bid, **kw)
-            pos.append(from_peer(np.array(x)))
-            orn.append(_quat_from_peer(np.array([r[3], r[0], r[1], r[2]])))
-        worst = max(worst, _gaps(pos, orn, anchors, world_points))
+        poses = [p.getBasePositionAndOrientation(bid, **kw) for bid in ids]
+        pos = from_peer(np.array([x for x, _ in poses]))
+        orn = quat_from_peer(np.array([[r[3], r[0], r[1], r[2]] for _, r in poses]))
+        worst = max(worst, float(gaps(pos, orn).max()))
     p.disconnect(**kw)
     return 1e3 * seconds / steps, worst
 
 
-def _quat_from_peer(qp):
-    """A peer (w, x, y, z) orientation back in Marbellous axes: q = q_R* q_peer."""
-    w1, x1, y1, z1 = math.sqrt(0.5), -math.sqrt(0.5), 0.0, 0.0
-    w2, x2, y2, z2 = qp
-    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
-
-
-def _gaps(pos, orn, anchors, world_points):
-    filled, n = [], 0
-    for parent, pa, child, ca in anchors:
-        if parent < 0:
-            filled.append((parent, world_points[n], child, ca))
-            n += 1
-        else:
-            filled.append((parent, pa, child, ca))
-    return gap_of(pos, orn, filled)
-
-
 def run_mujoco(chains, links, steps):
+    """MuJoCo's ms per step and widest gap (0: its tree's joints cannot open)."""
     import mujoco
     parts = []
     for centres, q, _ in layout(chains, links):

@@ -16,6 +16,10 @@ Sanity measures, per scene (from positions sampled during the run, in Marbellous
 - free bodies and one body: largest distance (m) from the closed form  x0 + v0 t + g t^2 / 2; first-order
   integrators (PyBullet's and Marbellous' semi-implicit Euler) fall short by  g t h / 2  with step h, so
   correct means within  g t dt / 2  at the frame step dt (sub-stepping only shrinks the error);
+- ball-jointed chains (``bench/chains.py``): the widest distance (m) between a joint's two anchors, each fixed
+  in its body's frame (or the world) where the joint was made, over poses sampled at every step (a joint opens
+  and closes again within a few steps); the joints hold when it stays below ``chains.MAX_GAP``, 2 cm, a
+  quarter of a link;
 - every scene: the deepest overlap (m) among contact points at the sampled steps.
 """
 import functools
@@ -28,6 +32,8 @@ from marbellous.scenes import box_pyramid, box_tower, sphere_pile
 from marbellous.scenes.free_bodies import free_bodies, free_bodies_start, free_fall_positions
 from marbellous.scenes.terrain import marble_on_terrain, terrain_height, terrain_mesh
 
+from .chains import MAX_GAP, JointGaps, chain_joints, chain_world
+
 DT = 1.0 / 60.0
 #: the piles' rolling and torsional friction (m, lever arms; 2 % of the spheres' radius, a rubber ball's
 #: rolling resistance), set as a user would so that a pile comes to rest; every peer gets the same
@@ -37,7 +43,9 @@ PILE_ROLLING = PILE_TORSION = 0.01
 @dataclass
 class Scene:
     """One benchmark scene.  ``build(quick)`` returns ``(world, meta)``; ``sanity(trace, meta, pen)``
-    returns a dict of measures with a boolean ``"ok"``."""
+    returns a dict of measures with a boolean ``"ok"``; ``trace`` holds ``samples`` samples over the run
+    (``bench.runs.timed_run``), each ``(step, positions)``, or with ``poses`` ``(step, positions,
+    orientations)``."""
     label: str
     build: object
     steps: int
@@ -46,6 +54,8 @@ class Scene:
     sanity: object
     world: bool = True         # False: a query benchmark, not a stepped world
     judged_when_quick: bool = True   # False: the sanity verdict needs the full run (a pile must settle)
+    samples: int = 10          # samples of the run for the sanity measure (the steps / samples apart)
+    poses: bool = False        # True: the sanity measure needs the orientations too
 
     def n_steps(self, quick):
         return self.quick_steps if quick else self.steps
@@ -98,6 +108,14 @@ def free_sanity(trace, meta, pen):
             "ok": bool(err <= 1.01 * bound + 1e-9)}
 
 
+def joint_sanity(trace, meta, pen):
+    """The widest gap (m) between a joint's two anchors over the samples, the anchors fixed in the bodies' frames
+    at the first sample's poses; non-finite poses count as an infinite gap."""
+    gaps = JointGaps(meta["joints"], trace[0][1], trace[0][2])
+    widest = max(float(np.nan_to_num(gaps(p, q), nan=np.inf).max()) for _, p, q in trace)
+    return {"widest_gap_m": widest, "max_penetration_m": pen, "ok": bool(widest < MAX_GAP)}
+
+
 def query_sanity(result, meta, pen):
     return result
 
@@ -144,6 +162,14 @@ def _free(count, quick_count):
     return build
 
 
+def _chains(quick):
+    """The chains of ball-jointed boxes (10 of 20 links; quick: 2 of 10), and their joints as
+    ``chains.chain_joints`` gives them (the bodies numbered as the world's, all dynamic; anchors in m)."""
+    chains, links = (2, 10) if quick else (10, 20)
+    world, _ = chain_world(chains, links)
+    return world, {"joints": chain_joints(chains, links), "chains": chains, "links": links}
+
+
 def _queries(quick):
     return None, {"cells": 64 if quick else 256, "queries": 500 if quick else 5000}
 
@@ -162,6 +188,7 @@ SCENES = {
     "mesh_queries": Scene("sphere-mesh queries", _queries, 0, 0, 1, query_sanity, world=False),
     "free_10k": Scene("10k free bodies", _free(10000, 1000), 100, 20, 1, free_sanity),
     "one_body": Scene("one-body step", _free(1, 1), 20000, 2000, 5, free_sanity),
+    "chains": Scene("ball-joint chains 10x20", _chains, 600, 60, 3, joint_sanity, samples=600, poses=True),
 }
 
 

@@ -2,20 +2,21 @@
 Physics compiled natively from its C++ source (``jolt_native_world.py``), or Jolt Physics or Rapier in
 WebAssembly (run by node, ``wasm_world.py``); the last three run in a process of their own (``pipe.py``).
 
-Every peer run is built from the same Marbellous world (shapes, poses, velocities, masses, friction),
-with the axes mapped where they differ (Marbellous is y-up, PyBullet and MuJoCo z-up; Jolt and Rapier are
-y-up), and offers the same small interface as ``bench.runs.MarbellousRun``: ``step()``, ``positions()`` of
-the dynamic bodies in Marbellous axes, ``max_penetration()`` (m) and ``close()``; the peers in a process of
-their own also ``timed_steps(n, budget)``, their steps timed inside that process.  ``make_peer(name, world)``
-raises ``Unsupported`` when the peer has no equivalent of a shape, and ``ImportError`` when it is not installed
-(for the WebAssembly peers: node or npm missing, or the first install of their npm packages failed; for native
-Jolt: no Jolt checkout named, CMake or a compiler missing, or its first build failed).
+Every peer run is built from the same Marbellous world (shapes, poses, velocities, masses, friction, ball
+joints), with the axes mapped where they differ (Marbellous is y-up, PyBullet and MuJoCo z-up; Jolt and Rapier
+are y-up), and offers the same small interface as ``bench.runs.MarbellousRun``: ``step()``, ``positions()``
+and ``orientations()`` of the dynamic bodies in Marbellous axes, ``max_penetration()`` (m) and ``close()``; the
+peers in a process of their own also ``timed_steps(n, budget)``, their steps timed inside that process.
+``make_peer(name, world)`` raises ``Unsupported`` when the peer has no equivalent of a shape or of a
+constraint (any but unbreakable ball joints), and ``ImportError`` when it is not installed (for the
+WebAssembly peers: node or npm missing, or the first install of their npm packages failed; for native Jolt: no
+Jolt checkout named, CMake or a compiler missing, or its first build failed).
 """
 import numpy as np
 
 
 class Unsupported(Exception):
-    """The peer has no equivalent of a shape in the scene."""
+    """The peer has no equivalent of a shape, or of a constraint, in the scene."""
 
 
 #: the native Jolt peers' names (one thread, two threads)
@@ -89,3 +90,32 @@ def bodies_of(world):
                      "mass": b.mass, "friction": float(row[L.FRICTION]), "restitution": float(row[L.RESTITUTION]),
                      "rolling_friction": float(row[L.ROLLING]), "torsional_friction": float(row[L.TORSION])})
     return out
+
+
+def joints_of(world):
+    """The world's constraints as plain records for a translator: one dict per ball joint, with ``kind``
+    ("ball"), ``body_a`` and ``body_b`` (indices into ``world.bodies``, the order of ``bodies_of``; ``body_b`` -1
+    for the world) and ``anchor``, the world point (m) where the joint holds ``body_a`` now (where it was made,
+    in a world not yet stepped).  Raises ``Unsupported`` for any other constraint (springs, rods, cables, hinges,
+    sliders, fixed joints, particle networks) and for ball joints with a breaking force, which the peers'
+    joints do not have."""
+    from marbellous.constraints import BallJoint
+    from marbellous.state import layout as L
+
+    index = {b: k for k, b in enumerate(world.bodies)}
+    out = []
+    for c in world.constraints:
+        if type(c) is not BallJoint:
+            raise Unsupported(type(c).__name__)
+        if np.isfinite(world._state.kf[c._index, L.K_BREAKING]):     # (no public reading of the breaking force)
+            raise Unsupported("breakable joints")
+        out.append({"kind": "ball", "body_a": index[c.body_a], "body_b": -1 if c.body_b is None else index[c.body_b],
+                    "anchor": np.asarray(c.anchor, dtype=np.float64)})
+    return out
+
+
+def local_point(rec, point):
+    """The world point ``point`` (m) in the frame of the body of record ``rec`` (``bodies_of``), m."""
+    from marbellous.math3d import quat_to_matrix_np
+
+    return quat_to_matrix_np(rec["orientation"]).T @ (np.asarray(point, dtype=np.float64) - rec["position"])

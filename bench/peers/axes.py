@@ -1,7 +1,7 @@
 """Marbellous is y-up, PyBullet and MuJoCo are z-up: a quarter turn about x maps one to the other.
 
     R = rotation by +90 degrees about x:   (x, y, z)_marbellous  ->  (x, -z, y)_peer
-    orientations:  q_peer = q_R q_marbellous   (the world frame turns, body frames do not)
+    orientations:  q_peer = q_R q_marbellous,  q_marbellous = q_R* q_peer   (the world frame turns, body frames do not)
 """
 import math
 
@@ -28,3 +28,11 @@ def quat_to_peer(q):
     w2, x2, y2, z2 = q
     return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
                      w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+
+def quat_from_peer(q):
+    """A (w, x, y, z) orientation in peer axes (or rows of them) back in Marbellous axes: q_R* q_peer."""
+    q = np.asarray(q, dtype=np.float64)
+    c, s = Q_R[0], Q_R[1]           # q_R* = (c, -s, 0, 0)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([c * w + s * x, c * x - s * w, c * y + s * z, c * z - s * y], axis=-1)

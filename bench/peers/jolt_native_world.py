@@ -11,7 +11,8 @@ Jolt is compiled and threaded, not in what it computes:
 - y-up like Marbellous; spheres, boxes (convex radius 5 cm, less for thinner boxes), capsules, planes (Jolt's
   ``PlaneShape``), static triangle meshes and convex hulls; each body's mass (the inertia from its shape),
   friction (combined by geometric mean) and restitution (by maximum); no damping, no cap on linear speed; no
-  rolling or torsional friction, which Jolt does not have.
+  rolling or torsional friction, which Jolt does not have; ball joints as point constraints (``PointConstraint``,
+  to ``Body::sFixedToWorld`` for a joint to the world), the two bodies of each not colliding with each other.
 - Jolt's defaults otherwise (10 velocity and 2 position iterations, sleeping unless the world's is off,
   speculative contacts), two object layers, static and moving, and jolt-physics' sizes: room for 10,240 bodies
   (or the scene's), 65,536 body pairs and 10,240 contact constraints, a 10 MB temporary allocator.  A step past

@@ -8,6 +8,8 @@ native Jolt driver, ``bench/peers/jolt_native/driver.cpp``, speaks it too):
 
 - Spheres, boxes, capsules, planes, triangle meshes (static) and convex hulls; compound bodies, shapes off their
   body's origin and height fields raise ``Unsupported`` before the process is started.
+- Ball joints (``joints_of``) as each joint's two bodies and its world anchor; any other constraint raises
+  ``Unsupported`` before the process is started.
 - Positions, orientations and velocities go across unchanged (the engines behind it are y-up like Marbellous),
   with each body's mass, friction and restitution.
 - Steps are timed inside the engine's process around its step call alone, not from Python: a request through the
@@ -24,7 +26,7 @@ from marbellous.shapes.hull import ConvexHull
 from marbellous.shapes.mesh import TriangleMesh
 from marbellous.shapes.primitives import Box, Capsule, Plane, Sphere
 
-from . import Unsupported, bodies_of, single_shape
+from . import Unsupported, bodies_of, joints_of, single_shape
 
 #: seconds a closing engine is given to exit before it is killed
 CLOSE_TIMEOUT = 10.0
@@ -52,9 +54,11 @@ def _shape(shape):
 
 def build_request(world, dt):
     """The ``build`` request for ``world`` stepped ``dt`` s at a time: gravity (m/s^2), whether resting bodies
-    may sleep (``world.sleeping``), the distinct shapes, and per body its shape's index, ``static``, position (m),
-    orientation (w, x, y, z), velocity (m/s), angular velocity (rad/s), mass (kg), friction and restitution.
-    Raises ``Unsupported``."""
+    may sleep (``world.sleeping``), the distinct shapes, per body its shape's index, ``static``, position (m),
+    orientation (w, x, y, z), velocity (m/s), angular velocity (rad/s), mass (kg), friction and restitution, and
+    per ball joint its ``kind``, ``body_a``, ``body_b`` (indices into the bodies, -1: the world) and world
+    ``anchor`` (m).  Raises ``Unsupported``."""
+    joints = [{**j, "anchor": j["anchor"].tolist()} for j in joints_of(world)]
     shapes, index, bodies = [], {}, []
     for rec in bodies_of(world):
         key, spec = _shape(single_shape(rec))
@@ -69,7 +73,7 @@ def build_request(world, dt):
                        "mass": 0.0 if static else float(rec["mass"]), "friction": rec["friction"],
                        "restitution": rec["restitution"]})
     return {"op": "build", "dt": float(dt), "gravity": np.asarray(world.gravity, dtype=float).tolist(),
-            "sleeping": bool(world.sleeping), "shapes": shapes, "bodies": bodies}
+            "sleeping": bool(world.sleeping), "shapes": shapes, "bodies": bodies, "joints": joints}
 
 
 class PipeRun:
@@ -127,6 +131,10 @@ class PipeRun:
     def positions(self):
         """Positions (m) of the dynamic bodies, shape (n, 3)."""
         return np.array(self._ask({"op": "positions"})["positions"], dtype=np.float64).reshape(-1, 3)
+
+    def orientations(self):
+        """Orientations (w, x, y, z) of the dynamic bodies, shape (n, 4)."""
+        return np.array(self._ask({"op": "orientations"})["orientations"], dtype=np.float64).reshape(-1, 4)
 
     def max_penetration(self):
         """Deepest overlap (m) among the current contacts (0 if none overlap), as the engine measures it."""

@@ -1,4 +1,4 @@
-"""A Marbellous world in PyBullet (DIRECT mode): spheres, boxes, planes and triangle meshes.
+"""A Marbellous world in PyBullet (DIRECT mode): spheres, boxes, planes and triangle meshes, and ball joints.
 
 Settings, chosen to be PyBullet at its documented defaults and its fastest equivalent bodies:
 - time step ``dt``, no sub-steps, 10 solver iterations (PyBullet's default), gravity along -z;
@@ -12,7 +12,12 @@ Settings, chosen to be PyBullet at its documented defaults and its fastest equiv
 - a ``TriangleMesh`` becomes a static concave ``GEOM_MESH`` (Bullet's BVH triangle mesh);
 - shapes keep their local (body-frame) geometry; each body's orientation gets the quarter turn;
 - sleeping (deactivation) left at Bullet's default, like Marbellous' own; off for every body
-  (``ACTIVATION_STATE_DISABLE_SLEEPING``) when the world's ``sleeping`` is off.
+  (``ACTIVATION_STATE_DISABLE_SLEEPING``) when the world's ``sleeping`` is off;
+- a ball joint becomes a ``JOINT_POINT2POINT`` constraint (Bullet's btPoint2PointConstraint between the two
+  rigid bodies) holding the two bodies' anchors together, with no cap on its force (PyBullet's default is
+  500 N; Marbellous' joints have none); the two bodies do not collide with each other, as in Marbellous.  A
+  joint to the world holds its body to a static body without a shape at the origin (PyBullet refuses such a
+  constraint to the world itself, -1, for a maximal-coordinate body).
 """
 import math
 import os
@@ -23,8 +28,11 @@ import numpy as np
 from marbellous.shapes.mesh import TriangleMesh
 from marbellous.shapes.primitives import Box, Plane, Sphere
 
-from . import Unsupported, bodies_of, single_shape
-from .axes import from_peer, quat_to_peer, to_peer
+from . import Unsupported, bodies_of, joints_of, local_point, single_shape
+from .axes import from_peer, quat_from_peer, quat_to_peer, to_peer
+
+#: the force (N) a point-to-point constraint may apply: no cap that a scene reaches
+NO_FORCE_CAP = 1e9
 
 
 def direct_client(dt, ground_friction=None):
@@ -69,6 +77,7 @@ class PyBulletRun:
     def __init__(self, world, dt):
         import pybullet as p
 
+        joints = joints_of(world)           # Unsupported before a client is started
         self.p = p
         self.cid = p.connect(p.DIRECT)
         kw = {"physicsClientId": self.cid}
@@ -128,6 +137,27 @@ class PyBulletRun:
                                         **kw)
         self.dynamic = [bid for bid, rec in zip(self.ids, records) if not rec["static"]]
         self.kw = kw
+        ground = None
+        for j in joints:
+            if j["body_b"] < 0 and ground is None:
+                ground = p.createMultiBody(0.0, -1, useMaximalCoordinates=True, **kw)
+            self._ball_joint(records, j, ground)
+
+    def _ball_joint(self, records, joint, ground):
+        """A point-to-point constraint for the ball joint record ``joint`` (``joints_of``), whose bodies do not
+        collide with each other; a joint to the world holds its body to ``ground``, a static body whose frame is
+        the world's."""
+        p, kw = self.p, self.kw
+        a, b = joint["body_a"], joint["body_b"]
+        on_a = list(local_point(records[a], joint["anchor"]))      # in the body's frame, which the axes do not turn
+        if b < 0:
+            c = p.createConstraint(self.ids[a], -1, ground, -1, p.JOINT_POINT2POINT, [0, 0, 0], on_a,
+                                   list(to_peer(joint["anchor"])), **kw)
+        else:
+            c = p.createConstraint(self.ids[a], -1, self.ids[b], -1, p.JOINT_POINT2POINT, [0, 0, 0], on_a,
+                                   list(local_point(records[b], joint["anchor"])), **kw)
+            p.setCollisionFilterPair(self.ids[a], self.ids[b], -1, -1, 0, **kw)
+        p.changeConstraint(c, maxForce=NO_FORCE_CAP, **kw)
 
     def step(self):
         self.p.stepSimulation(physicsClientId=self.cid)
@@ -136,6 +166,12 @@ class PyBulletRun:
         """Positions (m) of the dynamic bodies, in Marbellous axes, shape (n, 3)."""
         get = self.p.getBasePositionAndOrientation
         return from_peer(np.array([get(b, **self.kw)[0] for b in self.dynamic]).reshape(-1, 3))
+
+    def orientations(self):
+        """Orientations (w, x, y, z) of the dynamic bodies, in Marbellous axes, shape (n, 4)."""
+        get = self.p.getBasePositionAndOrientation
+        xyzw = np.array([get(b, **self.kw)[1] for b in self.dynamic]).reshape(-1, 4)
+        return quat_from_peer(xyzw[:, [3, 0, 1, 2]])
 
     def max_penetration(self):
         """Deepest overlap (m) among the current contact points (0 if none overlap)."""

@@ -8,6 +8,8 @@ packages come from ``npm_cache``, installed on first use.
 - Both engines are y-up like Marbellous: positions, orientations and velocities go across unchanged.
 - Spheres, boxes, capsules, planes, triangle meshes (static) and convex hulls; compound bodies, shapes off
   their body's origin and height fields raise ``Unsupported``.
+- Ball joints: Jolt's point constraints, Rapier's spherical impulse joints, the two bodies of each not
+  colliding with each other (as in Marbellous); any other constraint raises ``Unsupported``.
 - Each body keeps its mass (the engine computes the inertia from the shape), friction and restitution,
   combined as Marbellous combines them: friction by geometric mean (Jolt's own rule; Rapier's colliders get
   ``sqrt(mu)`` under its "multiply" rule, as PyBullet's bodies do), restitution by maximum.  Neither engine

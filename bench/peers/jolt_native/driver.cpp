@@ -6,11 +6,13 @@
 //                                  thread running jobs too while it waits for them (N threads in all)
 //
 // It speaks the protocol of bench/peers/wasm/driver.mjs, one answer line per request line:
-//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...]}  ->  {"version": "..."}
+//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...],
+//      "joints": [...]}  ->  {"version": "..."}
 //     {"op": "step", "n": k, "budget": s or null}  ->  {"seconds": [...]}  the time of each step (s), measured
 //         here (std::chrono::steady_clock) around PhysicsSystem::Update alone; stops early once they add up to
 //         more than the budget
 //     {"op": "positions"}  ->  {"positions": [x0, y0, z0, x1, ...]}  dynamic bodies in build order (m)
+//     {"op": "orientations"}  ->  {"orientations": [w0, x0, y0, z0, w1, ...]}  the same bodies' (unit quaternions)
 //     {"op": "penetration"}  ->  {"depth": d}  deepest overlap among the current contacts (m, 0 if none)
 //     {"op": "echo", "value": v}  ->  {"value": v}  (for the tests of this file's JSON reader and writer)
 //     {"op": "close"}  ->  the process exits
@@ -24,7 +26,10 @@
 // defaults otherwise (10 velocity and 2 position iterations, sleeping unless the build says not, speculative
 // contacts); no damping, no cap
 // on linear speed; the mass given, the inertia computed from the shape; each body's own friction and restitution
-// (Jolt combines them by geometric mean and maximum, as Marbellous does).  One Update with one collision step
+// (Jolt combines them by geometric mean and maximum, as Marbellous does); a ball joint as Jolt's point
+// constraint, its two points on the anchor, the two bodies kept from colliding with each other as in Marbellous
+// (each set of bodies that joints join is a collision group in which a joined pair does not collide; the same in
+// jolt.mjs).  One Update with one collision step
 // per step.  One difference: a step whose Update reports a full contact, manifold or body-pair buffer (Jolt then
 // drops contacts and bodies sink into each other) fails, where the WebAssembly backend, which cannot see that
 // report, counts the pairs in contact at each sample instead.
@@ -40,6 +45,7 @@
 #include <Jolt/Physics/Collision/BroadPhase/ObjectVsBroadPhaseLayerFilterTable.h>
 #include <Jolt/Physics/Collision/CollideShape.h>
 #include <Jolt/Physics/Collision/CollisionCollectorImpl.h>
+#include <Jolt/Physics/Collision/GroupFilterTable.h>
 #include <Jolt/Physics/Collision/NarrowPhaseQuery.h>
 #include <Jolt/Physics/Collision/ObjectLayerPairFilterTable.h>
 #include <Jolt/Physics/Collision/Shape/BoxShape.h>
@@ -48,6 +54,7 @@
 #include <Jolt/Physics/Collision/Shape/MeshShape.h>
 #include <Jolt/Physics/Collision/Shape/PlaneShape.h>
 #include <Jolt/Physics/Collision/Shape/SphereShape.h>
+#include <Jolt/Physics/Constraints/PointConstraint.h>
 #include <Jolt/Physics/PhysicsSettings.h>
 #include <Jolt/Physics/PhysicsSystem.h>
 #include <Jolt/RegisterTypes.h>
@@ -61,6 +68,7 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -441,7 +449,81 @@ ShapeRefC shape(const json::Value &s) {
     throw std::runtime_error("no Jolt shape for " + kind);
 }
 
-// One scene: its layer tables, the physics system and the bodies, all gone with it.
+// A ball joint of the build request: bodies a and b (b < 0: the world) held together at a world point (m).
+struct BallJoint {
+    size_t a;
+    long b;
+    RVec3 anchor;
+};
+
+std::vector<BallJoint> ball_joints(const json::Value &spec, size_t bodies) {
+    std::vector<BallJoint> out;
+    const json::Value *joints = spec.find("joints");     // (a build without "joints" has none)
+    if (joints == nullptr) {
+        return out;
+    }
+    for (const json::Value &j : joints->list()) {
+        const std::string &kind = j["kind"].str();
+        if (kind != "ball") {
+            throw std::runtime_error("no Jolt joint for " + kind);
+        }
+        double a = j["body_a"].num(), b = j["body_b"].num();
+        if (!(a >= 0.0 && a < double(bodies) && b >= -1.0 && b < double(bodies) && a != b)) {
+            throw std::runtime_error("no bodies " + std::to_string(long(a)) + " and " + std::to_string(long(b)) +
+                                     " to join");
+        }
+        out.push_back({size_t(a), long(b), RVec3(vec3(j["anchor"]))});
+    }
+    return out;
+}
+
+// The collision group of each body: each set of bodies that joints join (a component of the graph of joints
+// between bodies) is a group with a table of its own, each of its bodies a sub-group, and the table keeps the two
+// bodies of each joint from colliding; bodies no joint joins to another keep Jolt's default, no group.
+std::vector<CollisionGroup> collision_groups(const std::vector<BallJoint> &joints, size_t bodies) {
+    std::vector<size_t> root(bodies);
+    std::iota(root.begin(), root.end(), size_t(0));
+    auto find = [&root](size_t k) {
+        while (root[k] != k) {
+            k = root[k] = root[root[k]];
+        }
+        return k;
+    };
+    std::vector<bool> joined(bodies, false);
+    for (const BallJoint &j : joints) {
+        if (j.b >= 0) {
+            root[find(j.a)] = find(size_t(j.b));
+            joined[j.a] = joined[size_t(j.b)] = true;
+        }
+    }
+    std::vector<CollisionGroup::SubGroupID> sub(bodies, 0);
+    std::vector<uint> members(bodies, 0);
+    for (size_t k = 0; k < bodies; ++k) {
+        if (joined[k]) {
+            sub[k] = members[find(k)]++;
+        }
+    }
+    std::vector<Ref<GroupFilterTable>> tables(bodies);
+    for (size_t k = 0; k < bodies; ++k) {
+        if (joined[k] && tables[find(k)] == nullptr) {
+            tables[find(k)] = new GroupFilterTable(members[find(k)]);
+        }
+    }
+    for (const BallJoint &j : joints) {
+        if (j.b >= 0) {
+            tables[find(j.a)]->DisableCollision(sub[j.a], sub[size_t(j.b)]);
+        }
+    }
+    std::vector<CollisionGroup> groups(bodies);
+    for (size_t k = 0; k < bodies; ++k) {
+        if (joined[k]) {
+            groups[k] = CollisionGroup(tables[find(k)], CollisionGroup::GroupID(find(k)), sub[k]);
+        }
+    }
+    return groups;
+}
+
+// One scene: its layer tables, the physics system, the bodies and the constraints, all gone with it.
 struct Scene {
     ObjectLayerPairFilterTable pairs{2};
     BroadPhaseLayerInterfaceTable layers{2, 2};
@@ -449,9 +531,13 @@ struct Scene {
     PhysicsSystem system;               // declared after the tables it uses: destroyed before them
     std::vector<BodyID> bodies;
     std::vector<const Body *> dynamic;  // in build order
+    std::vector<Constraint *> constraints;
     float dt = 0.0f;
 
     ~Scene() {
+        if (!constraints.empty()) {     // before their bodies
+            system.RemoveConstraints(constraints.data(), int(constraints.size()));
+        }
         BodyInterface &bi = system.GetBodyInterfaceNoLock();
         if (!bodies.empty()) {
             bi.RemoveBodies(bodies.data(), int(bodies.size()));
@@ -476,6 +562,9 @@ std::unique_ptr<Scene> build(const json::Value &spec) {
     for (const json::Value &s : spec["shapes"].list()) {
         shapes.push_back(shape(s));
     }
+    std::vector<BallJoint> joints = ball_joints(spec, specs.size());
+    std::vector<CollisionGroup> groups = collision_groups(joints, specs.size());
+    std::vector<Body *> created;
     BodyInterface &bi = scene->system.GetBodyInterface();
     // (a build without "sleeping" lets bodies sleep, Jolt's default)
     const json::Value *sleeping_spec = spec.find("sleeping");
@@ -496,6 +585,7 @@ std::unique_ptr<Scene> build(const json::Value &spec) {
                                       is_static ? STATIC : MOVING);
         settings.mFriction = float(b["friction"].num());
         settings.mRestitution = float(b["restitution"].num());
+        settings.mCollisionGroup = groups[created.size()];
         if (!is_static) {
             settings.mLinearVelocity = vec3(b["velocity"]);
             settings.mAngularVelocity = vec3(b["angular_velocity"]);
@@ -512,9 +602,20 @@ std::unique_ptr<Scene> build(const json::Value &spec) {
         }
         scene->bodies.push_back(body->GetID());
         bi.AddBody(body->GetID(), is_static ? EActivation::DontActivate : EActivation::Activate);
+        created.push_back(body);
         if (!is_static) {
             scene->dynamic.push_back(body);
         }
+    }
+    // each ball joint a point constraint: a point of each body (or of the world) kept on the other's, both where
+    // the anchor is now
+    for (const BallJoint &j : joints) {
+        PointConstraintSettings point;
+        point.mSpace = EConstraintSpace::WorldSpace;
+        point.mPoint1 = point.mPoint2 = j.anchor;
+        Constraint *c = point.Create(*created[j.a], j.b < 0 ? Body::sFixedToWorld : *created[size_t(j.b)]);
+        scene->system.AddConstraint(c);
+        scene->constraints.push_back(c);
     }
     scene->system.OptimizeBroadPhase();
     return scene;
@@ -538,8 +639,8 @@ class Driver {
 public:
     Driver(TempAllocator &temp, JobSystem &jobs) : temp_(temp), jobs_(jobs) {}
 
-    // A second of a small scene with every kind of shape and contact (driver.mjs' warm-up), stepped before any
-    // request and then replaced by the scene built, so that the first calls of Jolt's code paths (its first
+    // A second of a small scene with every kind of shape, contact and joint (driver.mjs' warm-up), stepped before
+    // any request and then replaced by the scene built, so that the first calls of Jolt's code paths (its first
     // allocations, the pages its tables first touch) are not timed.
     void warm_up() {
         scene_ = build(json::parse(R"({"dt": 0.016666666666666666, "gravity": [0, -9.81, 0], "shapes": [
@@ -553,7 +654,9 @@ public:
             warm_up_body(2, "0, 0.5, 0") + "," + warm_up_body(2, "0.2, 1.6, 0") + "," +
             warm_up_body(3, "-0.1, 2.8, 0.1") + "," + warm_up_body(3, "2, 0.6, 0") + "," +
             warm_up_body(4, "3, 1, 0") + "," + warm_up_body(5, "4.5, 1, 0") + "," + warm_up_body(3, "10, 1, 0") +
-            "," + warm_up_body(2, "10, 3, 0.5") + "]}"));
+            "," + warm_up_body(2, "10, 3, 0.5") + R"(], "joints": [
+            {"kind": "ball", "body_a": 9, "body_b": -1, "anchor": [10, 3.5, 0.5]},
+            {"kind": "ball", "body_a": 8, "body_b": 9, "anchor": [10, 2, 0.25]}]})"));
         for (int k = 0; k < 60; ++k) {
             scene_->system.Update(scene_->dt, 1, &temp_, &jobs_);
         }
@@ -591,6 +694,17 @@ public:
             }
             out = "{\"positions\":";
             json::numbers(out, p);
+            return out + "}";
+        }
+        if (op == "orientations") {
+            std::vector<double> q;
+            q.reserve(4 * scene_->dynamic.size());
+            for (const Body *body : scene_->dynamic) {
+                Quat r = body->GetRotation();
+                q.insert(q.end(), {double(r.GetW()), double(r.GetX()), double(r.GetY()), double(r.GetZ())});
+            }
+            out = "{\"orientations\":";
+            json::numbers(out, q);
             return out + "}";
         }
         if (op == "penetration") {

@@ -4,10 +4,15 @@
 //                                        holds the engine's package
 //
 // Each line read from stdin is one request, answered by one line on stdout:
-//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...]}  ->  {"version": "x.y.z"}
+//     {"op": "build", "dt": s, "gravity": [x, y, z], "sleeping": bool, "shapes": [...], "bodies": [...],
+//      "joints": [...]}  ->  {"version": "x.y.z"}
+//         "joints" (optional: none without it): {"kind": "ball", "body_a": i, "body_b": j, "anchor": [x, y, z]},
+//         bodies i and j (indices into "bodies"; j = -1: the world) held together at a point, the anchor (m, world)
+//         when built; the two bodies do not collide with each other.  Another kind fails the build.
 //     {"op": "step", "n": k, "budget": s or null}  ->  {"seconds": [...]}  the time of each step (s), measured
 //         here around the engine's step call alone; stops early once they add up to more than the budget
 //     {"op": "positions"}  ->  {"positions": [x0, y0, z0, x1, ...]}  dynamic bodies in build order (m)
+//     {"op": "orientations"}  ->  {"orientations": [w0, x0, y0, z0, w1, ...]}  the same bodies' (unit quaternions)
 //     {"op": "penetration"}  ->  {"depth": d}  deepest overlap among the current contacts (m, 0 if none)
 //     {"op": "close"}  ->  the process exits
 // A request that fails is answered {"error": "message"} and the process exits with status 1 (a WebAssembly
@@ -30,7 +35,7 @@ const requireFromPrefix = createRequire(path.join(path.resolve(prefix), "package
 const engine = await (await import(backends[engineName])).load(requireFromPrefix);
 warmUp();
 
-// A second of a small scene with every kind of shape and contact, stepped once before any request (and then
+// A second of a small scene with every kind of shape, contact and joint, stepped once before any request (and then
 // replaced by the scene built), so that the first calls of the engine's code paths (V8 compiling the
 // engine's JavaScript, the engine's first allocations) are not timed, as the benchmark's warm-up compiles
 // Marbellous' kernels before it times them.
@@ -55,6 +60,10 @@ function warmUp() {
             body(0, [0, 0, 0], true), body(1, [0, 0.5, 0], true),
             body(2, [0, 0.5, 0]), body(2, [0.2, 1.6, 0]), body(3, [-0.1, 2.8, 0.1]), body(3, [2, 0.6, 0]),
             body(4, [3, 1, 0]), body(5, [4.5, 1, 0]), body(3, [10, 1, 0]), body(2, [10, 3, 0.5]),
+        ],
+        joints: [
+            { kind: "ball", body_a: 9, body_b: -1, anchor: [10, 3.5, 0.5] },
+            { kind: "ball", body_a: 8, body_b: 9, anchor: [10, 2, 0.25] },
         ],
     });
     for (let k = 0; k < 60; k++) {
@@ -98,6 +107,7 @@ const handlers = {
     },
     step: (r) => steps(r.n, r.budget ?? null),
     positions: () => ({ positions: engine.positions() }),
+    orientations: () => ({ orientations: engine.orientations() }),
     penetration: () => ({ depth: engine.penetration() }),
     close: () => process.exit(0),
 };

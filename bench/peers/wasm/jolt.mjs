@@ -6,7 +6,9 @@
 // the scene when it has more than Jolt's default 10,240; no linear or angular damping (Jolt's default is
 // 0.05); no cap on linear speed (Jolt's default is 500 m/s); the mass given, the inertia Jolt computes for it
 // from the shape.  Jolt combines friction by geometric mean and restitution by maximum, as Marbellous does,
-// so each body keeps its own coefficients.
+// so each body keeps its own coefficients.  A ball joint is Jolt's point constraint, its two points on the
+// anchor; the two bodies do not collide with each other, as in Marbellous: each set of bodies that joints join
+// is a collision group in which a joined pair does not collide (the same in jolt_native/driver.cpp).
 import { pathToFileURL } from "node:url";
 
 // object layers, each in the broad-phase layer of the same number
@@ -52,7 +54,10 @@ class JoltWorld {
         this.system.SetGravity(new J.Vec3(...spec.gravity));
         this.dt = spec.dt;
         const shapes = spec.shapes.map((s) => this.shape(s));
+        const joints = spec.joints ?? [];
+        const groups = this.collisionGroups(joints, spec.bodies.length);
         const bodies = this.system.GetBodyInterface();
+        const created = [];
         this.dynamic = [];
         const [position, rotation, velocity] = [new J.RVec3(), new J.Quat(), new J.Vec3()];
         for (const b of spec.bodies) {
@@ -64,6 +69,9 @@ class JoltWorld {
                 b.static ? STATIC : MOVING);
             settings.mFriction = b.friction;
             settings.mRestitution = b.restitution;
+            if (groups[created.length] !== undefined) {
+                settings.mCollisionGroup = groups[created.length];
+            }
             if (!b.static) {
                 velocity.Set(...b.velocity);
                 settings.mLinearVelocity = velocity;
@@ -85,15 +93,74 @@ class JoltWorld {
                 throw new Error(`no room for body ${this.dynamic.length}: Jolt's body limit`);
             }
             bodies.AddBody(body.GetID(), b.static ? J.EActivation_DontActivate : J.EActivation_Activate);
+            created.push(body);
             if (!b.static) {
                 this.dynamic.push(body);
             }
         }
+        for (const group of groups) {
+            if (group !== undefined) {
+                J.destroy(group);   // copied into the bodies, which hold their tables
+            }
+        }
+        // each ball joint a point constraint: a point of each body (or of the world) kept on the other's, both
+        // where the anchor is now
+        const point = new J.PointConstraintSettings();
+        point.mSpace = J.EConstraintSpace_WorldSpace;
+        for (const j of joints) {
+            if (j.kind !== "ball") {
+                throw new Error(`no Jolt joint for ${j.kind}`);
+            }
+            position.Set(...j.anchor);
+            point.mPoint1 = position;
+            point.mPoint2 = position;
+            const other = j.body_b < 0 ? this.jolt.sGetFixedToWorldBody() : created[j.body_b];
+            this.system.AddConstraint(point.Create(created[j.body_a], other));
+        }
+        J.destroy(point);
         for (const o of [position, rotation, velocity]) {
             J.destroy(o);
         }
         this.system.OptimizeBroadPhase();
         return this.version;
+    }
+
+    // The collision group of each body (an array, undefined for a body no joint joins to another): each set of
+    // bodies that joints join (a component of the graph of joints between bodies) is a group with a table of its
+    // own, each of its bodies a sub-group, and the table keeps the two bodies of each joint from colliding.
+    collisionGroups(joints, count) {
+        const J = this.J;
+        const root = Array.from({ length: count }, (_, k) => k);
+        const find = (k) => {
+            while (root[k] !== k) {
+                k = root[k] = root[root[k]];
+            }
+            return k;
+        };
+        const between = joints.filter((j) => j.body_b >= 0);
+        for (const j of between) {
+            root[find(j.body_a)] = find(j.body_b);
+        }
+        const sub = new Map();          // body -> its sub-group
+        const members = new Map();      // group (its root body) -> how many bodies it has so far
+        for (const j of between) {
+            for (const k of [j.body_a, j.body_b]) {
+                if (!sub.has(k)) {
+                    const r = find(k);
+                    sub.set(k, members.get(r) ?? 0);
+                    members.set(r, sub.get(k) + 1);
+                }
+            }
+        }
+        const tables = new Map([...members].map(([r, n]) => [r, new J.GroupFilterTable(n)]));
+        for (const j of between) {
+            tables.get(find(j.body_a)).DisableCollision(sub.get(j.body_a), sub.get(j.body_b));
+        }
+        const groups = new Array(count);
+        for (const [k, s] of sub) {
+            groups[k] = new J.CollisionGroup(tables.get(find(k)), find(k), s);
+        }
+        return groups;
     }
 
     shape(s) {
@@ -157,6 +224,16 @@ class JoltWorld {
         for (const body of this.dynamic) {
             const p = body.GetPosition();
             out.push(p.GetX(), p.GetY(), p.GetZ());
+        }
+        return out;
+    }
+
+    // the dynamic bodies' orientations (unit quaternions), w, x, y, z each, in build order
+    orientations() {
+        const out = [];
+        for (const body of this.dynamic) {
+            const q = body.GetRotation();
+            out.push(q.GetW(), q.GetX(), q.GetY(), q.GetZ());
         }
         return out;
     }

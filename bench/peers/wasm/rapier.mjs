@@ -6,11 +6,26 @@
 // density is 1 kg/m^3).
 // Marbellous combines friction by geometric mean and restitution by maximum: each collider gets the square
 // root of its friction coefficient with Rapier's "multiply" rule, whose product is that mean, and its
-// restitution with the "max" rule.
+// restitution with the "max" rule.  A ball joint is Rapier's spherical impulse joint, its anchor in each body's
+// frame (a joint to the world holds its body to a fixed body at the origin, without a collider), with the
+// contacts between its two bodies off, as Marbellous has them.
 export async function load(require) {
     const R = require("@dimforge/rapier3d-compat");
     await R.init();
     return new RapierWorld(R);
+}
+
+// The world point p (m) in the frame of a rigid body: its offset from the body's origin turned by the
+// inverse of the body's rotation, v + w t + u x t with t = 2 u x v, where (w, u) is that inverse.
+function localPoint(body, [px, py, pz]) {
+    const t = body.translation();
+    const q = body.rotation();
+    const [w, ux, uy, uz] = [q.w, -q.x, -q.y, -q.z];
+    const [vx, vy, vz] = [px - t.x, py - t.y, pz - t.z];
+    const [tx, ty, tz] = [2 * (uy * vz - uz * vy), 2 * (uz * vx - ux * vz), 2 * (ux * vy - uy * vx)];
+    return {
+        x: vx + w * tx + uy * tz - uz * ty, y: vy + w * ty + uz * tx - ux * tz, z: vz + w * tz + ux * ty - uy * tx,
+    };
 }
 
 class RapierWorld {
@@ -28,6 +43,7 @@ class RapierWorld {
         this.world.timestep = spec.dt;
         this.dynamic = [];
         this.colliders = [];
+        const created = [];
         for (const b of spec.bodies) {
             const [w, x, y, z] = b.orientation;
             const [px, py, pz] = b.position;
@@ -49,6 +65,20 @@ class RapierWorld {
             } else {
                 this.world.createCollider(collider, body);
             }
+            created.push(body);
+        }
+        let ground = null;
+        for (const j of spec.joints ?? []) {
+            if (j.kind !== "ball") {
+                throw new Error(`no Rapier joint for ${j.kind}`);
+            }
+            if (j.body_b < 0 && ground === null) {
+                ground = this.world.createRigidBody(R.RigidBodyDesc.fixed());
+            }
+            const a = created[j.body_a];
+            const b = j.body_b < 0 ? ground : created[j.body_b];
+            const data = R.JointData.spherical(localPoint(a, j.anchor), localPoint(b, j.anchor));
+            this.world.createImpulseJoint(data, a, b, true).setContactsEnabled(false);
         }
         return R.version();
     }
@@ -92,6 +122,16 @@ class RapierWorld {
         for (const body of this.dynamic) {
             const p = body.translation();
             out.push(p.x, p.y, p.z);
+        }
+        return out;
+    }
+
+    // the dynamic bodies' orientations (unit quaternions), w, x, y, z each, in build order
+    orientations() {
+        const out = [];
+        for (const body of this.dynamic) {
+            const q = body.rotation();
+            out.push(q.w, q.x, q.y, q.z);
         }
         return out;
     }
