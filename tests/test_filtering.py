@@ -132,3 +132,34 @@ def test_the_example_marble_rolls_through_the_debris():
     assert lowest == pytest.approx(0.1, abs=1e-3)
     assert ground == pytest.approx(0.3, abs=1e-3)
     assert x > 2.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(min_value=2, max_value=12), st.data())
+def test_jointed_pairs_are_dropped_as_a_slow_scan_of_every_joint_finds_them(nb, data):
+    """The broad phase drops a pair exactly when a live, unbroken ball, hinge, slider or fixed joint joins its
+    two bodies (springs, rods, cables, dead and broken joints and joints to the world do not count), as a
+    scan of every joint for every pair decides; the kept pairs keep their order."""
+    from marbellous.dynamics.joint_rows import drop_joined_pairs
+    from marbellous.state import layout as L
+
+    joint = st.tuples(st.integers(0, nb - 1), st.integers(-1, nb - 1), st.integers(L.KT_SPRING, L.KT_FIXED),
+                      st.sampled_from([L.KF_ALIVE, L.KF_ALIVE | L.KF_BROKEN, 0]))
+    joints = data.draw(st.lists(joint, max_size=3 * nb))
+    pairs = data.draw(st.lists(st.tuples(st.integers(0, nb - 1), st.integers(0, nb - 1)), max_size=nb * nb))
+    ki = np.zeros((len(joints) + 1, L.KI_COLS), dtype=np.int64)
+    bi = np.zeros((nb, L.BI_COLS), dtype=np.int64)
+    for c, (a, b, kind, flags) in enumerate(joints):
+        ki[c] = (kind, a, b, flags)
+        if kind >= L.KT_BALL:
+            bi[a, L.FLAGS] |= L.F_JOINTED
+            if b >= 0:
+                bi[b, L.FLAGS] |= L.F_JOINTED
+
+    def joined(i, j):
+        return any(kind >= L.KT_BALL and flags == L.KF_ALIVE and {a, b} == {i, j} for a, b, kind, flags in joints)
+
+    table = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    start, other = np.full(nb + 1, -7, dtype=np.int64), np.full(2 * ki.shape[0], -7, dtype=np.int64)
+    kept = drop_joined_pairs(table, len(pairs), bi, ki, len(joints), nb, start, other)
+    assert table[:kept].tolist() == [list(p) for p in pairs if not joined(*p)]

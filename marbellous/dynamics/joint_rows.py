@@ -612,26 +612,51 @@ def record_rigid_joint_forces(bf, bi, kf, ki, nk, dt):
 
 
 @njit
-def _joined(ki, nk, i, j):
-    """True if a live ball, hinge, slider or fixed joint joins body rows ``i`` and ``j``."""
+def _joint_adjacency(ki, nk, nb, start, other):
+    """The bodies each body row is joined to by a live ball, hinge, slider or fixed joint (not the world), as
+    ``other[start[i]:start[i + 1]]`` for body ``i``: counts, prefix sums, then a fill that advances each body's
+    start to its end, shifted back one place.  ``start``: >= nb + 1 ints; ``other``: >= 2 nk."""
+    for i in range(nb + 1):
+        start[i] = 0
     for c in range(nk):
-        if is_rigid_joint(ki, c):
+        if is_rigid_joint(ki, c) and ki[c, K_BODY_B] >= 0:
+            start[ki[c, K_BODY_A] + 1] += 1
+            start[ki[c, K_BODY_B] + 1] += 1
+    for i in range(nb):
+        start[i + 1] += start[i]
+    for c in range(nk):
+        if is_rigid_joint(ki, c) and ki[c, K_BODY_B] >= 0:
             a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
-            if (a == i and b == j) or (a == j and b == i):
-                return True
-    return False
+            other[start[a]] = b
+            start[a] += 1
+            other[start[b]] = a
+            start[b] += 1
+    for i in range(nb, 0, -1):
+        start[i] = start[i - 1]
+    start[0] = 0
 
 
 @njit
-def drop_joined_pairs(pairs, n_pairs, bi, ki, nk):
+def drop_joined_pairs(pairs, n_pairs, bi, ki, nk, nb, start, other):
     """Remove the pairs of bodies that a joint joins from ``pairs[:n_pairs]`` (only bodies flagged
-    ``F_JOINTED`` are looked up); returns the number kept."""
+    ``F_JOINTED`` are looked up, in the joints' adjacency, :func:`_joint_adjacency`, built here in ``start``
+    and ``other``); returns the number kept."""
+    _joint_adjacency(ki, nk, nb, start, other)
     kept = 0
     for p in range(n_pairs):
         i, j = pairs[p, 0], pairs[p, 1]
-        if (bi[i, FLAGS] & F_JOINTED) != 0 and (bi[j, FLAGS] & F_JOINTED) != 0 and _joined(ki, nk, i, j):
+        if (bi[i, FLAGS] & F_JOINTED) != 0 and (bi[j, FLAGS] & F_JOINTED) != 0 and _joined(start, other, i, j):
             continue
         pairs[kept, 0] = i
         pairs[kept, 1] = j
         kept += 1
     return kept
+
+
+@njit
+def _joined(start, other, i, j):
+    """True if body rows ``i`` and ``j`` are joined (``start``, ``other``: :func:`_joint_adjacency`)."""
+    for k in range(start[i], start[i + 1]):
+        if other[k] == j:
+            return True
+    return False

@@ -129,6 +129,9 @@ FIELDS = TABLE_FIELDS + (
     ("support_queue", _I1),   # the search's queue of body slots
     ("support_start", _I1),   # where each body's neighbours start in support_adjacent (slots + 1)
     ("support_adjacent", _I1),  # the bodies each body touches, body by body (two per contact)
+    # the joints' adjacency (dynamics/joint_rows.drop_joined_pairs): the bodies each body is jointed to
+    ("joint_start", _I1),     # where each body's jointed bodies start in joint_other (slots + 1)
+    ("joint_other", _I1),     # the bodies each body is jointed to, body by body (two per joint)
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -205,6 +208,8 @@ def pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
     t.support_queue = np.zeros(n_slots, dtype=np.int64)
     t.support_start = np.zeros(n_slots + 1, dtype=np.int64)
     t.support_adjacent = np.zeros(2 * contacts, dtype=np.int64)
+    t.joint_start = np.zeros(n_slots + 1, dtype=np.int64)
+    t.joint_other = np.zeros(2 * kf.shape[0], dtype=np.int64)
     return t
 
 

@@ -156,7 +156,8 @@ def _broad_phase(ctx, tier):
             n_pairs = find_pairs(ctx.params_i[PI_BROADPHASE], ctx.aabbs, filters[0], filters[1], filters[2],
                                  nb, ctx.bp_f, ctx.bp_i, ctx.pairs)
             if jointed and n_pairs <= ctx.pairs.shape[0]:
-                n_pairs = drop_joined_pairs(ctx.pairs, n_pairs, bi, ctx.ki, ctx.nk)
+                n_pairs = drop_joined_pairs(ctx.pairs, n_pairs, bi, ctx.ki, ctx.nk, nb, ctx.joint_start,
+                                            ctx.joint_other)
         else:
             n_pairs = find_pairs(GRID, ctx.aabbs, filters[0], filters[1], filters[2], nb, ctx.bp_f, ctx.bp_i,
                                  ctx.pairs)
