@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from .._numba.jit import njit
+from ..collision.adjacency import begin_fill, clear_counts, count_link, end_fill, fill_link, joined
 from .particle_contacts import append_pair, hold_or_slip, record_contact, separate
 from .particle_layout import (E_A, E_B, KK_PARTICLE, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_RADIUS,
                               P_RESTITUTION, P_SET, P_STATIC_FRICTION, P_VEL0, PP_COLLIDE, PP_SOFT)
@@ -41,32 +42,16 @@ def add_key(keys, n_keys, key):
 
 
 @njit
-def joined(adjacent_start, adjacent, a, b):
-    """Whether an edge joins particle rows ``a`` and ``b``."""
-    for k in range(adjacent_start[a], adjacent_start[a + 1]):
-        if adjacent[k] == b:
-            return True
-    return False
-
-
-@njit
 def edge_adjacency(ei, ne, n_particles, adjacent_start, adjacent):
     """Each particle's neighbours along the edges (broken ones too): ``adjacent[adjacent_start[p]:
-    adjacent_start[p + 1]]``.  Scratch sizes: ``n_particles + 1`` and ``2 ne``."""
-    for p in range(n_particles + 1):
-        adjacent_start[p] = 0
+    adjacent_start[p + 1]]`` (``collision/adjacency.py``).  Scratch sizes: ``n_particles + 1`` and ``2 ne``."""
+    clear_counts(adjacent_start, n_particles)
     for e in range(ne):
-        adjacent_start[ei[e, E_A] + 1] += 1
-        adjacent_start[ei[e, E_B] + 1] += 1
-    for p in range(n_particles):
-        adjacent_start[p + 1] += adjacent_start[p]
-    fill = adjacent_start[:n_particles].copy()
+        count_link(adjacent_start, ei[e, E_A], ei[e, E_B])
+    begin_fill(adjacent_start, n_particles)
     for e in range(ne):
-        a, b = ei[e, E_A], ei[e, E_B]
-        adjacent[fill[a]] = b
-        fill[a] += 1
-        adjacent[fill[b]] = a
-        fill[b] += 1
+        fill_link(adjacent_start, adjacent, ei[e, E_A], ei[e, E_B])
+    end_fill(adjacent_start, n_particles)
 
 
 @njit

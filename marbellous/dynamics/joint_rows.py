@@ -40,6 +40,7 @@ rows are each solved as one block (``lambda = -mass_scale K^-1 (J v + bias) - im
 import math
 
 from .._numba.jit import njit
+from ..collision.adjacency import begin_fill, clear_counts, count_link, end_fill, fill_link, joined
 from ..math3d import cross, quat_conj, quat_product, rotated, row3, row4
 from ..state.layout import (FLAGS, F_JOINTED, JOINT_ROWS, KF_ALIVE, KF_BROKEN, KF_LIMITS, KF_MOTOR, KT_BALL,
                             KT_HINGE, KT_SLIDER, K_ANCHOR_A, K_ANCHOR_B, K_AXIS_A, K_AXIS_B, K_BODY_A, K_BODY_B,
@@ -614,26 +615,17 @@ def record_rigid_joint_forces(bf, bi, kf, ki, nk, dt):
 @njit
 def _joint_adjacency(ki, nk, nb, start, other):
     """The bodies each body row is joined to by a live ball, hinge, slider or fixed joint (not the world), as
-    ``other[start[i]:start[i + 1]]`` for body ``i``: counts, prefix sums, then a fill that advances each body's
-    start to its end, shifted back one place.  ``start``: >= nb + 1 ints; ``other``: >= 2 nk."""
-    for i in range(nb + 1):
-        start[i] = 0
+    ``other[start[i]:start[i + 1]]`` for body ``i`` (``collision/adjacency.py``).  ``start``: >= nb + 1 ints;
+    ``other``: >= 2 nk."""
+    clear_counts(start, nb)
     for c in range(nk):
         if is_rigid_joint(ki, c) and ki[c, K_BODY_B] >= 0:
-            start[ki[c, K_BODY_A] + 1] += 1
-            start[ki[c, K_BODY_B] + 1] += 1
-    for i in range(nb):
-        start[i + 1] += start[i]
+            count_link(start, ki[c, K_BODY_A], ki[c, K_BODY_B])
+    begin_fill(start, nb)
     for c in range(nk):
         if is_rigid_joint(ki, c) and ki[c, K_BODY_B] >= 0:
-            a, b = ki[c, K_BODY_A], ki[c, K_BODY_B]
-            other[start[a]] = b
-            start[a] += 1
-            other[start[b]] = a
-            start[b] += 1
-    for i in range(nb, 0, -1):
-        start[i] = start[i - 1]
-    start[0] = 0
+            fill_link(start, other, ki[c, K_BODY_A], ki[c, K_BODY_B])
+    end_fill(start, nb)
 
 
 @njit
@@ -645,18 +637,9 @@ def drop_joined_pairs(pairs, n_pairs, bi, ki, nk, nb, start, other):
     kept = 0
     for p in range(n_pairs):
         i, j = pairs[p, 0], pairs[p, 1]
-        if (bi[i, FLAGS] & F_JOINTED) != 0 and (bi[j, FLAGS] & F_JOINTED) != 0 and _joined(start, other, i, j):
+        if (bi[i, FLAGS] & F_JOINTED) != 0 and (bi[j, FLAGS] & F_JOINTED) != 0 and joined(start, other, i, j):
             continue
         pairs[kept, 0] = i
         pairs[kept, 1] = j
         kept += 1
     return kept
-
-
-@njit
-def _joined(start, other, i, j):
-    """True if body rows ``i`` and ``j`` are joined (``start``, ``other``: :func:`_joint_adjacency`)."""
-    for k in range(start[i], start[i + 1]):
-        if other[k] == j:
-            return True
-    return False
