@@ -37,11 +37,11 @@ import math
 import numpy as np
 
 from .._numba.jit import njit, njit_inline
+from ..collision.adjacency import joined
 from .layer_contacts import record_push
 from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
                               P_RADIUS, P_REST, P_STATIC_FRICTION, PP_COLLIDE, T_A, T_CLOTH)
-from ..collision.adjacency import joined
 from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, overlapping, sweep_point, typical_extent
 
 #: how fast (m/s) a point and a triangle that overlap at the start of a sub-step are pushed apart

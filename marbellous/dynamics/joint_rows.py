@@ -319,10 +319,9 @@ def scale_joint_impulses(kf, ki, nk, scale):
 
 
 @njit
-def _jacobian_side(rows, r, n, col_l, col_k):
-    """``(l, k)`` of row ``r`` in columns ``col_l``, ``col_k`` (zeros when ``r`` is past the block's ``n`` rows,
-    ``n`` < 0)."""
-    if n < 0:
+def _jacobian_side(rows, r, present, col_l, col_k):
+    """``(l, k)`` of row ``r`` in columns ``col_l``, ``col_k`` (zeros unless ``present``)."""
+    if not present:
         return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     return ((rows[r, col_l], rows[r, col_l + 1], rows[r, col_l + 2]),
             (rows[r, col_k], rows[r, col_k + 1], rows[r, col_k + 2]))
@@ -340,9 +339,9 @@ def _body_block(body, rows, r0, n, col_l, col_k):
     """One body's part ``(K_00, K_11, K_22, K_01, K_02, K_12)`` of the block's ``K``, ``l_r . l_s / m + k_r .
     I_w^-1 k_s`` (``body``: its :func:`_body`; its Jacobian in columns ``col_l``, ``col_k``; 0 past ``n``)."""
     im, ii = body
-    l0, k0 = _jacobian_side(rows, r0, 2, col_l, col_k)
-    l1, k1 = _jacobian_side(rows, r0 + 1, 2, col_l, col_k)
-    l2, k2 = _jacobian_side(rows, r0 + 2, n - 3, col_l, col_k)
+    l0, k0 = _jacobian_side(rows, r0, True, col_l, col_k)
+    l1, k1 = _jacobian_side(rows, r0 + 1, True, col_l, col_k)
+    l2, k2 = _jacobian_side(rows, r0 + 2, n == 3, col_l, col_k)
     ik0, ik1, ik2 = _tensor_times(ii, k0), _tensor_times(ii, k1), _tensor_times(ii, k2)
     return (im * _dot(l0, l0) + _dot(k0, ik0), im * _dot(l1, l1) + _dot(k1, ik1), im * _dot(l2, l2) + _dot(k2, ik2),
             im * _dot(l0, l1) + _dot(k0, ik1), im * _dot(l0, l2) + _dot(k0, ik2), im * _dot(l1, l2) + _dot(k1, ik2))
