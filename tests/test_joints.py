@@ -1,9 +1,10 @@
 """Ball, hinge, slider and fixed joints (docs/lecture/constraints.md; API.md "Joints") against closed forms.
 
-Tolerances from the maths.  A joint's velocity rows are soft constraints at half the sub-step rate
-(``joint_rows.RIGID_JOINT_RATE``: 120 Hz at 60 Hz with 4 sub-steps, ``omega = pi / h``).  At rest under a
-steady load a row carries the impulse ``lambda = F h`` per sub-step, and the soft step's fixed point leaves
-it at ``C = -impulse_scale lambda K / (mass_scale bias_rate) = -F K / omega^2`` (``K``: the row's inverse
+Tolerances from the maths.  A joint's velocity rows are at most as soft as constraints at half the sub-step
+rate (``joint_rows.RIGID_JOINT_RATE``: 120 Hz at 60 Hz with 4 sub-steps, ``omega = pi / h``; the joints of a
+tree are solved rigid and exactly, ``joint_tree.py``, the joints of a loop that soft).  At rest under a steady
+load a soft row carries the impulse ``lambda = F h`` per sub-step, and the soft step's fixed point leaves it
+at ``C = -impulse_scale lambda K / (mass_scale bias_rate) = -F K / omega^2`` (``K``: the row's inverse
 effective mass): ``a / omega^2`` for the acceleration ``a = F K`` the load would give along the row.  The
 position pass (``push_rigid_joints``) then only takes error out, so that is a bound on what is left.  A
 physical pendulum of small amplitude ``theta0`` swings with the period ``T0 (1 + theta0^2 / 16)``; a motor of

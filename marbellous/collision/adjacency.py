@@ -3,9 +3,11 @@
 pairs that must not collide (particles joined by an edge, bodies joined by a joint).
 
 A list is built in place in four moves, with no scratch beyond ``start`` (n + 1 ints) and ``adjacent`` (two per
-link): :func:`clear_counts`, :func:`count_link` for every link, :func:`begin_fill` (the counts become each
-item's first slot), :func:`fill_link` for every link in the same order (each item's slot advances to its end),
-:func:`end_fill` (the ends shifted back one item are the starts again).
+link): :func:`clear_counts`, :func:`count_link` for every link, :func:`begin_fill` (the counts become each item's
+first slot), :func:`fill_link` for every link in the same order (each item's slot advances to its end),
+:func:`end_fill` (the ends shifted back one item are the starts again).  A list of other entries per item (the
+joint trees list each body's joints, ``dynamics/joint_tree.py``) counts and fills them one end at a time
+(:func:`count_end`, :func:`fill_end`).
 """
 from .._numba.jit import njit
 
@@ -18,10 +20,16 @@ def clear_counts(start, n):
 
 
 @njit
+def count_end(start, a):
+    """Count one entry in item ``a``'s row."""
+    start[a + 1] += 1
+
+
+@njit
 def count_link(start, a, b):
     """Count the link between items ``a`` and ``b`` in both items' rows."""
-    start[a + 1] += 1
-    start[b + 1] += 1
+    count_end(start, a)
+    count_end(start, b)
 
 
 @njit
@@ -32,12 +40,17 @@ def begin_fill(start, n):
 
 
 @njit
+def fill_end(start, adjacent, a, value):
+    """Write ``value`` into item ``a``'s list, advancing its slot (counted by :func:`count_end`)."""
+    adjacent[start[a]] = value
+    start[a] += 1
+
+
+@njit
 def fill_link(start, adjacent, a, b):
     """Write the link between ``a`` and ``b`` into both items' lists, advancing each item's slot."""
-    adjacent[start[a]] = b
-    start[a] += 1
-    adjacent[start[b]] = a
-    start[b] += 1
+    fill_end(start, adjacent, a, b)
+    fill_end(start, adjacent, b, a)
 
 
 @njit

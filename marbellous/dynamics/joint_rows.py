@@ -30,8 +30,10 @@ value from passing the limit in the sub-step (bias ``C / h``, rigid), so a joint
 limit stops there and does not bounce from a spring.  A motor's row has the rate's J and drives ``J v`` to
 the motor speed with ``|lambda| <= max torque (force) h``.
 
-Equality rows are soft constraints (``soft.py``, at ``RIGID_JOINT_RATE`` of the step's sub-step rate,
-damped by ``joint_damping_ratio``): bias ``bias_rate C``, no faster than ``max_push`` (m/s, or rad/s for the
+The equality rows of the joints that form trees are solved a whole tree at once, exactly and without
+position bias (``joint_tree.py``); the pushes take the error out of the poses.  The joints of a loop solve
+theirs here: soft constraints (``soft.py``, at ``RIGID_JOINT_RATE`` of the step's sub-step rate, damped by
+``joint_damping_ratio``), bias ``bias_rate C``, no faster than ``max_push`` (m/s, or rad/s for the
 orientation and hinge-axis rows); what their softness leaves of the error, the pushes take out of the poses
 (:func:`push_rigid_joints`).  The three point rows, the two across rows and the orientation or hinge-axis
 rows are each solved as one block (``lambda = -mass_scale K^-1 (J v + bias) - impulse_scale lambda_0`` with
@@ -228,7 +230,7 @@ def coupling(sb, a, b, rows, r, s):
 
 
 @njit
-def _rate(u, cv, cw, a, b, rows, r):
+def row_rate(u, cv, cw, a, b, rows, r):
     """``J_r v`` on the velocities in columns ``cv`` (linear) and ``cw`` (angular) of table ``u`` (the solver
     bodies' velocities, or the pseudo-velocities of the pushes)."""
     v = 0.0
@@ -241,7 +243,7 @@ def _rate(u, cv, cw, a, b, rows, r):
 
 @njit
 def _kick(sb, u, cv, cw, i, rows, r, col_l, col_k, lam):
-    """Body ``i``'s velocities in ``u`` (as :func:`_rate`) after the impulse ``lam`` along row ``r`` (its
+    """Body ``i``'s velocities in ``u`` (as :func:`row_rate`) after the impulse ``lam`` along row ``r`` (its
     columns ``col_l``, ``col_k``), with the inverse mass and inertia of the solver bodies ``sb``."""
     if i < 0 or sb[i, SB_ISO] == 0.0:
         return
@@ -413,7 +415,7 @@ def _block_solution(rows, r0, n, rhs):
 
 @njit
 def _block_kick(sb, u, cv, cw, i, rows, r0, n, col_l, col_k, x):
-    """Body ``i``'s velocities in ``u`` (as :func:`_rate`) after the impulses ``x`` along the block's rows: one
+    """Body ``i``'s velocities in ``u`` (as :func:`row_rate`) after the impulses ``x`` along the block's rows: one
     linear and one angular impulse, ``sum_j x_j l_j`` and ``sum_j x_j k_j``, each applied once; returns them."""
     lx = ly = lz = kx = ky = kz = 0.0
     for j in range(n):
@@ -450,7 +452,7 @@ def _block_rhs(u, cv, cw, a, b, rows, r0, n, i, bias):
     """``-(J v + bias)`` of the block's row ``i`` on the velocities in ``u`` (0 past ``n``)."""
     if i >= n:
         return 0.0
-    return -(_rate(u, cv, cw, a, b, rows, r0 + i) + bias)
+    return -(row_rate(u, cv, cw, a, b, rows, r0 + i) + bias)
 
 
 @njit
@@ -498,7 +500,7 @@ def _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push):
     old = kf[c, slot]
     if rows[r, R_KIND] == MOTOR:
         most = kf[c, K_MOTOR_MAX] * h
-        new = min(max(old - (_rate(sb, SB_V, SB_W, a, b, rows, r) - kf[c, K_MOTOR_SPEED]) / k, -most), most)
+        new = min(max(old - (row_rate(sb, SB_V, SB_W, a, b, rows, r) - kf[c, K_MOTOR_SPEED]) / k, -most), most)
     else:
         gap = rows[r, R_C]
         if gap > 0.0:                       # not at the limit yet: may close the gap exactly
@@ -508,7 +510,7 @@ def _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push):
             mass_scale, impulse_scale = soft[1], soft[2]
         else:
             bias, mass_scale, impulse_scale = 0.0, 1.0, 0.0
-        new = max(old - mass_scale * (_rate(sb, SB_V, SB_W, a, b, rows, r) + bias) / k - impulse_scale * old, 0.0)
+        new = max(old - mass_scale * (row_rate(sb, SB_V, SB_W, a, b, rows, r) + bias) / k - impulse_scale * old, 0.0)
     kf[c, slot] = new
     if new != old:
         apply_row(sb, kf, c, a, b, rows, r, new - old)
@@ -516,11 +518,12 @@ def _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push):
 
 
 @njit
-def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache):
+def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache, in_tree):
     """One pass over the ball, hinge, slider and fixed joints on the solver bodies ``sb`` (``use_bias``:
     solve, else relax), with their rows in ``cache`` (:func:`fill_joint_rows`): motor, limits, then the
-    orientation or hinge-axis block and the point or across block (the most important last).  Returns the
-    largest velocity change (m/s or rad/s)."""
+    orientation or hinge-axis block and the point or across block (the most important last), but not the
+    equality blocks of the joints ``in_tree`` (``in_tree[c] != 0``: solved with their tree,
+    ``joint_tree.py``).  Returns the largest velocity change (m/s or rad/s)."""
     largest = 0.0
     for c in range(nk):
         if not is_rigid_joint(ki, c):
@@ -530,6 +533,8 @@ def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache):
         for r in (DRIVE, LOWER, UPPER):
             if rows[r, R_KIND] != OFF:
                 largest = max(largest, _solve_bounded(sb, kf, c, a, b, rows, r, h, use_bias, soft, max_push))
+        if in_tree[c] != 0:
+            continue
         angular = 3 if rows[ANGULAR + 2, R_KIND] != OFF else 2
         if rows[ANGULAR, R_KIND] != OFF:
             largest = max(largest, _solve_block(sb, kf, c, a, b, rows, ANGULAR, angular, use_bias, soft, max_push))
@@ -539,20 +544,21 @@ def solve_rigid_joints(kf, ki, nk, sb, h, use_bias, soft, max_push, cache):
 
 
 @njit
-def _closing(rows, r, h, max_push):
+def closing_speed(rows, r, h, max_push):
     """``C / h`` of row ``r``, no faster than ``max_push`` (m/s, or rad/s)."""
     return min(max(rows[r, R_C] / h, -max_push), max_push)
 
 
 @njit
-def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache):
+def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache, in_tree):
     """One pass of the joints' position correction on the pseudo-velocities ``pb`` of the contacts' split
     impulses (``contact_solver.push_contacts``), at the poses just integrated: each block of equality rows
     gets the pseudo-velocity that closes its error ``C`` in the sub-step of ``h`` s (``J v_p = -C / h``, no
     faster than ``max_push``), and a limit past its bound one that brings it back (``J v_p >= -C / h``).
     ``apply_push`` then moves the bodies (no faster than ``max_push``) and the velocities never see it, so
     a joint holds its anchors together however soft its velocity rows are, without adding energy.  The rows
-    come from ``cache`` (:func:`fill_joint_rows`).  Returns the largest pseudo-velocity change (m/s or rad/s)."""
+    come from ``cache`` (:func:`fill_joint_rows`); the equality blocks of the joints ``in_tree`` are pushed with
+    their tree (``joint_tree.py``).  Returns the largest pseudo-velocity change (m/s or rad/s)."""
     largest = 0.0
     for c in range(nk):
         if not is_rigid_joint(ki, c):
@@ -563,17 +569,19 @@ def push_rigid_joints(kf, ki, nk, sb, pb, h, max_push, cache):
             if rows[r, R_KIND] == LIMIT and rows[r, R_C] < 0.0:
                 k = rows[r, R_K]
                 if k > 0.0:
-                    d = max(-(_rate(pb, PB_V, PB_W, a, b, rows, r) + max(rows[r, R_C] / h, -max_push)) / k, 0.0)
+                    d = max(-(row_rate(pb, PB_V, PB_W, a, b, rows, r) + max(rows[r, R_C] / h, -max_push)) / k, 0.0)
                     _kick_both(sb, pb, PB_V, PB_W, a, b, rows, r, d)
                     largest = max(largest, d * k)
+        if in_tree[c] != 0:
+            continue
         for r0 in (ANGULAR, LINEAR):
             if rows[r0, R_KIND] == OFF:
                 continue
             n = 3 if rows[r0 + 2, R_KIND] != OFF else 2
-            rhs = (_block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 0, _closing(rows, r0, h, max_push)),
-                   _block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 1, _closing(rows, r0 + 1, h, max_push)),
+            rhs = (_block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 0, closing_speed(rows, r0, h, max_push)),
+                   _block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 1, closing_speed(rows, r0 + 1, h, max_push)),
                    _block_rhs(pb, PB_V, PB_W, a, b, rows, r0, n, 2,
-                              _closing(rows, r0 + 2, h, max_push) if n == 3 else 0.0))
+                              closing_speed(rows, r0 + 2, h, max_push) if n == 3 else 0.0))
             x = _block_solution(rows, r0, n, rhs)
             _block_kick(sb, pb, PB_V, PB_W, a, rows, r0, n, R_LA, R_KA, x)
             _block_kick(sb, pb, PB_V, PB_W, b, rows, r0, n, R_LB, R_KB, x)

@@ -19,6 +19,7 @@ from .._numba.wide import LANES
 from ..dynamics.contact_bundles import MAX_COLOURS, MIN_BUNDLED_CONTACTS, bundle_capacity
 from ..dynamics.integrators import SCRATCH_VECS
 from ..dynamics.joint_rows import ROW_COLS
+from ..dynamics.joint_tree import TREE_BODY_COLS, TREE_FLOAT_COLS, TREE_INT_COLS, TREE_ROWS, TREE_SCRATCH_COLS
 from ..state.layout import BUNDLE_FIELDS, BUNDLE_ROWS, IMPACT_COLS, JOINT_ROWS, PB_COLS, SB_COLS, TIME_COLS
 from .collide import pose_tables
 
@@ -132,6 +133,20 @@ FIELDS = TABLE_FIELDS + (
     # the joints' adjacency (dynamics/joint_rows.drop_joined_pairs): the bodies each body is jointed to
     ("joint_start", _I1),     # where each body's jointed bodies start in joint_other (slots + 1)
     ("joint_other", _I1),     # the bodies each body is jointed to, body by body (two per joint)
+    # the joint trees (dynamics/joint_tree.py): built in stage prepare, factored where the rows are filled for
+    # the relax and push passes
+    ("n_tree", types.int64),  # joints in the trees
+    ("tree_factored", types.boolean),  # whether this step has factored them yet
+    ("trees_alone", types.boolean),    # whether they are the only constraints, with no limit or motor rows
+    ("tree_order", _I1),      # the tree joints, children first
+    ("tree_i", _I2),          # each joint's tree columns (slots x TREE_INT_COLS)
+    ("tree_f", _F2),          # each tree joint's factor (slots x TREE_FLOAT_COLS)
+    ("tree_x", _F2),          # each tree joint's right-hand side, then impulses (slots x 2 TREE_ROWS)
+    ("tree_body", _F2),       # each body's effective inverse mass and the solve's sums (slots x TREE_BODY_COLS)
+    ("tree_start", _I1),      # where each body's tree joints start in tree_joints (slots + 1)
+    ("tree_joints", _I1),     # the tree joints at each body, body by body (two per joint)
+    ("tree_scratch", _I2),    # the build's union-find and queue (slots x TREE_SCRATCH_COLS)
+    ("tree_work", types.float64[:, :, ::1]),  # the factor's 6 x 6 scratch (4 x 6 x 6)
 )
 STEP_CONTEXT = StepContextType(list(FIELDS))
 _new_record = new_record_function()
@@ -210,6 +225,18 @@ def pack_kernel(bf, bi, sf, si, kf, ki, ws, geom_f, geom_i, aabbs, bp_f, bp_i, p
     t.support_adjacent = np.zeros(2 * contacts, dtype=np.int64)
     t.joint_start = np.zeros(n_slots + 1, dtype=np.int64)
     t.joint_other = np.zeros(2 * kf.shape[0], dtype=np.int64)
+    t.n_tree = 0
+    t.tree_factored = False
+    t.trees_alone = False
+    t.tree_order = np.zeros(kf.shape[0], dtype=np.int64)
+    t.tree_i = np.zeros((kf.shape[0], TREE_INT_COLS), dtype=np.int64)
+    t.tree_f = np.zeros((kf.shape[0], TREE_FLOAT_COLS))
+    t.tree_x = np.zeros((kf.shape[0], 2 * TREE_ROWS))
+    t.tree_body = np.zeros((n_slots, TREE_BODY_COLS))
+    t.tree_start = np.zeros(n_slots + 1, dtype=np.int64)
+    t.tree_joints = np.zeros(2 * kf.shape[0], dtype=np.int64)
+    t.tree_scratch = np.zeros((n_slots, TREE_SCRATCH_COLS), dtype=np.int64)
+    t.tree_work = np.zeros((4, 6, 6))
     return t
 
 

@@ -43,6 +43,8 @@ from ..dynamics.ccd import shape_reach
 from ..dynamics.forces import is_driven, is_moving
 from ..dynamics.integrators import SEMI_IMPLICIT_EULER, integrate_positions, integrate_velocities
 from ..dynamics.joints import classify_springs, record_joint_forces, solve_joints, warm_start_joints
+from ..dynamics.joint_tree import (T_MEMBER, build_joint_trees, factor_joint_trees, push_joint_trees,
+                                   solve_joint_trees)
 from ..dynamics.joint_rows import (RIGID_JOINT_RATE, clear_joint_sums, drop_joined_pairs, fill_joint_rows,
                                    push_rigid_joints,
                                    record_rigid_joint_forces, scale_joint_impulses, solve_rigid_joints,
@@ -533,10 +535,15 @@ def _prepare(ctx, tier, may_bundle, may_turn, shock):
     # velocities in a 40 us interval were metres per second, and the relax pass left part of them)
     soft_coefficients(RIGID_JOINT_RATE * ctx.params_i[PI_SUBSTEPS] / params_f[PF_STEP_DT], params_f[PF_JOINT_ZETA],
                       ctx.h, soft[2])
+    ctx.n_tree = 0
+    ctx.tree_factored = False
+    ctx.trees_alone = False
     if tier == FULL:
         if nk > 0:
             clear_spring_forces(ctx.kf, ctx.ki, nk)
             classify_springs(bf, ctx.kf, ctx.ki, nk, sb, ctx.h, ctx.implicit, ctx.vecs)
+            ctx.n_tree, ctx.trees_alone = build_joint_trees(ctx.ki, nk, sb, ctx.nb, ctx.tree_order, ctx.tree_i,
+                                                            ctx.tree_start, ctx.tree_joints, ctx.tree_scratch)
     lap(ctx, ST_PREPARE)
 
 
@@ -593,9 +600,15 @@ def stage_integrate_velocities_lean(ctx):
 
 @njit_inline
 def _warm_start_joints(ctx):
+    """The joints' impulses of the last sub-step again, at rows filled at the sub-step's poses; the joint trees'
+    factors where the step has none yet.  Later sub-steps solve with the factors of the rows filled after the
+    last position update (:func:`_fill_joints_at_new_poses`), which only the pushes have moved since: an
+    inverse that close leaves little for the next pass."""
     if ctx.nk > 0:
         warm_start_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.implicit, ctx.vecs)
         warm_start_rigid_joints(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
+        if not ctx.tree_factored:
+            _factor_trees(ctx)
 
 
 @njit_inline
@@ -679,8 +692,13 @@ def _joint_pass(ctx, tier, use_bias):
         return 0.0
     bf, kf, ki, nk, sb, h = ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.h
     max_push = ctx.params_f[PF_MAX_PUSH]
-    return max(solve_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[1], max_push, ctx.implicit, ctx.vecs),
-               solve_rigid_joints(kf, ki, nk, sb, h, use_bias, ctx.soft[2], max_push, ctx.joint_cache))
+    change = max(solve_joints(bf, kf, ki, nk, sb, h, use_bias, ctx.soft[1], max_push, ctx.implicit, ctx.vecs),
+                 solve_rigid_joints(kf, ki, nk, sb, h, use_bias, ctx.soft[2], max_push, ctx.joint_cache,
+                                    ctx.tree_i[:, T_MEMBER]))
+    if use_bias and ctx.n_tree > 0:      # (rigid rows, whose sub-step's pushes close what is left)
+        change = max(change, solve_joint_trees(kf, ki, sb, ctx.tree_order, ctx.n_tree, ctx.tree_i, ctx.tree_f,
+                                               ctx.joint_cache, ctx.tree_body, ctx.tree_x))
+    return change
 
 
 @njit_inline
@@ -708,8 +726,13 @@ def _push_pass(ctx, tier, contacts, first_pass, joints):
     change = _contact_pass(ctx, tier, True, first_pass, False) if contacts else 0.0
     if tier == FULL:
         if joints and ctx.nk > 0:
-            change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.push_bodies,
-                                                   ctx.h, ctx.params_f[PF_MAX_PUSH], ctx.joint_cache))
+            sb, pb, h, max_push = ctx.solver_bodies, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH]
+            change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, sb, pb, h, max_push, ctx.joint_cache,
+                                                   ctx.tree_i[:, T_MEMBER]))
+            if ctx.n_tree > 0:
+                change = max(change, push_joint_trees(ctx.ki, sb, pb, h, max_push, ctx.tree_order, ctx.n_tree,
+                                                      ctx.tree_i, ctx.tree_f, ctx.joint_cache, ctx.tree_body,
+                                                      ctx.tree_x))
     return change
 
 
@@ -744,6 +767,8 @@ def _push_out(ctx, tier, contacts):
     change = _push_pass(ctx, tier, contacts, True, True)
     if change == 0.0:
         return
+    if ctx.trees_alone and not contacts:      # (the trees' pass was exact)
+        change = 0.0
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
     while change >= stop_change(passes, ctx.params_i[PI_ITERATIONS], tolerance) and passes < ctx.iteration_cap:
@@ -760,7 +785,9 @@ def _push_out(ctx, tier, contacts):
 @njit_inline
 def _solve(ctx, tier, contacts):
     """Stage "solve" (sequential impulses): passes over the joints and (when ``contacts``) the contacts,
-    until no velocity changes by more than the tolerance or ``iterations`` passes are done."""
+    until no velocity changes by more than the tolerance or ``iterations`` passes are done; one pass when
+    the joint trees are all there is to solve (it solves them, to within how far the pushes have moved the
+    poses since the trees were factored)."""
     tolerance = ctx.params_f[PF_TOLERANCE]
     base = ctx.params_i[PI_ITERATIONS]
     for k in range(ctx.iteration_cap):
@@ -768,7 +795,7 @@ def _solve(ctx, tier, contacts):
         change = _joint_pass(ctx, tier, True)
         if contacts:
             change = max(change, _contact_pass(ctx, tier, False, False, True))
-        if change < stop_change(k, base, tolerance):
+        if change < stop_change(k, base, tolerance) or (ctx.trees_alone and ctx.nc == 0):
             break
     if contacts:
         _supported_pass(ctx, False, True)
@@ -852,6 +879,23 @@ def stage_integrate_positions_lean(ctx):
 
 
 @njit_inline
+def _fill_joints_at_new_poses(ctx):
+    """The joints' rows at the poses just integrated (``joint_rows.fill_joint_rows``) and their trees'
+    factors (``joint_tree.factor_joint_trees``), for the relax and push passes."""
+    fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
+    _factor_trees(ctx)
+
+
+@njit_inline
+def _factor_trees(ctx):
+    """The joint trees' factors (``joint_tree.factor_joint_trees``) from the rows just filled."""
+    if ctx.n_tree > 0:
+        factor_joint_trees(ctx.solver_bodies, ctx.tree_order, ctx.n_tree, ctx.tree_i, ctx.tree_f, ctx.joint_cache,
+                           ctx.tree_body, ctx.tree_work)
+    ctx.tree_factored = True
+
+
+@njit_inline
 def _relax(ctx, tier, contacts):
     """Stage "relax" (sequential impulses): one pass over the joints without position bias, so that their
     correction leaves no velocity behind, and (when ``contacts``) one rigid pass over the contacts, which
@@ -859,8 +903,7 @@ def _relax(ctx, tier, contacts):
     which move the poses and leave the velocities alone."""
     if tier == FULL:
         if ctx.nk > 0:
-            # (the poses just integrated)
-            fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)
+            _fill_joints_at_new_poses(ctx)
             _joint_pass(ctx, tier, False)
     if contacts and ctx.nc > 0:
         if tier == FULL:
@@ -893,7 +936,7 @@ def stage_relax_lcp(ctx):
     out by the split impulses of the sequential-impulse solver."""
     if ctx.nk > 0:
         _lcp_pass(ctx, False)
-        fill_joint_rows(ctx.bf, ctx.kf, ctx.ki, ctx.nk, ctx.solver_bodies, ctx.joint_cache)     # (for the push passes)
+        _fill_joints_at_new_poses(ctx)     # (for the push passes)
     _push_out(ctx, FULL, True)
     lap(ctx, ST_RELAX)
 
