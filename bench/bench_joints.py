@@ -4,7 +4,9 @@ The scene (``bench/chains.py``, also ``python -m bench --scenes chains``): ``cha
 boxes (0.2 kg, 8 cm long, 2 cm apart at their ends, so that neighbours never touch), each hanging from the
 world by a ball joint and joined to the next at the middle of the gap, let go at 0.5 rad from the vertical so
 that they swing; 60 Hz, gravity 9.81.
-- Marbellous: ``add_ball_joint`` (sequential impulses, its defaults: 4 sub-steps, 4 iterations);
+- Marbellous: ``add_ball_joint`` (sequential impulses, its defaults: 4 sub-steps, 4 iterations), and again at
+  one sub-step and 2 iterations (``marbellous-1-substep``: each chain is a tree of joints, solved exactly
+  whatever the budget);
 - PyBullet: single-link multibodies (its default) joined by ``JOINT_POINT2POINT`` constraints (10 solver
   iterations, its default; the joined pairs' collisions switched off as Marbellous does);
 - MuJoCo: each chain one kinematic tree of ball joints (PGS, 10 iterations, its ``implicitfast``
@@ -36,9 +38,11 @@ from bench.peers.timing import bench_arguments, best_results, time_mujoco  # noq
 DT = 1.0 / 60.0
 
 
-def run_marbellous(chains, links, steps):
-    """Marbellous' ms per step and widest gap (m, its joints' own ``separation``, every step)."""
+def run_marbellous(chains, links, steps, substeps=None, iterations=None):
+    """Marbellous' ms per step and widest gap (m, its joints' own ``separation``, every step), at its defaults
+    or the given sub-steps and iterations."""
     w, joints = chain_world(chains, links)
+    w.substeps, w.iterations = substeps, iterations
     w.step(DT)
     worst, seconds = 0.0, 0.0
     for _ in range(steps):
@@ -110,7 +114,13 @@ def run_mujoco(chains, links, steps):
     return time_mujoco(model, mujoco.MjData(model), steps, "the chains"), 0.0
 
 
-RUNS = {"marbellous": run_marbellous, "pybullet": run_pybullet, "mujoco": run_mujoco}
+def run_marbellous_one_substep(chains, links, steps):
+    """:func:`run_marbellous` at one sub-step and 2 iterations."""
+    return run_marbellous(chains, links, steps, substeps=1, iterations=2)
+
+
+RUNS = {"marbellous": run_marbellous, "marbellous-1-substep": run_marbellous_one_substep, "pybullet": run_pybullet,
+        "mujoco": run_mujoco}
 
 
 def main():
@@ -120,12 +130,12 @@ def main():
                for name, r in best_results(RUNS, args.repeats, chains, links, steps).items()}
     base = results["marbellous"]["ms_per_step"]
     print(f"{chains} chains x {links} ball-jointed links, {steps} steps at 60 Hz")
-    print(f"{'engine':12s} {'ms/step':>9s} {'x marbellous':>13s} {'widest gap (m)':>15s}")
+    print(f"{'engine':20s} {'ms/step':>9s} {'x marbellous':>13s} {'widest gap (m)':>15s}")
     for name, r in results.items():
         if "failed" in r:
-            print(f"{name:12s} {r['failed']}")
+            print(f"{name:20s} {r['failed']}")
         else:
-            print(f"{name:12s} {r['ms_per_step']:9.3f} {r['ms_per_step'] / base:13.2f} {r['widest_gap_m']:15.2e}")
+            print(f"{name:20s} {r['ms_per_step']:9.3f} {r['ms_per_step'] / base:13.2f} {r['widest_gap_m']:15.2e}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"chains": chains, "links": links, "steps": steps, "results": results}, f, indent=1)
