@@ -18,16 +18,21 @@ STAGES = (
     ("match_and_wake", "warm start from last step's contacts by (bodies, shapes, feature); awake bodies "
                        "touching sleeping islands wake them"),
     ("prepare", "contact basis, effective masses and materials; the execution variant chosen once: one "
-                "scalar pass, coloured bundles solved eight at a time, or regions on several threads"),
+                "scalar pass, coloured bundles solved eight at a time, or regions on several threads; the "
+                "joints' trees found (the joints without a loop, children first)"),
     ("integrate_velocities", "forces (gravity, user forces, springs; penalty springs in that scheme) to "
                              "velocities by the chosen integrator"),
-    ("warm_start", "last sub-step's impulses of joints and contacts applied again"),
+    ("warm_start", "last sub-step's impulses of joints and contacts applied again; the joints' rows filled at "
+                   "the sub-step's poses (the trees factored in the first sub-step; later ones reuse the "
+                   "factors of the last relax)"),
     ("solve", "sequential impulses with soft position correction (overlap opened at no more than "
               "max_push_speed), iterated until no velocity changes more than the tolerance (the LCP scheme: "
               "all rows as one assembled LCP)"),
     ("integrate_positions", "velocities to poses; quaternions renormalised"),
-    ("relax", "sequential impulses without position bias, removing the correction's velocity; overlap too "
-              "deep for that pushed out by split impulses that move the poses, never the velocities"),
+    ("relax", "sequential impulses without position bias, removing the correction's velocity; the joints' "
+              "rows filled and their trees factored at the new poses; overlap too deep for that and the "
+              "joints' error pushed out by split impulses that move the poses, never the velocities (a "
+              "tree's exactly in each pass)"),
     ("sum_impulses", "the sub-step's impulses added to the step's totals"),
     ("restitution", "closing contacts bounce at -e times their approach speed"),
     ("store_impulses", "contacts at the friction cone slide in the next step; joints' forces recorded"),
