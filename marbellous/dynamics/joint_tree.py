@@ -133,7 +133,14 @@ def build_joint_trees(ki, nk, sb, nb, order, tree_i, start, joints, scratch):
     joint's child and parent body in ``tree_i``, and the joints children first in ``order``.  Returns their
     count, and whether they are all the live constraints and have no limit or motor rows (then one exact
     pass over the trees solves every constraint row).  Scratch: ``start`` (nb + 1 ints), ``joints`` (2 nk
-    ints), ``scratch`` (nb x TREE_SCRATCH_COLS)."""
+    ints), ``scratch`` (nb x TREE_SCRATCH_COLS).  A world whose constraints are all springs, rods and cables
+    costs one scan of the constraints."""
+    rigid = False
+    for c in range(nk):
+        tree_i[c, T_MEMBER] = 0
+        rigid = rigid or is_rigid_joint(ki, c)
+    if not rigid:
+        return 0, False
     for i in range(nb):
         scratch[i, S_LINK] = i
         scratch[i, S_HELD] = 0
