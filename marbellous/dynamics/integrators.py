@@ -18,6 +18,11 @@ the forces act, for every method: ``v := v exp(-c h)``, ``omega := omega exp(-c 
 any rate, a free body's speed decays exactly as ``exp(-c t)``, and under a constant force the split's
 terminal speed is ``F h / (m (1 - exp(-c h)))``, within ``c h / 2`` of the exact ``F / (m c)``.
 
+Speed limit.  A dynamic body's speeds are held to SPEED_LIMIT (1e9 m/s and rad/s, the most the API accepts)
+after the forces and after the solve (:func:`limit_speeds`; and where each interval of a step begins, before
+its boxes are swept: ``pipeline/collide.update_aabbs``); a speed that is not finite becomes 0 there, so
+that a diverging solve never carries NaN into a pose.
+
 Explicit Euler multiplies the energy of an undamped oscillator of angular frequency omega (a mass on a
 spring) by exactly ``1 + (omega h)^2`` per step: that is its nature, kept and tested.
 
@@ -36,6 +41,7 @@ import math
 import numpy as np
 
 from .._numba.jit import njit, njit_inline
+from .._validate import MAX_SPEED
 from ..math3d import quat_normalize, quat_step, row3, row4, tensor_vec
 from ..state.layout import (ANGULAR_DAMPING, F_ISOTROPIC, F_RESTART, FLAGS, INV_I, INV_MASS, LINEAR_DAMPING,
                             OMEGA, POS, PREV_POS, QUAT, V_FREE, VEL, W_FREE, X_PRED)
@@ -64,8 +70,41 @@ def angular_acceleration(bf, i, q, w, torque):
                                                         torque[2] - (w[0] * lw[1] - w[1] * lw[0])))
 
 
+#: Largest linear (m/s) and angular (rad/s) speed a body keeps: the bound the API accepts for a speed.
+SPEED_LIMIT = MAX_SPEED
+
+
+@njit_inline
+def limit_speeds(bf, i):
+    """Hold body ``i``'s velocity and angular velocity to SPEED_LIMIT in magnitude, ``v := v min(1, v_max /
+    |v|)``; a speed that is not finite (a diverged solve) becomes 0.
+
+    No step of a sane scene comes near the limit (1e9 m/s).  A scene driven to diverge (stiff springs under
+    explicit Euler, a solver fed a broken Jacobian) would otherwise carry speeds of 1e15 and up, then NaN,
+    into the poses, and its sweeps, impact intervals and rotation pieces would grow with them until one step
+    took minutes."""
+    for col in (VEL, OMEGA):
+        x, y, z = bf[i, col], bf[i, col + 1], bf[i, col + 2]
+        if not (abs(x) < math.inf and abs(y) < math.inf and abs(z) < math.inf):     # (NaN compares False)
+            for k in range(3):
+                bf[i, col + k] = 0.0
+            continue
+        # |v| = m |v / m| with m the largest component: no square overflows, however large v is
+        m = max(abs(x), abs(y), abs(z))
+        if m <= SPEED_LIMIT / 2.0:        # (|v| <= sqrt(3) m: within the limit)
+            continue
+        speed = m * math.sqrt((x / m) ** 2 + (y / m) ** 2 + (z / m) ** 2)
+        if speed > SPEED_LIMIT:
+            scale = SPEED_LIMIT / speed
+            for k in range(3):
+                bf[i, col + k] *= scale
+
+
 @njit
 def _store_free_velocity(bf, i):
+    """The velocities the forces gave body ``i`` (held to the speed limit: :func:`limit_speeds`) kept as its
+    free velocities ``V_FREE``, ``W_FREE``, the solver's reference."""
+    limit_speeds(bf, i)
     for k in range(3):
         bf[i, V_FREE + k] = bf[i, VEL + k]
         bf[i, W_FREE + k] = bf[i, OMEGA + k]
@@ -429,7 +468,9 @@ def integrate_positions(method, bf, bi, nb, h):
 
     The solver's velocity change ``dv = v - v_free`` is added to the integrator's own prediction for
     explicit Euler and RK4; semi-implicit Euler and Verlet move with the final velocity directly.
-    Kinematic bodies move by their own velocities, ``x += v h``, ``q := exp(omega h / 2) q``.
+    Kinematic bodies move by their own velocities, ``x += v h``, ``q := exp(omega h / 2) q``.  Every dynamic
+    body's speeds after the solve are held to the speed limit first (:func:`limit_speeds`), as the forces'
+    were before it.
     """
     for i in range(nb):
         if not is_moving(bi, i):
@@ -438,6 +479,7 @@ def integrate_positions(method, bf, bi, nb, h):
                     bf[i, POS + k] += bf[i, VEL + k] * h
                 _setrow4(bf, i, QUAT, quat_step(row4(bf, i, QUAT), row3(bf, i, OMEGA), h))
             continue
+        limit_speeds(bf, i)
         if method == EXPLICIT_EULER or method == RK4:
             for k in range(3):
                 bf[i, POS + k] = bf[i, X_PRED + k] + (bf[i, VEL + k] - bf[i, V_FREE + k]) * h

@@ -32,6 +32,7 @@ from ..collision.pairs.contact_output import contact_point
 from ..collision.pairs.dispatch import collide_pair_covering, flip_normals, sphere_primitive
 from ..collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..dynamics.forces import is_driven, is_dynamic, is_moving, user_acceleration, user_angular_acceleration
+from ..dynamics.integrators import limit_speeds
 from ..math3d import quat_mul, quat_rotate, quat_to_matrix
 from ..state.layout import (C_BODY_A, C_BODY_B, C_FEATURE, C_FLAGS, C_SHAPE_A, C_SHAPE_B, CP_SENSOR, F_ALIVE,
                             F_CCD_NEVER, F_SENSOR, F_STATIC, FLAGS, OMEGA, POS, QUAT, S_LOCAL_POS, S_LOCAL_QUAT,
@@ -114,12 +115,16 @@ def _row_matrix(rot_t, s):
 @njit_inline
 def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative, pos_t, rot_t, q):
     """Fattened AABB and sweep distance (m) of every moving body, kinematic ones included (no sweep for
-    ``ccd=False`` bodies, F_CCD_NEVER); static bodies keep theirs.
+    ``ccd=False`` bodies, F_CCD_NEVER); static bodies keep theirs.  A dynamic body's speeds are first held to
+    the speed limit (``integrators.limit_speeds``: the interval's sweeps and impacts are then finite).
     ``pos_t, rot_t, q`` are the scratch of :func:`pose_tables` (each shape posed into its rows)."""
     for i in range(nb):
         if (bi[i, FLAGS] & F_ALIVE) == 0 or (bi[i, FLAGS] & F_STATIC) != 0:
             sweep[i] = 0.0
             continue
+        falls = is_moving(bi, i)
+        if falls:
+            limit_speeds(bf, i)
         reach = 0.0
         s0 = bi[i, SHAPE_START]
         for s in range(s0, s0 + bi[i, SHAPE_COUNT]):
@@ -140,7 +145,6 @@ def update_aabbs(bf, bi, sf, si, nb, aabbs, sweep, dt, gravity_mag, speculative,
                     aabbs[i, k] = lo[k]
                 if s == s0 or hi[k] > aabbs[i, 3 + k]:
                     aabbs[i, 3 + k] = hi[k]
-        falls = is_moving(bi, i)
         if (falls or is_driven(bf, bi, i)) and (bi[i, FLAGS] & F_CCD_NEVER) == 0:
             v = math.sqrt(bf[i, VEL] ** 2 + bf[i, VEL + 1] ** 2 + bf[i, VEL + 2] ** 2)
             w = math.sqrt(bf[i, OMEGA] ** 2 + bf[i, OMEGA + 1] ** 2 + bf[i, OMEGA + 2] ** 2)
