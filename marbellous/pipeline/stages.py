@@ -31,8 +31,8 @@ STAGES = (
     ("integrate_positions", "velocities to poses; quaternions renormalised"),
     ("relax", "sequential impulses without position bias, removing the correction's velocity; the joints' "
               "rows filled and their trees factored at the new poses; overlap too deep for that and the "
-              "joints' error pushed out by split impulses that move the poses, never the velocities (a "
-              "tree's exactly in each pass)"),
+              "joints' error pushed out by split impulses that move the poses, never the velocities (the "
+              "trees' exactly, in the first pass and again after the last)"),
     ("sum_impulses", "the sub-step's impulses added to the step's totals"),
     ("restitution", "closing contacts bounce at -e times their approach speed"),
     ("store_impulses", "contacts at the friction cone slide in the next step; joints' forces recorded"),

@@ -720,20 +720,26 @@ JOINT_PUSH_PASSES = 4
 
 
 @njit_inline
-def _push_pass(ctx, tier, contacts, first_pass, joints):
-    """One push pass over the contacts (when ``contacts``) and (when ``joints``) the joints; returns the
-    largest change."""
+def _push_pass(ctx, tier, contacts, first_pass, joints, trees):
+    """One push pass over the contacts (when ``contacts``), (when ``joints``) the joints' own rows, and (when
+    ``trees``) the joint trees; returns the largest change."""
     change = _contact_pass(ctx, tier, True, first_pass, False) if contacts else 0.0
     if tier == FULL:
         if joints and ctx.nk > 0:
             sb, pb, h, max_push = ctx.solver_bodies, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH]
             change = max(change, push_rigid_joints(ctx.kf, ctx.ki, ctx.nk, sb, pb, h, max_push, ctx.joint_cache,
                                                    ctx.tree_i[:, T_MEMBER]))
-            if ctx.n_tree > 0:
-                change = max(change, push_joint_trees(ctx.ki, sb, pb, h, max_push, ctx.tree_order, ctx.n_tree,
-                                                      ctx.tree_i, ctx.tree_f, ctx.joint_cache, ctx.tree_body,
-                                                      ctx.tree_x))
+        if trees and ctx.n_tree > 0:
+            change = max(change, _push_trees(ctx))
     return change
+
+
+@njit_inline
+def _push_trees(ctx):
+    """The joint trees' push (``joint_tree.push_joint_trees``, exact in one pass); returns the largest change."""
+    return push_joint_trees(ctx.ki, ctx.solver_bodies, ctx.push_bodies, ctx.h, ctx.params_f[PF_MAX_PUSH],
+                            ctx.tree_order, ctx.n_tree, ctx.tree_i, ctx.tree_f, ctx.joint_cache, ctx.tree_body,
+                            ctx.tree_x)
 
 
 @njit_inline
@@ -752,19 +758,22 @@ def _pushes_nothing(ctx, tier):
 def _push_out(ctx, tier, contacts):
     """The position correction by split impulses (``contact_solver``) of the contacts (when ``contacts``)
     and the joints (``joint_rows.push_rigid_joints``): push passes on the pseudo-velocities, from zero,
-    until none changes by more than the tolerance or ``iterations`` passes are done; then the contacts'
-    heavy-on-light pushes, the static world's contacts last (no push into it), and every body moved by
-    its pseudo-velocity (capped at ``max_push_speed``), which is then forgotten.  Needs the solver bodies
-    of the poses just integrated.  A first pass that pushes nothing (no overlap deeper than the velocity
-    passes take, no joint apart, the usual case) leaves every pseudo-velocity zero, and so would the
-    rest: then it is the only one, and with bundled contacts alone it is not even run (:func:`_pushes_nothing`)."""
+    until none changes by more than the tolerance or ``iterations`` passes are done.  The joint trees, whose
+    push is exact in one pass (``joint_tree.push_joint_trees``), take part in the first pass only and are
+    pushed once more after the last (sixteen ragdolls: the relax stage 27 % cheaper than with the trees in
+    every joint pass, the joints' widest gap the same).  Then the contacts' heavy-on-light pushes, the
+    static world's contacts last (no push into it), and every body moved by its pseudo-velocity (capped at
+    ``max_push_speed``), which is then forgotten.  Needs the solver bodies of the poses just integrated.  A
+    first pass that pushes nothing (no overlap deeper than the velocity passes take, no joint apart, the usual
+    case) leaves every pseudo-velocity zero, and so would the rest: then it is the only one, and with bundled
+    contacts alone it is not even run (:func:`_pushes_nothing`)."""
     contacts = contacts and ctx.nc > 0
     if not contacts and ctx.nk == 0:
         return
     if contacts and _pushes_nothing(ctx, tier):
         return
     clear_push(ctx.push_bodies, ctx.nb)
-    change = _push_pass(ctx, tier, contacts, True, True)
+    change = _push_pass(ctx, tier, contacts, True, True, True)
     if change == 0.0:
         return
     if ctx.trees_alone and not contacts:      # (the trees' pass was exact)
@@ -772,8 +781,10 @@ def _push_out(ctx, tier, contacts):
     tolerance = ctx.params_f[PF_TOLERANCE]
     passes = 1
     while change >= stop_change(passes, ctx.params_i[PI_ITERATIONS], tolerance) and passes < ctx.iteration_cap:
-        change = _push_pass(ctx, tier, contacts, False, passes < JOINT_PUSH_PASSES)
+        change = _push_pass(ctx, tier, contacts, False, passes < JOINT_PUSH_PASSES, False)
         passes += 1
+    if passes > 1 and tier == FULL and ctx.n_tree > 0:      # (the trees exact again after the others' pushes)
+        _push_trees(ctx)
     if contacts:
         _supported_pass(ctx, True, False)
         if ctx.n_static > 0:
