@@ -27,7 +27,8 @@ from .._numba.jit import njit
 from .layer_contacts import record_push
 from .particle_layout import (CL_SELF, CL_THICKNESS, E_A, E_B, E_FLAGS, EB_BROKEN, P_CLOTH, P_INV_MASS, P_POS,
                               P_PREV, P_RADIUS, P_REST)
-from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, overlapping, sweep_point, typical_extent
+from .swept_boxes import (bin_boxes, box_table, closing_reach, empty_boxes, grow_box, overlapping, sweep_point,
+                          typical_extent)
 from .triangle_contacts import PUSH_SPEED
 
 #: ``|e_1 x e_2| / (|e_1| |e_2|)`` under which two edges count as parallel
@@ -91,13 +92,12 @@ def _segment_distance(pf, a, b, c, d):
 
 
 @njit
-def edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, slack, cell_start, out):
+def edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, slack, out):
     """List the candidate ``(edge, edge, side)`` rows into ``out`` (module docstring); returns how many there
     are (rows past ``out``'s end are not written).  Two edges are looked at when their swept boxes overlap
     (swept_boxes.py; ``mean`` the velocity they sweep relative to, m/s, each grown by half its cloth's
     thickness and half of ``slack``, m), and kept when they are no farther apart than the thickest cloth's
-    thickness, ``slack`` and what their ends can close in the step (``swept_boxes.closing_reach``).  Scratch:
-    ``cell_start`` (table + 1 ints)."""
+    thickness, ``slack`` and what their ends can close in the step (``swept_boxes.closing_reach``)."""
     if cloth_f.shape[0] == 0 or (cloth_f.shape[0] == 1 and cloth_f[0, CL_SELF] == 0.0):
         return 0
     thickest = 0.0
@@ -111,6 +111,7 @@ def edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, slack, cell_start, out):
             sweep_point(pf, ei[e, E_B], mean, dt, lo, hi, e)
             grow_box(lo, hi, e, 0.5 * cloth_f[own, CL_THICKNESS] + 0.5 * slack)
     cell = typical_extent(lo, hi, ne)
+    cell_start = box_table(ne)
     grid = bin_boxes(lo, hi, ne, cell, cell_start)
     found = np.empty(ne, np.int64)
     n = 0

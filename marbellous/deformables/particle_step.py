@@ -200,9 +200,9 @@ def _kernels(meeting, coverage):
         margin = 2.0 * (fastest * dt + reach)
         n_pair = particle_candidates(pf, pi, n_particles, margin, cell_start, cell_entries, adjacent_start, adjacent,
                                      particle_pairs)
-        n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, reach, cell_start,
-                                         adjacent_start, adjacent, triangle_pairs)
-        n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, reach, cell_start, edge_pairs)
+        n_triangle = triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, reach, adjacent_start,
+                                         adjacent, triangle_pairs)
+        n_edge = edge_candidates(pf, pi, ei, ne, cloth_f, mean, dt, reach, edge_pairs)
         return n_shape, n_pair, n_triangle, n_edge, n_corner
 
     @njit

@@ -103,6 +103,16 @@ def shape_key(i, j, k, shape, table):
 
 
 @njit
+def box_table(count):
+    """Zeroed slot starts of a hash table for ``count`` boxes (:func:`bin_boxes`): at least four slots a box, so
+    that a query's cells seldom share a slot with other cells' boxes (a power of two)."""
+    table = 16
+    while table < 4 * count:
+        table *= 2
+    return np.zeros(table + 1, np.int64)
+
+
+@njit
 def _shape(lo, hi, b, cell):
     """The shape of cell that box ``b`` is binned in, ``l_x + LEVELS (l_y + LEVELS l_z)``, each ``l`` the finest
     level whose width ``cell 2^l`` holds the box's extent along that axis; -1 if some extent needs more than
@@ -131,11 +141,11 @@ def _sizes(shape, cell):
 @njit
 def bin_boxes(lo, hi, count, cell, cell_start):
     """Bin the non-empty boxes ``0 .. count - 1`` of ``lo``/``hi`` into the grid of finest cell ``cell`` (m)
-    (module docstring); returns ``(box, home, glo, ghi, shapes, wide)``: the binned boxes' rows, cells
-    ``(i, j, k, shape)`` and corners in the order of their slots (box ``box[s]`` for ``s`` in ``cell_start[key]
-    .. cell_start[key + 1]`` lies in cell ``home[s]``, of slot ``key``; ``cell_start``: table + 1 ints, filled
-    here; a cell's boxes are read one after another), the shapes of cell in use (ascending), and the boxes too
-    wide for any."""
+    (module docstring); returns ``(box, home, glo, ghi, shapes, wide, shape_lo, shape_hi)``: the binned boxes'
+    rows, cells ``(i, j, k, shape)`` and corners in the order of their slots (box ``box[s]`` for ``s`` in
+    ``cell_start[key] .. cell_start[key + 1]`` lies in cell ``home[s]``, of slot ``key``; ``cell_start``: table + 1
+    ints, filled here, :func:`box_table`; a cell's boxes are read one after another), the shapes of cell in use
+    (ascending), the boxes too wide for any, and the box around each shape's boxes (rows as ``shapes``)."""
     table = cell_start.shape[0] - 1
     for k in range(table + 1):
         cell_start[k] = 0
@@ -175,7 +185,17 @@ def bin_boxes(lo, hi, count, cell, cell_start):
         elif lo[b, 0] <= hi[b, 0]:
             wide[n_wide] = b
             n_wide += 1
-    return box, home, glo, ghi, np.flatnonzero(used), wide
+    shapes = np.flatnonzero(used)
+    index_of = np.empty(LEVELS ** 3, np.int64)       # (read at the shapes in use only)
+    for u in range(shapes.shape[0]):
+        index_of[shapes[u]] = u
+    shape_lo, shape_hi = empty_boxes(shapes.shape[0])
+    for s in range(m):
+        u = index_of[home[s, 3]]
+        for k in range(3):
+            shape_lo[u, k] = min(shape_lo[u, k], glo[s, k])
+            shape_hi[u, k] = max(shape_hi[u, k], ghi[s, k])
+    return box, home, glo, ghi, shapes, wide, shape_lo, shape_hi
 
 
 @njit
@@ -183,13 +203,19 @@ def overlapping(lo, hi, count, cell, cell_start, grid, qlo, qhi, q, after, found
     """The boxes ``b > after`` of ``lo``/``hi`` (``grid`` from :func:`bin_boxes` with ``cell`` and
     ``cell_start``) that overlap query box ``q`` of ``qlo``/``qhi``, each once, into ``found`` (``count`` ints);
     returns how many."""
-    box, home, glo, ghi, shapes, wide = grid
+    box, home, glo, ghi, shapes, wide, shape_lo, shape_hi = grid
     table = cell_start.shape[0] - 1
     # (the query's corners read once, and each box's corners tested before its cell: the edge and triangle
     # candidates of a 128 x 128 sheet in free fall, which find none, took 2.3 and 2.9 times as long the other way)
     x0, y0, z0, x1, y1, z1 = qlo[q, 0], qlo[q, 1], qlo[q, 2], qhi[q, 0], qhi[q, 1], qhi[q, 2]
     n = 0
-    for shape in shapes:
+    for u in range(shapes.shape[0]):
+        # (a shape none of whose boxes comes near the query: a sheet landing on a sphere binned its edges in up
+        # to 28 shapes, and the 27 or more cells of each held boxes of other cells in their slots)
+        if not (shape_lo[u, 0] <= x1 and x0 <= shape_hi[u, 0] and shape_lo[u, 1] <= y1 and y0 <= shape_hi[u, 1]
+                and shape_lo[u, 2] <= z1 and z0 <= shape_hi[u, 2]):
+            continue
+        shape = shapes[u]
         sizes = _sizes(shape, cell)
         first = (math.floor(x0 / sizes[0]) - 1, math.floor(y0 / sizes[1]) - 1, math.floor(z0 / sizes[2]) - 1)
         last = (math.floor(x1 / sizes[0]), math.floor(y1 / sizes[1]), math.floor(z1 / sizes[2]))

@@ -42,7 +42,8 @@ from .layer_contacts import record_push
 from .particle_contacts import append_pair, held_inverse_mass
 from .particle_layout import (CL_SELF, CL_THICKNESS, P_CLOTH, P_FLAGS, P_FRICTION, P_INV_MASS, P_POS, P_PREV,
                               P_RADIUS, P_REST, P_STATIC_FRICTION, PP_COLLIDE, T_A, T_CLOTH)
-from .swept_boxes import bin_boxes, closing_reach, empty_boxes, grow_box, overlapping, sweep_point, typical_extent
+from .swept_boxes import (bin_boxes, box_table, closing_reach, empty_boxes, grow_box, overlapping, sweep_point,
+                          typical_extent)
 
 #: how fast (m/s) a point and a triangle that overlap at the start of a sub-step are pushed apart
 PUSH_SPEED = 1.0
@@ -111,14 +112,13 @@ def _near_at_rest(pf, p, a, b, c, reach):
 
 
 @njit
-def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slack, cell_start, adjacent_start,
-                        adjacent, out):
+def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slack, adjacent_start, adjacent,
+                        out):
     """List the candidate ``(point, triangle, side)`` rows into ``out`` (module docstring); returns how many
     there are (rows past ``out``'s end are not written).  A point and a triangle are looked at when their
     swept boxes overlap (swept_boxes.py; ``mean`` the velocity they sweep relative to, m/s, each grown by its
     half of the gap kept and half of ``slack``, m), and kept when the point lies within the triangle's box
-    grown by the gap, ``slack`` and what the two can close in the step (``swept_boxes.closing_reach``).
-    Scratch: ``cell_start`` (table + 1 ints)."""
+    grown by the gap, ``slack`` and what the two can close in the step (``swept_boxes.closing_reach``)."""
     if n_tri == 0:
         return 0
     point_lo, point_hi = empty_boxes(n_particles)
@@ -132,6 +132,7 @@ def triangle_candidates(pf, pi, n_particles, tri, n_tri, cloth_f, mean, dt, slac
             sweep_point(pf, tri[t, T_A + q], mean, dt, tri_lo, tri_hi, t)
         grow_box(tri_lo, tri_hi, t, 0.5 * cloth_f[tri[t, T_CLOTH], CL_THICKNESS] + 0.5 * slack)
     cell = typical_extent(tri_lo, tri_hi, n_tri)
+    cell_start = box_table(n_particles)
     grid = bin_boxes(point_lo, point_hi, n_particles, cell, cell_start)
     found = np.empty(n_particles, np.int64)
     n = 0
