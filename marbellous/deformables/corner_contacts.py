@@ -510,13 +510,16 @@ def _relative_motion(pf, bf, bi, bx, b, x_b, x_c, corners, weights, movable, h):
     triangle's point of barycentric ``weights`` (its ``corners``' rows), counting the motion of the corners whose
     ``movable`` entry is positive (one that the ground holds moves with it)."""
     u = point_velocity(bf, bi, bx, b, x_b, x_c)
-    out = [u[0] * h, u[1] * h, u[2] * h]
+    # (three numbers, not a list: a list is allocated on the heap at every call, and this runs for every corner
+    # contact in every pass)
+    ox, oy, oz = u[0] * h, u[1] * h, u[2] * h
     for q in range(3):
         p = corners[q]
         if movable[q] > 0.0:
-            for k in range(3):
-                out[k] -= weights[q] * (pf[p, P_POS + k] - pf[p, P_PREV + k])
-    return out[0], out[1], out[2]
+            ox -= weights[q] * (pf[p, P_POS] - pf[p, P_PREV])
+            oy -= weights[q] * (pf[p, P_POS + 1] - pf[p, P_PREV + 1])
+            oz -= weights[q] * (pf[p, P_POS + 2] - pf[p, P_PREV + 2])
+    return ox, oy, oz
 
 
 @njit_inline
@@ -548,15 +551,16 @@ def _friction(pf, bf, bi, bx, cf, c, b, x_b, q_b, x_c, corners, weights, inverse
     motion = _relative_motion(pf, bf, bi, bx, b, x_b, x_c, corners, weights,
                               (pf[corners[0], P_INV_MASS], pf[corners[1], P_INV_MASS], pf[corners[2], P_INV_MASS]), h)
     along = motion[0] * n[0] + motion[1] * n[1] + motion[2] * n[2]
-    wanted = [cf[c, C_FRICTION + k] - (motion[k] - along * n[k]) for k in range(3)]
-    size = math.sqrt(wanted[0] ** 2 + wanted[1] ** 2 + wanted[2] ** 2)
+    wx = cf[c, C_FRICTION] - (motion[0] - along * n[0])
+    wy = cf[c, C_FRICTION + 1] - (motion[1] - along * n[1])
+    wz = cf[c, C_FRICTION + 2] - (motion[2] - along * n[2])
+    size = math.sqrt(wx ** 2 + wy ** 2 + wz ** 2)
     a = corners[0]
     mu_s = math.sqrt(pf[a, P_STATIC_FRICTION] * bf[b, STATIC_FRICTION])
     if size > mu_s * cf[c, C_DEPTH]:
         scale = math.sqrt(pf[a, P_FRICTION] * bf[b, FRICTION]) * cf[c, C_DEPTH] / size
-        for k in range(3):
-            wanted[k] *= scale
-    change = (wanted[0] - cf[c, C_FRICTION], wanted[1] - cf[c, C_FRICTION + 1], wanted[2] - cf[c, C_FRICTION + 2])
+        wx, wy, wz = wx * scale, wy * scale, wz * scale
+    change = (wx - cf[c, C_FRICTION], wy - cf[c, C_FRICTION + 1], wz - cf[c, C_FRICTION + 2])
     length = math.sqrt(change[0] ** 2 + change[1] ** 2 + change[2] ** 2)
     if length <= 0.0:
         return
@@ -566,8 +570,7 @@ def _friction(pf, bf, bi, bx, cf, c, b, x_b, q_b, x_c, corners, weights, inverse
         denominator += weights[q] * weights[q] * inverse_masses[q]
     if denominator > 0.0:
         _move(pf, bf, bi, bx, b, x_b, q_b, x_c, corners, weights, inverse_masses, unit, length / denominator, h, 1.0)
-        for k in range(3):
-            cf[c, C_FRICTION + k] = wanted[k]
+        cf[c, C_FRICTION], cf[c, C_FRICTION + 1], cf[c, C_FRICTION + 2] = wx, wy, wz
 
 
 @njit
@@ -608,12 +611,13 @@ def _corner_velocity(pf, bf, bi, bx, cf, ci, c, back):
     b = ci[c, C_BODY]
     x_b, q_b = body_pose(bf, bi, bx, b, back)
     u = point_velocity(bf, bi, bx, b, x_b, _contact_point(cf, c, x_b, q_b))
-    v = [u[0], u[1], u[2]]
+    vx, vy, vz = u[0], u[1], u[2]
     for q in range(3):
         p, weight = ci[c, C_CORNERS + q], cf[c, C_WEIGHTS + q]
-        for k in range(3):
-            v[k] -= weight * pf[p, P_VEL + k]
-    return v[0], v[1], v[2]
+        vx -= weight * pf[p, P_VEL]
+        vy -= weight * pf[p, P_VEL + 1]
+        vz -= weight * pf[p, P_VEL + 2]
+    return vx, vy, vz
 
 
 @njit_inline

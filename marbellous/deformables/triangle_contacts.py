@@ -220,6 +220,15 @@ def triangle_contacts(pf, tri, cloth_f, pairs, n_pairs, h, ground, lf, li, n_rec
     return n_rec
 
 
+@njit_inline
+def _slip_along(pf, p, a, b, c, b0, b1, b2, j):
+    """Point ``p``'s motion (m) along axis ``j`` in the sub-step relative to the triangle ``a b c``'s point of
+    barycentric weights ``b0 b1 b2``."""
+    return (pf[p, P_POS + j] - pf[p, P_PREV + j]) - (b0 * (pf[a, P_POS + j] - pf[a, P_PREV + j])
+                                                     + b1 * (pf[b, P_POS + j] - pf[b, P_PREV + j])
+                                                     + b2 * (pf[c, P_POS + j] - pf[c, P_PREV + j]))
+
+
 @njit
 def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, inverse_masses, denominator):
     """Coulomb friction between point ``p`` and the triangle ``a b c`` (barycentric weights ``b0 b1 b2``) whose
@@ -227,11 +236,8 @@ def _friction(pf, p, a, b, c, b0, b1, b2, n, depth, inverse_masses, denominator)
     motion across ``n`` in this sub-step, ``dx_t``, is undone if it is shorter than ``mu_s depth`` (static),
     else shortened by ``mu_d depth`` (sliding), split by the ``inverse_masses`` (of ``p a b c``) as the overlap
     was.  The coefficients: the geometric means of the point's and the triangle's."""
-    dx = [0.0, 0.0, 0.0]
-    for j in range(3):
-        dx[j] = (pf[p, P_POS + j] - pf[p, P_PREV + j]) - (b0 * (pf[a, P_POS + j] - pf[a, P_PREV + j])
-                                                           + b1 * (pf[b, P_POS + j] - pf[b, P_PREV + j])
-                                                           + b2 * (pf[c, P_POS + j] - pf[c, P_PREV + j]))
+    dx = (_slip_along(pf, p, a, b, c, b0, b1, b2, 0), _slip_along(pf, p, a, b, c, b0, b1, b2, 1),
+          _slip_along(pf, p, a, b, c, b0, b1, b2, 2))
     along = dx[0] * n[0] + dx[1] * n[1] + dx[2] * n[2]
     t = (dx[0] - along * n[0], dx[1] - along * n[1], dx[2] - along * n[2])
     slip = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
