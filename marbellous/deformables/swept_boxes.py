@@ -21,9 +21,10 @@ for that axis' level ``l`` (``cell`` the boxes' median largest extent).  Each bo
 of its low corner among the cells as narrow as it is along each axis (so a box long in one direction, the sweep
 of a fast point, sits in cells long in that direction only), with a counting sort so the candidates come in a
 fixed order.  A box that overlaps a query box then has its low corner at most one cell below the query's along
-each axis, so a query looks at those few cells of each shape of cell in use.  A sheet at rest has every box in
-the finest cells; the fast rim of a sheet landing on a sphere moves its own boxes to longer cells, not
-everyone's.
+each axis, so a query looks at those few cells of each shape of cell in use, and skips a shape whose boxes all
+lie away from it.  The table has at least four slots a box, so the cells a query looks at seldom share a slot
+with other cells' boxes.  A sheet at rest has every box in the finest cells; the fast rim of a sheet landing on
+a sphere moves its own boxes to longer cells, not everyone's.
 """
 import math
 
