@@ -30,7 +30,9 @@ njit = numba.njit(cache=CACHING, nogil=True, fastmath=False)
 
 #: As :data:`njit`, but inlined into each caller at the Numba IR level: for small kernels called once per
 #: sub-step or iteration, where the call itself (every array argument's fields passed and reference
-#: counted) would cost more than the work.
+#: counted) would cost more than the work.  Inlined, its array arguments are still counted where its branches
+#: leave them (at every call in a loop: two atomic operations an array) unless the caller passes borrowed
+#: arrays (:func:`borrow`).
 njit_inline = numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="always")
 
 #: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).  Not cached

@@ -22,7 +22,7 @@ Materials combine as for bodies: friction by geometric mean, restitution by maxi
 """
 import math
 
-from .._numba.jit import njit, njit_inline
+from .._numba.jit import borrow, njit, njit_inline
 from ..collision.pairs.dispatch import collide_sphere_shape
 from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES, N_SHAPE_PARAMS
 from ..math3d import quat_product, quat_to_matrix
@@ -313,6 +313,12 @@ def _shape_contacts(coverage, pf, pi, bf, bi, bx, sf, si, geom_f, geom_i, candid
     its friction counts the normal impulse that step gave it (``P_SUPPORT``) as well as its overlap.  Returns the
     new count.  Scratch: ``scratch_f`` (m, 7) and ``scratch_i`` (m,) rows of pair-test output, ``sphere``
     (N_SHAPE_PARAMS), ``pos_a``, ``pos_s`` (3), ``rot_a``, ``rot_s`` (3, 3), ``q_s`` (4)."""
+    # (borrowed, as corner_contacts.py's: no reference counting in the loops' inlined helpers)
+    pf, pi, bf, bi, bx, sf, si = borrow(pf), borrow(pi), borrow(bf), borrow(bi), borrow(bx), borrow(sf), borrow(si)
+    geom_f, geom_i, candidates, kf, ki = borrow(geom_f), borrow(geom_i), borrow(candidates), borrow(kf), borrow(ki)
+    scratch_f, scratch_i, ground = borrow(scratch_f), borrow(scratch_i), borrow(ground)
+    sphere, pos_a, rot_a = borrow(sphere), borrow(pos_a), borrow(rot_a)
+    pos_s, rot_s, q_s = borrow(pos_s), borrow(rot_s), borrow(q_s)
     for movable in (False, True):
         if movable:
             ground_normals(pf, bf, bi, kf, ki, nk, ground)
@@ -475,6 +481,8 @@ def velocity_pass(pf, pi, bf, bi, bx, kf, ki, nk, back, h, resting_speed, ground
     """Dynamic friction and restitution of the sub-step's contacts ``0 .. nk - 1`` (module docstring), on
     the velocities taken from the positions (a body takes the whole of a contact's change where the position
     pass gave it the push: ``ground``; a particle pinned to a body moves that body)."""
+    pf, pi, bf, bi, bx, kf, ki = borrow(pf), borrow(pi), borrow(bf), borrow(bi), borrow(bx), borrow(kf), borrow(ki)
+    ground = borrow(ground)
     for c in range(min(nk, kf.shape[0])):
         p, other, kind = ki[c, K_PARTICLE], ki[c, K_OTHER], ki[c, K_KIND]
         n = (kf[c, K_NORMAL], kf[c, K_NORMAL + 1], kf[c, K_NORMAL + 2])

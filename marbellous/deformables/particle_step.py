@@ -46,7 +46,7 @@ import math
 
 import numpy as np
 
-from .._numba.jit import njit
+from .._numba.jit import borrow, njit
 from ..collision.shape_types import COVER_GROUND, COVER_MESHES, COVER_SPHERES
 from .body_motion import body_pose, clear_motion, drift, start_motion, to_world, write_back
 from .bend_constraints import solve_bends
@@ -123,6 +123,7 @@ def _damp(pf, start, count, h):
 def _pins(pf, pi, n_particles, bf, bi, bx, back):
     """Stage "pins": the particles pinned to a body put on its point, where the body is now (a pinned
     particle is a point of its body: the edges move the body through it, edge_constraints.py)."""
+    pf, pi, bf, bi, bx = borrow(pf), borrow(pi), borrow(bf), borrow(bi), borrow(bx)
     for p in range(n_particles):
         b = pi[p, P_PIN_BODY]
         if (pi[p, P_FLAGS] & PP_PINNED) == 0 or b < 0:
