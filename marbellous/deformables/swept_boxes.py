@@ -180,9 +180,12 @@ def bin_boxes(lo, hi, count, cell, cell_start):
             s = fill[slot[b]]
             fill[slot[b]] += 1
             box[s] = b
-            home[s] = cells[b]
-            glo[s] = lo[b]
-            ghi[s] = hi[b]
+            # (element by element: a row copied whole is a view made, counted and freed for every box)
+            for k in range(4):
+                home[s, k] = cells[b, k]
+            for k in range(3):
+                glo[s, k] = lo[b, k]
+                ghi[s, k] = hi[b, k]
         elif lo[b, 0] <= hi[b, 0]:
             wide[n_wide] = b
             n_wide += 1
