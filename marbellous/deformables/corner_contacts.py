@@ -364,11 +364,49 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
     sf, si, geom_f, geom_i, pairs = borrow(sf), borrow(si), borrow(geom_f), borrow(geom_i), borrow(pairs)
     ground, slot, cf, ci = borrow(ground), borrow(slot), borrow(cf), borrow(ci)
     nc = 0
+    # the static and kinematic bodies' contacts first, whose triangles they then hold (:func:`_hold_triangles`),
+    # then the movable bodies', which cannot push those triangles into them
+    for movable in (False, True):
+        if movable:
+            _hold_triangles(pf, bf, bi, cf, ci, min(nc, cf.shape[0]), ground)
+        nc = _find_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs, n_pairs, back, h, ground,
+                            slot, cf, ci, nc, movable)
+    n_contacts = min(nc, cf.shape[0])
+    for _ in range(corner_passes(bf, bi, ci, n_contacts)):
+        for c in range(n_contacts):
+            _solve(pf, bf, bi, bx, cf, ci, c, back, h)
+    return n_contacts
+
+
+@njit_inline
+def _hold_triangles(pf, bf, bi, cf, ci, n_contacts, ground):
+    """Count the corners of the triangles touched by the first ``n_contacts`` corner contacts (all of static or
+    kinematic bodies) as held by those bodies in ``ground`` (``particle_contacts.ground_normals``: each contact's
+    push on its triangle, ``-n``, added to its corners' normals): a triangle squeezed between such a body and a
+    movable one is then held, and the movable body takes the push.  Left to share it by inverse masses, a box
+    pressing a sheet's triangle into a static ball moved the light triangle back into the ball at each pass, the
+    ball's contact pushed it out further, and the two pushes grew by half at every pass (boxes dropped on a sheet
+    draped over a ball flew off at up to 1e5 m/s)."""
+    for c in range(n_contacts):
+        for q in range(3):
+            p = ci[c, C_CORNERS + q]
+            for k in range(3):
+                ground[p, k] -= cf[c, C_NORMAL + k]
+            ground[p, 3] += 1.0
+
+
+@njit_inline
+def _find_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs, n_pairs, back, h, ground, slot, cf,
+                   ci, nc, movable):
+    """Record the contacts of the candidate pairs whose body is ``movable`` (``body_motion.pushable``) or not
+    after the ``nc`` in ``cf`` / ``ci`` (:func:`corner_contacts`); returns the new count."""
     for k in range(n_pairs):
         s, t, side = pairs[k, 0], pairs[k, 1], pairs[k, 2]
         if slot[tri[t, T_A]] >= 0 or slot[tri[t, T_A + 1]] >= 0 or slot[tri[t, T_A + 2]] >= 0:
             continue
         b = si[s, S_BODY]
+        if pushable(bf, bi, b) != movable:
+            continue
         x_b, q_b = body_pose(bf, bi, bx, b, back)
         centre = to_world(x_b, q_b, (sf[s, S_LOCAL_POS], sf[s, S_LOCAL_POS + 1], sf[s, S_LOCAL_POS + 2]))
         # (no corner of a shape whose ball lies wholly in front of the triangle's slab can touch it)
@@ -399,11 +437,7 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
                              l0[2] + end * (l1[2] - l0[2]))
                     nc = _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, radius, t, side, h, ground, cf, ci,
                                 nc, EDGE_SLACK)
-    n_contacts = min(nc, cf.shape[0])
-    for _ in range(corner_passes(bf, bi, ci, n_contacts)):
-        for c in range(n_contacts):
-            _solve(pf, bf, bi, bx, cf, ci, c, back, h)
-    return n_contacts
+    return nc
 
 
 @njit_inline
@@ -458,6 +492,10 @@ def _touch(pf, tri, cloth_f, bf, bi, bx, b, x_b, q_b, local, radius, t, side, h,
         held_inverse_mass(pf, ground, c, back_n)
     u = point_velocity(bf, bi, bx, b, x_b, x_c)
     share = 1.0
+    # (a triangle whose free corners carry under a tenth of the contact's point counts as held: pushed through a
+    # free corner of weight b alone, that corner moves 1 / b times the push)
+    if (b0 if wa > 0.0 else 0.0) + (b1 if wb > 0.0 else 0.0) + (b2 if wcc > 0.0 else 0.0) < 0.1:
+        wa = wb = wcc = 0.0
     if b0 * b0 * wa + b1 * b1 * wb + b2 * b2 * wcc <= 0.0:
         if wc > 0.0:
             # (the ground holds the triangle: the body takes the push, as velocity the part its own motion closed in
