@@ -376,7 +376,7 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
     # then the movable bodies', which cannot push those triangles into them
     for movable in (False, True):
         if movable:
-            _hold_triangles(pf, bf, bi, cf, ci, min(nc, cf.shape[0]), ground)
+            _hold_triangles(cf, ci, min(nc, cf.shape[0]), ground)
         nc = _find_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs, n_pairs, back, h, ground,
                             slot, cf, ci, nc, movable)
     n_contacts = min(nc, cf.shape[0])
@@ -387,7 +387,7 @@ def corner_contacts(pf, tri, cloth_f, bf, bi, bx, sf, si, geom_f, geom_i, pairs,
 
 
 @njit_inline
-def _hold_triangles(pf, bf, bi, cf, ci, n_contacts, ground):
+def _hold_triangles(cf, ci, n_contacts, ground):
     """Count the corners of the triangles touched by the first ``n_contacts`` corner contacts (all of static or
     kinematic bodies) as held by those bodies in ``ground`` (``particle_contacts.ground_normals``: each contact's
     push on its triangle, ``-n``, added to its corners' normals): a triangle squeezed between such a body and a
