@@ -2,7 +2,8 @@
 
 Every kernel in Marbellous is a plain function over NumPy arrays decorated with :func:`njit`.
 Kernels are compiled on first use and cached on disk (``_numba/cache.py``: where, and why an edit
-anywhere in the package never leaves a stale kernel), so the second start of a program is fast.
+anywhere in the package never leaves a stale kernel), so the second start of a program is fast; processes
+that start cold together compile each kernel once (``_numba/shared_compile.py``).
 Tunables travel as arguments, never as globals (the cache freezes globals).  ``NUMBA_DISABLE_JIT=1`` in the
 environment runs every kernel as plain Python.
 """
@@ -13,10 +14,17 @@ import numba
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-from . import cache
+from . import cache, shared_compile
 
 #: whether compiled kernels are cached on disk (not when no cache directory is writable)
 CACHING = cache.install()
+
+
+def _compiled_once(decorator):
+    """``decorator`` (a Numba ``njit``), its cached kernels compiled once among processes that need them at the
+    same time (``shared_compile.py``)."""
+    return lambda func: shared_compile.share(decorator(func))
+
 
 # At exit the interpreter's last garbage collections would walk every compiler object Numba made (types,
 # IR, LLVM modules) and dispose of them one by one: 0.1-0.3 s of every program that compiled or loaded a
@@ -26,14 +34,14 @@ CACHING = cache.install()
 atexit.register(gc.freeze)
 
 #: Compile in nopython mode, cache to disk, no fastmath (results are bit-reproducible).
-njit = numba.njit(cache=CACHING, nogil=True, fastmath=False)
+njit = _compiled_once(numba.njit(cache=CACHING, nogil=True, fastmath=False))
 
 #: As :data:`njit`, but inlined into each caller at the Numba IR level: for small kernels called once per
 #: sub-step or iteration, where the call itself (every array argument's fields passed and reference
 #: counted) would cost more than the work.  Inlined, its array arguments are still counted where its branches
 #: leave them (at every call in a loop: two atomic operations an array) unless the caller passes borrowed
 #: arrays (:func:`borrow`).
-njit_inline = numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="always")
+njit_inline = _compiled_once(numba.njit(cache=CACHING, nogil=True, fastmath=False, inline="always"))
 
 #: As :data:`njit`, with ``prange`` loops run on Numba's threads (the caller keeps a serial path).  Not cached
 #: on its own: a kernel compiled against a parallel kernel loaded from the cache is saved broken by Numba
