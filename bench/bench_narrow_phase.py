@@ -22,7 +22,9 @@ import numpy as np
 from marbellous._numba.jit import njit
 from marbellous.collision.broadphase import find_pairs
 from marbellous.state.params import write_params
-from marbellous.pipeline.collide import narrow_phase, pose_tables, update_aabbs
+from marbellous.collision.shape_types import COVER_ALL, COVER_GROUND, COVER_MESHES, COVER_SPHERES
+from marbellous.pipeline.collide import (narrow_phase_all, narrow_phase_ground, narrow_phase_meshes,
+                                         narrow_phase_spheres, pose_tables, update_aabbs)
 from marbellous.state import layout as L
 
 from .machine import describe, write_results
@@ -34,17 +36,21 @@ DEFAULT_SCENES = ("pile_1k", "pile_8k", "marble_terrain", "marble_heightfield")
 REPEATS = 7
 #: wall time (s) one round of calls should take at least
 ROUND_SECONDS = 0.05
+#: the compiled narrow phase of each coverage (``shape_types.COVER_*``)
+NARROW_PHASES = {COVER_SPHERES: narrow_phase_spheres, COVER_MESHES: narrow_phase_meshes,
+                 COVER_GROUND: narrow_phase_ground, COVER_ALL: narrow_phase_all}
 
 
 @njit
-def _repeat_narrow(reps, coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i,
-                   ci, cf, pcf, pci, pos_t, rot_t, state, q):
-    """``narrow_phase`` called ``reps`` times, every pair tested (no rows of a last step to keep); returns the
-    last count."""
+def _repeat_narrow(reps, narrow_phase, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f,
+                   raw_i, ci, cf, pcf, pci, npc, pos_t, rot_t, state, q):
+    """``narrow_phase`` (the compiled narrow phase of one coverage, ``NARROW_PHASES[coverage]``: the one the
+    world's step has compiled already) called ``reps`` times, every pair tested (``npc`` = 0: no rows of a last
+    step to keep); returns the last count."""
     n = 0
     for _ in range(reps):
-        n = narrow_phase(coverage, bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i,
-                         ci, cf, pcf, pci, 0, pos_t, rot_t, state, q)
+        n = narrow_phase(bf, bi, sf, si, geom_f, geom_i, pairs, n_pairs, sweep, speculative, raw_f, raw_i,
+                         ci, cf, pcf, pci, npc, pos_t, rot_t, state, q)
     return n
 
 
@@ -101,9 +107,9 @@ class CollideInput:
 
     def narrow(self, reps):
         """Run the narrow phase ``reps`` times; the number of contact points."""
-        return _repeat_narrow(reps, self.coverage, self.bf, self.bi, self.sf, self.si, self.geom_f, self.geom_i,
-                              self.pairs, self.n_pairs, self.sweep, self.speculative, self.raw_f, self.raw_i, self.ci,
-                              self.cf, self.previous_f, self.previous_i, *self.poses)
+        return _repeat_narrow(reps, NARROW_PHASES[self.coverage], self.bf, self.bi, self.sf, self.si, self.geom_f,
+                              self.geom_i, self.pairs, self.n_pairs, self.sweep, self.speculative, self.raw_f,
+                              self.raw_i, self.ci, self.cf, self.previous_f, self.previous_i, 0, *self.poses)
 
     def aabbs_update(self, reps):
         """Run ``update_aabbs`` ``reps`` times."""
