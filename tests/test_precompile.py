@@ -4,6 +4,7 @@ helpers that end (for their memory, or fail) neither stop nor stall the step."""
 import io
 import os
 import pickle
+import shutil
 import subprocess
 import sys
 
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 
 import marbellous as mb
-from marbellous._numba import progress
+from marbellous._numba import cache, progress
 from marbellous.game.goal import GoalArea
 from marbellous.pipeline import precompile
 
@@ -41,11 +42,16 @@ def test_the_ray_cast_compiled_ahead_is_the_one_a_ray_then_calls():
     assert tuple(numba.typeof(a) for a in arguments) in kernel.signatures
 
 
-def run_a_ball_in_a_cold_cache(tmp_path, before, report):
-    """Run, in a new process with a fresh kernel cache in ``tmp_path``, a ball of 0.25 m dropped from 2 m onto a
-    plane (``w``, ``b``), code ``before`` its 120 steps of 1/60 s, and code ``report`` after them; returns what
-    ``report`` printed, split into words.  ``compiled_here(kernels)`` counts the compiles of ``kernels`` in that
-    process."""
+def run_a_ball_in_a_cold_cache(tmp_path, forget, before, report):
+    """Run, in a new process with a kernel cache in ``tmp_path`` that holds this session's kernels but none of
+    the package files ``forget`` (paths without ``.py``: what a fresh install compiles, as far as the sharing out
+    is concerned, at a fraction of the cost), a ball of 0.25 m dropped from 2 m onto a plane (``w``, ``b``), code
+    ``before`` its 120 steps of 1/60 s, and code ``report`` after them; returns what ``report`` printed, split
+    into words.  ``compiled_here(kernels)`` counts the compiles of ``kernels`` in that process."""
+    shutil.copytree(cache.CACHE_DIR, tmp_path, ignore=shutil.ignore_patterns("*.tmp.*"), dirs_exist_ok=True)
+    for module in forget:
+        for f in (tmp_path / os.path.dirname(module)).glob(os.path.basename(module) + ".*"):
+            f.unlink()
     code = ("import numpy as np\n"
             "import marbellous as mb\n"
             "from marbellous.pipeline import precompile, step\n"
@@ -55,20 +61,25 @@ def run_a_ball_in_a_cold_cache(tmp_path, before, report):
             "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
             + before + "for _ in range(120): w.step(1 / 60)\n" + report)
     env = dict(os.environ, MARBELLOUS_CACHE_DIR=str(tmp_path), MARBELLOUS_PROGRESS="0")
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=900)
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
     assert run.returncode == 0, run.stderr
     return run.stdout.split()
 
 
+#: the step's stages and entry, and the packing of its context
+STEP, CONTEXT = os.path.join("pipeline", "step"), os.path.join("pipeline", "context")
+
+
 def test_a_cold_lean_step_is_compiled_by_helpers_which_end_for_their_memory(tmp_path):
-    # a fresh kernel cache: the first world's step compiles in helpers, each ending after one kernel (a memory
-    # of one byte), so that fresh helpers take the rest of the list; this process compiles none of the
-    # step's kernels, loads its entry from the cache, and the ball lands where it always does
+    # the step and its packing missing from the cache: the packing's compile starts helpers, each ending after
+    # one kernel (a memory of one byte), so that fresh helpers take the rest of the list; this process compiles
+    # none of the step's kernels, loads its entry from the cache, and the ball lands where it always does
     lean, height, here, loaded, helpers = run_a_ball_in_a_cold_cache(
-        tmp_path, "precompile.HELPER_MEMORY = 1\n"
-                  "started = []\n"
-                  "start = precompile._start_helper\n"
-                  "precompile._start_helper = lambda claims: started.append(claims) or start(claims)\n",
+        tmp_path, (STEP, CONTEXT),
+        "precompile.HELPER_MEMORY = 1\n"
+        "started = []\n"
+        "start = precompile._start_helper\n"
+        "precompile._start_helper = lambda claims: started.append(claims) or start(claims)\n",
         "entry = step.STEPS[0][0][step.LEAN]\n"
         "print(w._state.tier == step.LEAN, round(float(b.position[1]), 4),\n"
         "      compiled_here(precompile.lean_stages(0) + (entry,)), sum(entry._cache_hits.values()),\n"
@@ -79,14 +90,28 @@ def test_a_cold_lean_step_is_compiled_by_helpers_which_end_for_their_memory(tmp_
     assert int(helpers) >= len(precompile.lean_stages(0))
 
 
+def test_an_entry_that_compiles_here_takes_the_stages_from_helpers_that_never_wait_for_it(tmp_path):
+    # only the step missing from the cache: its entry begins to compile in this process, holding the entry's
+    # lock (_numba/shared_compile.py), and that starts the helpers; this process waits for the stages, not for
+    # the entry (a helper that took it would wait for this process's lock: with no time limit, for ever), then
+    # compiles the entry against the stages the helpers saved
+    here, entry_here, height = run_a_ball_in_a_cold_cache(
+        tmp_path, (STEP,), "precompile.HELPER_TIMEOUT = 1e9\n",
+        "print(compiled_here(precompile.lean_stages(0)), compiled_here((step.STEPS[0][0][step.LEAN],)),\n"
+        "      round(float(b.position[1]), 4))\n")
+    assert int(here) == 0 and int(entry_here) == 1
+    assert float(height) == pytest.approx(0.25, abs=0.01)
+
+
 def test_a_step_compiled_ahead_with_a_ray_cast_lands_the_same(tmp_path):
-    # a fresh kernel cache: the helpers compile the ray cast, then the step's stages, before the first step;
-    # the ray waits for the ray cast and loads it, and the ball lands as always
+    # the step and the ray cast missing from the cache: the helpers compile the ray cast, then the step's
+    # stages, before the first step; the ray waits for the ray cast and loads it, and the ball lands as always
     started, finished, distance, height, here = run_a_ball_in_a_cold_cache(
-        tmp_path, "w._compile_ahead(1 / 60)\n"
-                  "started = w._state.sharing is not None\n"
-                  "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n"
-                  "ray = w._ray_kernel(np.zeros(3), np.ones(3), 1.0, -1)[0]\n",
+        tmp_path, (STEP, os.path.join("pipeline", "raycast")),
+        "w._compile_ahead(1 / 60)\n"
+        "started = w._state.sharing is not None\n"
+        "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n"
+        "ray = w._ray_kernel(np.zeros(3), np.ones(3), 1.0, -1)[0]\n",
         "print(started, w._state.sharing is None, round(hit.distance, 6), round(float(b.position[1]), 4),\n"
         "      compiled_here(precompile.lean_stages(0) + (ray,)))\n")
     assert started == "True" and finished == "True"

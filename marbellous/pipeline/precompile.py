@@ -342,12 +342,17 @@ class Sharing:
         if any(_claim(*item[:3]) == claim for item in self.work):
             self._tend(lambda: _done(self.claims, claim))
 
-    def finish(self):
-        """Wait for the helpers to go down their list."""
+    def finish(self, here=None):
+        """Wait for the helpers to go down their list.  ``here``: a kernel of the list that this process is
+        compiling itself, holding its lock (``_numba/shared_compile.py``), so that a helper that took it would wait
+        for this process as this process waits for it: the helpers are stopped once the rest of the list is done."""
         if self.claims is None:
             return
+        rest = [_claim(*item[:3]) for item in self.work]
+        if here is not None and _claim(*_name(here)) in rest:
+            rest.remove(_claim(*_name(here)))
         try:
-            self._tend(lambda: False)
+            self._tend(lambda: here is not None and all(_done(self.claims, claim) for claim in rest))
         finally:
             _UNDER_WAY.discard(self)
             _stop(self.helpers, self.claims)
@@ -417,7 +422,7 @@ class _ShareOnCompile(event.Listener):
             self.started = True
             self.sharing.start(self.extra())
         if dispatcher is self.entry:
-            self.sharing.finish()
+            self.sharing.finish(here=self.entry)
 
     def on_end(self, ev):
         pass
