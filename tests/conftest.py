@@ -11,6 +11,12 @@ settings.register_profile("marbellous", deadline=None, suppress_health_check=[He
 settings.load_profile("marbellous")
 
 
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: one worker more than this process may use cores, so that while a worker waits for a kernel
+    that another is compiling (marbellous/_numba/shared_compile.py), the spare worker runs tests on its core."""
+    return len(os.sched_getaffinity(0)) + 1 if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1) + 1
+
+
 @pytest.fixture(scope="session", autouse=True)
 def warm_kernels():
     """Take one step of a small world so the step kernel is compiled (or loaded from cache) once."""

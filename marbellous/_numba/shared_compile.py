@@ -141,7 +141,7 @@ event.register("numba:compile", _FailedCompiles())
 def share(dispatcher):
     """Make the package kernel ``dispatcher`` compile once among processes (nothing for a kernel that is not
     cached in the package's cache); returns it."""
-    cache = dispatcher._cache
+    cache = getattr(dispatcher, "_cache", None)          # (None: a plain function, ``NUMBA_DISABLE_JIT=1``)
     if type(cache) is caching.FunctionCache and isinstance(cache._impl.locator, PackageCacheLocator):
         cache.__class__ = SharedCompileCache      # (the same state; only the loading and saving differ)
         cache.kernel_name = kernel_name(dispatcher)
