@@ -10,9 +10,9 @@ or failed, or its process ended (the system releases the lock of a process that 
 
 A kernel that calls others takes their locks while it holds its own; calls never go round in a circle, so
 two processes never wait for each other, as long as a process that holds a lock never waits for another
-process to compile that kernel (the step's helpers, ``pipeline/precompile.py``, are not waited for the entry
-that this process is compiling).  A kernel that calls itself compiles on in the process that holds
-its lock.  Where files cannot be locked (Windows, a file system without locks) or the wait passes
+process to compile that kernel (while this process compiles the step's entry, it never waits for the step's
+helpers, ``pipeline/precompile.py``, to compile that entry).  A kernel that calls itself compiles on in the
+process that holds its lock.  Where files cannot be locked (Windows, a file system without locks) or the wait passes
 :data:`WAIT_SECONDS`, a process compiles as it would alone.
 """
 import hashlib
