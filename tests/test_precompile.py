@@ -16,6 +16,7 @@ import marbellous as mb
 from marbellous._numba import cache, progress
 from marbellous.game.goal import GoalArea
 from marbellous.pipeline import precompile
+from marbellous.pipeline.step import LEAN
 
 
 def test_the_particle_kernels_are_typed_ahead_as_the_step_calls_them():
@@ -47,7 +48,8 @@ def run_a_ball_in_a_cold_cache(tmp_path, forget, before, report):
     the package files ``forget`` (paths without ``.py``: what a fresh install compiles, as far as the sharing out
     is concerned, at a fraction of the cost), a ball of 0.25 m dropped from 2 m onto a plane (``w``, ``b``), code
     ``before`` its 120 steps of 1/60 s, and code ``report`` after them; returns what ``report`` printed, split
-    into words.  ``compiled_here(kernels)`` counts the compiles of ``kernels`` in that process."""
+    into words.  ``compiled_here(kernels)`` counts the compiles of ``kernels`` in that process, ``stages(tier)`` are
+    the stage kernels of the sequential-impulse step for spheres of ``tier``."""
     shutil.copytree(cache.CACHE_DIR, tmp_path, ignore=shutil.ignore_patterns("*.tmp.*"), dirs_exist_ok=True)
     for module in forget:
         for f in (tmp_path / os.path.dirname(module)).glob(os.path.basename(module) + ".*"):
@@ -57,6 +59,8 @@ def run_a_ball_in_a_cold_cache(tmp_path, forget, before, report):
             "from marbellous.pipeline import precompile, step\n"
             "def compiled_here(kernels):\n"
             "    return sum(sum(k._cache_misses.values()) for k in kernels)\n"
+            "def stages(tier):\n"
+            "    return tuple(stage for stage, _ in precompile.step_stages(0, 0, tier))\n"
             "w = mb.World(); w.add_static(mb.Plane(), friction=0.6)\n"
             "b = w.add_body(mb.Sphere(0.25), position=(0, 2, 0), restitution=0.5)\n"
             + before + "for _ in range(120): w.step(1 / 60)\n" + report)
@@ -68,6 +72,9 @@ def run_a_ball_in_a_cold_cache(tmp_path, forget, before, report):
 
 #: the step's stages and entry, and the packing of its context
 STEP, CONTEXT = os.path.join("pipeline", "step"), os.path.join("pipeline", "context")
+
+#: the lean step's stages for spheres (what a ball on a plane compiles)
+LEAN_STAGES = tuple(stage for stage, _ in precompile.step_stages(0, 0, LEAN))
 
 
 def test_a_cold_lean_step_is_compiled_by_helpers_which_end_for_their_memory(tmp_path):
@@ -82,12 +89,27 @@ def test_a_cold_lean_step_is_compiled_by_helpers_which_end_for_their_memory(tmp_
         "precompile._start_helper = lambda claims: started.append(claims) or start(claims)\n",
         "entry = step.STEPS[0][0][step.LEAN]\n"
         "print(w._state.tier == step.LEAN, round(float(b.position[1]), 4),\n"
-        "      compiled_here(precompile.lean_stages(0) + (entry,)), sum(entry._cache_hits.values()),\n"
+        "      compiled_here(stages(step.LEAN) + (entry,)), sum(entry._cache_hits.values()),\n"
         "      len(started))\n")
     assert lean == "True" and float(height) == pytest.approx(0.25, abs=0.01)
     assert int(here) == 0 and int(loaded) == 1
     # (one helper for each of the list's 18 kernels, give or take those a helper found claimed meanwhile)
-    assert int(helpers) >= len(precompile.lean_stages(0))
+    assert int(helpers) >= len(LEAN_STAGES)
+
+
+def test_a_cold_full_step_is_compiled_by_helpers_with_the_flags_its_scheme_passes(tmp_path):
+    # a rod makes the step full: the helpers compile its stages for the constant flags the scheme passes some of
+    # them (or the entry would compile those here again) and its entry; this process compiles none of them and
+    # loads the entry from the cache, and the ball lands where it always does
+    full, height, here, loaded = run_a_ball_in_a_cold_cache(
+        tmp_path, (STEP, CONTEXT),
+        "bob = w.add_body(mb.Sphere(0.1), position=(5, 1, 0))\n"
+        "w.add_rod(bob, None, anchor_b=(5, 2, 0))\n",
+        "entry = step.STEPS[0][0][step.FULL]\n"
+        "print(w._state.tier == step.FULL, round(float(b.position[1]), 4),\n"
+        "      compiled_here(stages(step.FULL) + (entry,)), sum(entry._cache_hits.values()))\n")
+    assert full == "True" and float(height) == pytest.approx(0.25, abs=0.01)
+    assert int(here) == 0 and int(loaded) == 1
 
 
 def test_an_entry_that_compiles_here_takes_the_stages_from_helpers_that_never_wait_for_it(tmp_path):
@@ -97,7 +119,7 @@ def test_an_entry_that_compiles_here_takes_the_stages_from_helpers_that_never_wa
     # compiles the entry against the stages the helpers saved
     here, entry_here, height = run_a_ball_in_a_cold_cache(
         tmp_path, (STEP,), "precompile.HELPER_TIMEOUT = 1e9\n",
-        "print(compiled_here(precompile.lean_stages(0)), compiled_here((step.STEPS[0][0][step.LEAN],)),\n"
+        "print(compiled_here(stages(step.LEAN)), compiled_here((step.STEPS[0][0][step.LEAN],)),\n"
         "      round(float(b.position[1]), 4))\n")
     assert int(here) == 0 and int(entry_here) == 1
     assert float(height) == pytest.approx(0.25, abs=0.01)
@@ -113,7 +135,7 @@ def test_a_step_compiled_ahead_with_a_ray_cast_lands_the_same(tmp_path):
         "hit = w.raycast((3, 5, 0), (0, -1, 0), 10.0)\n"
         "ray = w._ray_kernel(np.zeros(3), np.ones(3), 1.0, -1)[0]\n",
         "print(started, w._state.sharing is None, round(hit.distance, 6), round(float(b.position[1]), 4),\n"
-        "      compiled_here(precompile.lean_stages(0) + (ray,)))\n")
+        "      compiled_here(stages(step.LEAN) + (ray,)))\n")
     assert started == "True" and finished == "True"
     assert float(distance) == 5.0
     assert float(height) == pytest.approx(0.25, abs=0.01)
@@ -167,7 +189,7 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
         raise PermissionError("read-only")
     with monkeypatch.context() as m:
         m.setattr(precompile.tempfile, "mkdtemp", unwritable)
-        sharing = precompile.Sharing(0)
+        sharing = precompile.Sharing((0, 0, LEAN))
         sharing.start([])
         assert sharing.claims is None and sharing.helpers == []
         sharing.finish()
@@ -175,10 +197,10 @@ def test_without_a_helper_the_step_compiles_alone(monkeypatch):
     def no_interpreter(*args, **kwargs):
         raise FileNotFoundError("python")
     monkeypatch.setattr(precompile.subprocess, "Popen", no_interpreter)
-    sharing = precompile.Sharing(0)
+    sharing = precompile.Sharing((0, 0, LEAN))
     sharing.start([])
     assert sharing.claims is None and sharing.helpers == []
-    sharing.wait(precompile.lean_stages(0)[0])
+    sharing.wait(LEAN_STAGES[0])
     sharing.finish()
 
 

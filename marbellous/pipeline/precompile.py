@@ -1,27 +1,27 @@
-"""A cold lean step compiled in helper processes, which keep the memory of compiling out of this one.
+"""A cold step compiled in helper processes, which keep the memory of compiling out of this one.
 
-Numba compiles one kernel at a time, holding the interpreter, so a first world's step (about a minute of
-compiling) would use one core however many the machine has; and a process keeps every kernel it compiled
-with the LLVM modules behind it (a lean step for spheres over a mesh, with its particle kernels, grew one
-process past 800 MB).  The lean step's stages (``pipeline/step.py``) each take only the step context's view,
-so another process can compile them for the same type without the world, and whatever it compiles goes to the
-kernel cache (``_numba/cache.py``).  When the step's context packing or the step begins to compile (they were
-not in the cache), this process starts helpers, one per core up to :data:`HELPERS` (which start up while this
-process compiles the packing); they go down one list of kernels (those a program calls before its step, such
-as the game's ray cast and goal test, which it waits for at the call, :func:`ahead` and :func:`await_kernel`;
-the stages, the dearest first, with the world's particle kernels typed from the arguments they will get; last
-the step's entry), and each compiles the
+Numba compiles one kernel at a time, holding the interpreter, so a first world's step (a minute of compiling
+for spheres, several for boxes) would use one core however many the machine has; and a process keeps every
+kernel it compiled with the LLVM modules behind it (a lean step for spheres over a mesh, with its particle
+kernels, grew one process past 800 MB).  The step's stages (``pipeline/step.py``) each take only the step
+context's view (and the constant flags a scheme passes some of them), so another process can compile them for
+the same types without the world, and whatever it compiles goes to the kernel cache (``_numba/cache.py``).  When
+the step's context packing or the step begins to compile (they were not in the cache), this process starts
+helpers, one per core up to :data:`HELPERS` (which start up while this process compiles the packing); they go
+down one list of kernels (those a program calls before its step, such as the game's ray cast and goal test,
+which it waits for at the call, :func:`ahead` and :func:`await_kernel`; the stages, the dearest first, with the
+world's particle kernels typed from the arguments they will get; last the step's entry), and each compiles the
 kernels it is the first to claim (a file created in a shared directory, which only one process can create)
 once the kernels they call are done.  A helper ends after the kernel that takes it past :data:`HELPER_MEMORY`
 and a fresh one takes the rest of the list, loading from the cache what the others compiled.  This process
 waits, reporting the helpers' kernels on its progress line (``_numba/progress.py``), then loads the step
 from the cache: a few hundred megabytes less than compiling it.
 
-Only the lean step is shared out: the full step's solve and relax stages are compiled with the step
-(``njit_calls_parallel``), not cached on their own.  Nothing happens when the step loads from the cache or
-when the cache is off; a helper that cannot start or fails leaves its kernels to this process, which compiles
-them when it calls them.  ``python -m marbellous.pipeline.precompile CLAIMS MEMORY`` is a helper (the list is
-pickled in the directory ``CLAIMS``; it ends past ``MEMORY`` bytes).
+The full step's solve and relax stages are not on the list: they are compiled with the entry that calls them
+(``njit_calls_parallel``, not cached on their own), by whichever process compiles the entry.  Nothing happens
+when the step loads from the cache or when the cache is off; a helper that cannot start or fails leaves its
+kernels to this process, which compiles them when it calls them.  ``python -m marbellous.pipeline.precompile
+CLAIMS MEMORY`` is a helper (the list is pickled in the directory ``CLAIMS``; it ends past ``MEMORY`` bytes).
 """
 import contextlib
 import importlib
@@ -40,18 +40,21 @@ from numba.core import event
 from .._numba import cache
 from .._numba.progress import PROGRESS, kernel_name
 from .._numba.record import RecordView
+from ..state.layout import LCP, PENALTY, SEQUENTIAL_IMPULSE
 from .context import STEP_CONTEXT
 from .step import (FIND_CONTACTS, LEAN, NARROW_PHASE, STEPS, TIME_OF_IMPACT, finish_step, stage_aabbs,
-                   stage_broad_phase_lean, stage_integrate_positions_lean, stage_integrate_velocities_lean,
-                   stage_islands_and_sleep, stage_match_and_wake, stage_prepare_lean, stage_relax_lean,
-                   stage_restitution_lean, stage_solve_lean, stage_store_impulses_lean, stage_sum_impulses_lean,
-                   stage_warm_start_lean)
+                   stage_break_constraints, stage_broad_phase, stage_broad_phase_lean,
+                   stage_integrate_positions, stage_integrate_positions_lean, stage_integrate_velocities,
+                   stage_integrate_velocities_lean, stage_islands_and_sleep, stage_match_and_wake, stage_prepare,
+                   stage_prepare_lean, stage_relax_lean, stage_restitution, stage_restitution_lean, stage_solve_lcp,
+                   stage_solve_lean, stage_store_impulses, stage_store_impulses_lean, stage_sum_impulses,
+                   stage_sum_impulses_lean, stage_warm_start, stage_warm_start_lean)
 
 
-#: the longest wait (s) for the helpers to go down their list: a cold step takes them about a minute on two
-#: cores, so helpers still busy after this are stuck (a machine swapping, a stopped process); they are stopped
-#: and this process compiles what is left
-HELPER_TIMEOUT = 600.0
+#: the longest wait (s) for the helpers to go down their list: a cold lean step takes them about a minute on two
+#: cores, the full step of every pair test about six, so helpers still busy after this are stuck (a machine
+#: swapping, a stopped process); they are stopped and this process compiles what is left
+HELPER_TIMEOUT = 1800.0
 
 #: the most helpers at once (one per core up to this: the list's kernels that wait for others leave more idle)
 HELPERS = 3
@@ -64,21 +67,42 @@ HELPER_MEMORY = 330 * 2**20
 #: waiting for the helpers)
 POLL = 0.1
 
-#: the step's entry, after every stage (``pipeline/step.py``: ``STEPS[SEQUENTIAL_IMPULSE][coverage][LEAN]``)
-#: takes the addresses of two int64 arrays and a count
+#: the step's entry, after every stage (``pipeline/step.py``: ``STEPS[scheme][coverage][tier]``) takes the
+#: addresses of two int64 arrays and a count
 ENTRY_ARGUMENTS = (0, 0, 1)
 
+#: the type of the step context's view, every stage's first argument
+CONTEXT_VIEW = RecordView(STEP_CONTEXT)
 
-def lean_stages(coverage):
-    """The lean step's stage kernels for ``coverage``, the dearest to compile first (measured on a cold
-    cache for spheres over a mesh: the time-of-impact stage ~35 s, the narrow phase ~19 s, relax ~12 s, the broad
-    phase ~11 s, prepare ~7 s, the rest 0.1 to 5 s), so that the helpers end at about the same time; the
-    contact stages, which call the narrow phase and time-of-impact stages, last (:func:`work_list`)."""
-    return (TIME_OF_IMPACT[coverage], NARROW_PHASE[coverage], stage_relax_lean, stage_broad_phase_lean,
+
+def step_stages(scheme, coverage, tier):
+    """The cached stage kernels of the step ``STEPS[scheme][coverage][tier]``, each with the constants the step
+    passes it after the context: ``((kernel, constants), ...)``, the dearest to compile first, so that the
+    helpers end at about the same time; the contact stages, which call the narrow phase and time-of-impact stages
+    (the first two), last (:func:`work_list`).  Measured on a cold cache: for spheres over a mesh (lean) the
+    time-of-impact stage ~35 s, the narrow phase ~19 s, relax ~12 s, the broad phase ~11 s, prepare ~7 s, the rest
+    0.1 to 5 s; for boxes (full, every pair test) the narrow phase ~260 s, time of impact ~45 s, the broad phase
+    ~60 s, warm start, prepare and integrate velocities ~30 s each."""
+    if tier == LEAN:
+        return tuple((stage, ()) for stage in (
+            TIME_OF_IMPACT[coverage], NARROW_PHASE[coverage], stage_relax_lean, stage_broad_phase_lean,
             stage_prepare_lean, stage_integrate_velocities_lean, stage_integrate_positions_lean, stage_solve_lean,
             stage_aabbs, stage_store_impulses_lean, stage_match_and_wake, stage_warm_start_lean,
             stage_islands_and_sleep, stage_sum_impulses_lean, stage_restitution_lean, finish_step,
-            FIND_CONTACTS[coverage])
+            FIND_CONTACTS[coverage]))
+    # (the flags each scheme's step passes: pipeline/step.py, step_sequential_impulse, step_penalty, step_lcp)
+    scheme_stages = {
+        SEQUENTIAL_IMPULSE: ((stage_prepare, (True, True, True)), (stage_warm_start, ()),
+                             (stage_integrate_velocities, (False,)), (stage_restitution, (False,))),
+        PENALTY: ((stage_prepare, (False, True, False)), (stage_integrate_velocities, (True,))),
+        LCP: ((stage_solve_lcp, ()), (stage_prepare, (False, True, True)), (stage_integrate_velocities, (False,)),
+              (stage_restitution, (True,))),
+    }[scheme]
+    return (((NARROW_PHASE[coverage], ()), (TIME_OF_IMPACT[coverage], ()), (stage_broad_phase, ()))
+            + scheme_stages
+            + tuple((stage, ()) for stage in (stage_integrate_positions, stage_aabbs, stage_match_and_wake,
+                                              stage_store_impulses, stage_sum_impulses, stage_break_constraints,
+                                              stage_islands_and_sleep, finish_step, FIND_CONTACTS[coverage])))
 
 
 def _path_in(value, kernel):
@@ -123,16 +147,18 @@ def _typed(kernel, arguments):
     return (*_name(kernel), tuple(numba.typeof(a) for a in arguments))
 
 
-def work_list(coverage, first, extra):
-    """The kernels to share out, ``[(module, name, path, argument types or None for the context's view, claims
-    of the kernels it calls)]``: the kernels of ``first`` (``[(kernel, arguments)]``, which the program calls
-    before its step, :func:`ahead`), then those of ``extra`` (as ``first``: the particles' step, ~25 s) and
-    the lean step's stages for ``coverage``, the dearest first; then the step's entry, which calls every stage
-    (compiled once they are in the cache, it loads them)."""
+def work_list(step, first, extra):
+    """The kernels to share out, ``[(module, name, path, argument types, claims of the kernels it calls)]``:
+    the kernels of ``first`` (``[(kernel, arguments)]``, which the program calls before its step,
+    :func:`ahead`), then those of ``extra`` (as ``first``: the particles' step, ~25 s) and the stages of
+    ``step`` (``(scheme, coverage, tier)``, :func:`step_stages`), the dearest first; then the step's entry, which
+    calls every stage (compiled once they are in the cache, it loads them)."""
+    scheme, coverage, tier = step
     typed = [_typed(kernel, arguments) for kernel, arguments in extra]
-    stages = [(*_name(stage), None) for stage in lean_stages(coverage)]
+    stages = [(*_name(stage), (CONTEXT_VIEW,) + tuple(numba.types.literal(c) for c in constants))
+              for stage, constants in step_stages(scheme, coverage, tier)]
     items = ([_typed(kernel, arguments) for kernel, arguments in first] + typed[:1] + stages + typed[1:]
-             + [_typed(STEPS[0][coverage][LEAN], ENTRY_ARGUMENTS)])
+             + [_typed(STEPS[scheme][coverage][tier], ENTRY_ARGUMENTS)])
     stage_claims = tuple(_claim(*stage[:3]) for stage in stages)
     calls = {stage_claims[-1]: stage_claims[:2],        # (the contact stages: the narrow phase, time of impact)
              _claim(*items[-1][:3]): stage_claims}
@@ -190,7 +216,6 @@ def compile_claimed(claims, memory=None):
     """Compile (or load) each kernel of the work list in directory ``claims`` that this process is the first to
     claim, once the kernels it calls are done (waiting for them while nothing else is left to claim); return
     when no kernel is left to claim, or once this process holds more than ``memory`` bytes."""
-    view = (RecordView(STEP_CONTEXT),)
     loaded = None
     while True:
         loaded = _load(claims, loaded)
@@ -208,7 +233,7 @@ def compile_claimed(claims, memory=None):
                 continue
             os.write(fd, str(os.getpid()).encode())
             os.close(fd)
-            _kernel(module, name, path).compile(view if signature is None else signature)
+            _kernel(module, name, path).compile(signature)
             os.close(os.open(os.path.join(claims, claim + ".done"), os.O_CREAT | os.O_WRONLY))
             if memory is not None and _resident() > memory:
                 return
@@ -275,11 +300,12 @@ class _Compiled:
 
 
 class Sharing:
-    """One sharing out of a world's lean step of ``coverage``: the helpers and their claims directory, started
-    by :meth:`start`, finished (the helpers waited for) by :meth:`finish`."""
+    """One sharing out of a world's ``step`` (``(scheme, coverage, tier)``, the indices of its entry in
+    ``pipeline/step.STEPS``): the helpers and their claims directory, started by :meth:`start`, finished (the
+    helpers waited for) by :meth:`finish`."""
 
-    def __init__(self, coverage):
-        self.coverage = coverage
+    def __init__(self, step):
+        self.step = step
         self.helpers = []
         self.claims = None
         self.first = []          # [(kernel, arguments)] the program calls before its step (:func:`ahead`)
@@ -289,7 +315,7 @@ class Sharing:
     def start(self, extra):
         """Start the helpers on :func:`work_list` of ``extra`` (nothing without a cache, or when none starts).
         Started already (:func:`ahead`), the helpers go on with the longer list."""
-        self.work = work_list(self.coverage, self.first, extra)
+        self.work = work_list(self.step, self.first, extra)
         if self.claims is not None:
             _write_work(self.claims, self.work)
             return
@@ -389,15 +415,15 @@ def _cached(kernel):
         return True
 
 
-def ahead(coverage, first=()):
-    """A :class:`Sharing` of the lean step of ``coverage`` started now, before the step is first taken, when its
-    stages are not in the cache (for a program that calls something else first, such as a ray cast: the
+def ahead(step, first=()):
+    """A :class:`Sharing` of ``step`` (``(scheme, coverage, tier)``) started now, before the step is first taken,
+    when its dearest stage is not in the cache (for a program that calls something else first, such as a ray cast: the
     helpers compile ``first``, ``[(kernel, arguments)]`` such calls, then the step's stages, and the program
     waits for ``first`` at its call, :func:`await_kernel`); None when they are.  The step's first packing
     (:func:`shared`) finishes it."""
-    if _cached(TIME_OF_IMPACT[coverage]):
+    if _cached(step_stages(*step)[0][0]):
         return None
-    sharing = Sharing(coverage)
+    sharing = Sharing(step)
     sharing.first = list(first)
     sharing.start([])
     return sharing
@@ -429,22 +455,21 @@ class _ShareOnCompile(event.Listener):
 
 
 @contextlib.contextmanager
-def shared(early, entry, coverage, lean, extra, sharing=None):
+def shared(early, step, extra, sharing=None):
     """Around the packing of a step's context (``early``, the packing kernel, a dispatcher) and the first call
-    of step ``entry`` (a dispatcher) of ``coverage``: if either compiles and the step is ``lean``, its stages,
-    the kernels ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) and the entry
-    are shared out: helpers start when the first of them begins to compile (or were started by :func:`ahead`:
+    of the entry of ``step`` (``(scheme, coverage, tier)``): if either compiles, the step's stages, the kernels
+    ``extra()`` lists (``[(kernel, arguments)]``, the world's other kernels of a step) and the entry are shared
+    out: helpers start when the first of them begins to compile (or were started by :func:`ahead`:
     ``sharing``).  Yields the :class:`Sharing`, whose :meth:`Sharing.wait` for the entry before its call
     lets the entry load from the cache; on leaving, the helpers have gone down their list."""
-    if sharing is None or sharing.coverage != coverage or not lean:
+    if sharing is None or sharing.step != step:
         if sharing is not None:
             sharing.finish()          # (helpers started for another step: their kernels are in the cache)
-        sharing = Sharing(coverage)
+        sharing = Sharing(step)
+    scheme, coverage, tier = step
     try:
-        if lean:
-            with event.install_listener("numba:compile", _ShareOnCompile(early, entry, sharing, extra)):
-                yield sharing
-        else:
+        with event.install_listener("numba:compile",
+                                    _ShareOnCompile(early, STEPS[scheme][coverage][tier], sharing, extra)):
             yield sharing
     finally:
         sharing.finish()

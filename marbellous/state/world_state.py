@@ -166,12 +166,12 @@ class WorldState:
         return self.packed_coverage
 
     def compile_ahead(self, first):
-        """Start compiling the step as it would be taken now in helper processes, when it is lean and not in the
-        kernel cache, after ``first`` (``[(kernel, arguments)]`` that the program calls before its step;
+        """Start compiling the step as it would be taken now in helper processes, when it is not in the kernel
+        cache, after ``first`` (``[(kernel, arguments)]`` that the program calls before its step;
         ``pipeline/precompile.ahead``); the first :meth:`pack` finishes it."""
         coverage, tier, _ = self.step_variant()
-        if tier == LEAN and self.sharing is None:
-            self.sharing = ahead(coverage, first)
+        if self.sharing is None:
+            self.sharing = ahead((self.solver, coverage, tier), first)
 
     def pack(self):
         """The step context of the current tables and the compiled entry of the scheme's step for the pair
@@ -180,7 +180,7 @@ class WorldState:
         coverage, self.tier, step = self.step_variant()
         self.packed_coverage = shape_coverage(self.bi, self.si, self.bodies.end)
         sharing, self.sharing = self.sharing, None
-        with compiling(), shared(pack_kernel, step, coverage, self.tier == LEAN,
+        with compiling(), shared(pack_kernel, (self.solver, coverage, self.tier),
                                  lambda: self.particles.kernel_work(self), sharing) as sharing:
             self.context = pack_context(self.bf, self.bi, self.sf, self.si, self.kf, self.ki, self.ws, self.geom_f,
                                         self.geom_i, self.aabbs, self.bp_f, self.bp_i, self.pairs, self.raw_f,
